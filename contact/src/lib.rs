@@ -1,0 +1,1 @@
+//! squeal-contact: gap matching and friction laws, paper eqs. (1)–(7).

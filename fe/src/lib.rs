@@ -1,0 +1,1 @@
+//! squeal-fe: solid elements, materials, sparse assembly, modal solve.

@@ -1,0 +1,1 @@
+//! squeal-pipeline: scenes, stage orchestration, outputs.

@@ -1,0 +1,1 @@
+//! squeal-reduction: Craig–Bampton superelements, OP4 and punch DMIG.

@@ -1,0 +1,1 @@
+//! Shared helpers for the verification and system tests.
