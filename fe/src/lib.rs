@@ -1,1 +1,23 @@
-//! squeal-fe: solid elements, materials, sparse assembly, modal solve.
+//! squeal-fe: solid elements, materials, sparse assembly, loads, modal solve.
+//!
+//! - [`element`]: hex8 with incompatible modes (default), plain hex8, hex20;
+//! - [`assemble`]: parallel sparse assembly of K and consistent M over the free DOFs of a
+//!   [`DofMap`];
+//! - [`pressure_load`], [`nodal_force`], [`face_areas`]: load vectors and contact areas;
+//! - [`modal::solve_modes`]: shift-invert block Lanczos.
+
+pub mod assembly;
+pub mod dofs;
+pub mod element;
+pub mod error;
+pub mod loads;
+pub mod material;
+pub mod modal;
+
+pub use assembly::{assemble, Assembled, AssemblyOptions, AssemblyStats, Hex8Formulation};
+pub use dofs::DofMap;
+pub use error::FeError;
+pub use loads::{face_areas, nodal_force, pressure_load};
+pub use material::Material;
+pub use modal::{solve_modes, FactorKind, ModalOptions, ModalStats, ModalStatus, Modes};
+pub use squeal_meshes::{Mesh, Real};

@@ -1,3 +1,18 @@
 //! squeal-meshes: parametric gmsh geometry, the gmsh CLI, `.msh` reading, VTU writing.
+//!
+//! - [`geo`]: `.geo` templates (rotor / annular plate, block) written from Rust;
+//! - [`gmsh`]: runs the gmsh program on a `.geo` text;
+//! - [`msh`]: reads `.msh` 2.2 / 4.1 files into a [`Mesh`];
+//! - [`vtu`]: writes a [`Mesh`] and point/cell arrays as a VTK `.vtu` file.
+mod error;
+pub mod geo;
+pub mod gmsh;
 pub mod mesh;
+pub mod msh;
+mod query;
+pub mod vtu;
+
+pub use error::MeshError;
 pub use mesh::{CellBlock, CellKind, Mesh, Real};
+pub use msh::{parse_msh, read_msh};
+pub use query::hex_centroid_jacobian;

@@ -1,1 +1,18 @@
 //! squeal-solver: DAE integrator (BDF) and complex eigenvalue analysis. Takes matrices and callbacks only.
+//!
+//! - [`bdf`]: a DASSL/IDA-style variable-step, variable-order BDF integrator for implicit
+//!   systems F(t, y, y') = 0 in residual form, with consistent initial conditions and
+//!   a serialisable state for restarts.
+//! - [`bsql`]: the BSQL brake-squeal system, paper eqs. (8)–(18), as a [`bdf::DaeSystem`],
+//!   with the steady sliding state and energy bookkeeping.
+//! - [`cea`]: complex eigenvalue analysis, paper eqs. (19)–(24).
+
+pub mod bdf;
+pub mod bsql;
+pub mod cea;
+pub mod error;
+
+pub use error::SolverError;
+
+/// Real scalar type of the crate.
+pub type Real = f64;

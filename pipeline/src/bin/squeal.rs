@@ -1,1 +1,87 @@
-fn main() {}
+//! The `squeal` command: `squeal <verb> SCENE.toml [--out DIR] [--set key=value ...]`.
+
+use anyhow::Result;
+use clap::{Args, Parser, Subcommand};
+use squeal_pipeline::progress::Progress;
+use squeal_pipeline::{stages, RunDir, Scene};
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(name = "squeal", version, about = "Disc-brake squeal simulator (BSQL method, open front end)")]
+struct Cli {
+    /// Print no progress.
+    #[arg(short, long, global = true)]
+    quiet: bool,
+    #[command(subcommand)]
+    verb: Verb,
+}
+
+#[derive(Args)]
+struct SceneArgs {
+    /// Scene file (TOML).
+    scene: PathBuf,
+    /// Override a scene value: dotted.key=value (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+}
+
+#[derive(Args)]
+struct RunArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Output folder (default: out/<scene file stem>).
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+#[derive(Subcommand)]
+enum Verb {
+    /// Validate a scene and print it resolved (every default filled in).
+    Check(SceneArgs),
+    /// Mesh every component (gmsh) and write the meshes as .msh and .vtu.
+    Mesh(RunArgs),
+    /// Modal analysis of one component: modes.json and modes.vtu.
+    Modes {
+        #[command(flatten)]
+        run: RunArgs,
+        /// Component to analyse (default: the scene's only component).
+        #[arg(long)]
+        component: Option<String>,
+    },
+}
+
+fn run_dir(args: &RunArgs) -> Result<RunDir> {
+    let out = args.out.clone().unwrap_or_else(|| {
+        let stem = args
+            .scene
+            .scene
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "run".into());
+        PathBuf::from("out").join(stem)
+    });
+    Ok(RunDir::create(&out)?)
+}
+
+fn main() -> Result<()> {
+    let cli = Cli::parse();
+    let progress = Progress { quiet: cli.quiet };
+    match cli.verb {
+        Verb::Check(args) => {
+            let scene = Scene::load(&args.scene, &args.set)?;
+            print!("{}", scene.resolved_toml());
+        }
+        Verb::Mesh(args) => {
+            let scene = Scene::load(&args.scene.scene, &args.scene.set)?;
+            let dir = run_dir(&args)?;
+            stages::mesh::run(&scene, &dir, progress)?;
+        }
+        Verb::Modes { run, component } => {
+            let scene = Scene::load(&run.scene.scene, &run.scene.set)?;
+            let dir = run_dir(&run)?;
+            let report = stages::modes::run(&scene, component.as_deref(), &dir, progress)?;
+            progress.info(report.table());
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,115 @@
+//! Gap elements: pad/rotor node pairs with normal, area and sliding velocity (PREBSQL).
+
+mod grid;
+mod matching;
+mod set;
+
+use crate::{ContactError, Real};
+use serde::{Deserialize, Serialize};
+
+pub use matching::match_gaps;
+pub use set::GapSet;
+
+/// A contact-surface node as the caller knows it (no mesh needed).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ContactNode {
+    /// Node id (reported in errors and stored in the gap).
+    pub id: u64,
+    /// Coordinates.
+    pub coords: [Real; 3],
+    /// Outward area vector S_p of a pad node (its length is the tributary area); ignored for
+    /// rotor nodes.
+    pub area: [Real; 3],
+}
+
+/// Options of the gap matching (PREBSQL).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MatchOptions {
+    /// Distance within which a pad node and a rotor node coincide (default: 1e-6, model units).
+    pub tolerance: Real,
+    /// A point on the rotor axis (default: [0, 0, 0]).
+    pub rotor_axis_origin: [Real; 3],
+    /// Unit vector of the rotor axis; the rotor turns positively (right hand) about it
+    /// (default: [0, 0, 1]).
+    pub rotor_axis: [Real; 3],
+    /// Rotor speed in revolutions per minute (default: 0; the paper's sample brake: 143.239).
+    pub rpm: Real,
+    /// Preload pressure P_0 given to every gap (default: 0). [Paper eq. (1)]
+    pub p0: Real,
+    /// Temperature given to every gap (default: 0; only read by temperature-dependent laws).
+    pub temperature: Real,
+}
+
+impl Default for MatchOptions {
+    fn default() -> Self {
+        MatchOptions {
+            tolerance: 1e-6,
+            rotor_axis_origin: [0.0; 3],
+            rotor_axis: [0.0, 0.0, 1.0],
+            rpm: 0.0,
+            p0: 0.0,
+            temperature: 0.0,
+        }
+    }
+}
+
+impl MatchOptions {
+    /// Checks the options; the error names the field and the value.
+    pub fn validate(&self) -> Result<(), ContactError> {
+        let bad = |field: &str, value: String, reason: &str| ContactError::InvalidOption {
+            field: format!("match.{field}"),
+            value,
+            reason: reason.to_string(),
+        };
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return Err(bad("tolerance", format!("{}", self.tolerance), "must be finite and > 0"));
+        }
+        let a = self.rotor_axis;
+        let norm = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        if !norm.is_finite() || (norm - 1.0).abs() > 1e-6 {
+            return Err(bad("rotor_axis", format!("{a:?} (norm {norm})"), "must be a unit vector"));
+        }
+        if self.rotor_axis_origin.iter().any(|x| !x.is_finite()) {
+            return Err(bad("rotor_axis_origin", format!("{:?}", self.rotor_axis_origin), "must be finite"));
+        }
+        for (name, v) in [("rpm", self.rpm), ("p0", self.p0), ("temperature", self.temperature)] {
+            if !v.is_finite() {
+                return Err(bad(name, format!("{v}"), "must be finite"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Rotor angular velocity vector ω = (2π·rpm/60)·axis, in rad per unit time.
+    pub fn omega(&self) -> [Real; 3] {
+        let w = self.rpm * 2.0 * std::f64::consts::PI / 60.0;
+        [w * self.rotor_axis[0], w * self.rotor_axis[1], w * self.rotor_axis[2]]
+    }
+}
+
+/// One gap element: a pad point in contact with a rotor point. [Paper eqs. (1)–(7)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Gap {
+    /// Pad node id.
+    pub pad_node: u64,
+    /// Rotor node id.
+    pub rotor_node: u64,
+    /// Position of the pad node.
+    pub coords: [Real; 3],
+    /// Indices of the pad node's x, y, z DOFs in the reduced vector (None = fixed DOF).
+    pub pad_dofs: [Option<usize>; 3],
+    /// Indices of the rotor node's x, y, z DOFs in the reduced vector (None = fixed DOF).
+    pub rotor_dofs: [Option<usize>; 3],
+    /// Unit normal n = S_p/|S_p|, out of the pad, toward the rotor.
+    pub normal: [Real; 3],
+    /// Contact area A = |S_p|.
+    pub area: Real,
+    /// Steady sliding velocity of the rotor material at the point, ω × r (the paper's
+    /// {0, V_y, 0} in a local frame). [Paper eq. (2)]
+    pub v_slide: [Real; 3],
+    /// Preload pressure P_0. [Paper eq. (1)]
+    pub p0: Real,
+    /// Temperature of the gap (read only by temperature-dependent friction laws).
+    pub temperature: Real,
+}

@@ -1,0 +1,93 @@
+//! [`GapSet`]: the gaps of all contact surfaces with their friction law and VTOL.
+
+use super::Gap;
+use crate::{ContactError, FrictionLaw, Real};
+use serde::{Deserialize, Serialize};
+
+/// All gap elements of a model, with the friction law and the regularisation speed VTOL
+/// they share. Forces and tangents: [`GapSet::add_forces`], [`GapSet::add_tangents`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GapSet {
+    /// The gaps; gap g owns multiplier λ̇_g and constraint row g.
+    pub gaps: Vec<Gap>,
+    /// Friction law μ(p, |V_t|, T). [Paper eq. (4)]
+    pub law: FrictionLaw,
+    /// Regularisation speed VTOL > 0 (the paper's sample brake: 0.001). [Paper eq. (5)]
+    pub vtol: Real,
+}
+
+impl GapSet {
+    /// Default VTOL (the paper's sample-brake input), used by [`crate::match_gaps`].
+    pub const DEFAULT_VTOL: Real = 1e-3;
+
+    /// A gap set with the given law and VTOL; validates both.
+    pub fn new(gaps: Vec<Gap>, law: FrictionLaw, vtol: Real) -> Result<Self, ContactError> {
+        GapSet {
+            gaps: Vec::new(),
+            law: FrictionLaw::default(),
+            vtol: Self::DEFAULT_VTOL,
+        }
+        .with_friction(law, vtol)
+        .map(|mut s| {
+            s.gaps = gaps;
+            s
+        })
+    }
+
+    /// Sets the friction law and VTOL (validated).
+    pub fn with_friction(mut self, law: FrictionLaw, vtol: Real) -> Result<Self, ContactError> {
+        law.validate()?;
+        if !(vtol.is_finite() && vtol > 0.0) {
+            return Err(ContactError::InvalidOption {
+                field: "friction.vtol".into(),
+                value: format!("{vtol}"),
+                reason: "must be finite and > 0".into(),
+            });
+        }
+        self.law = law;
+        self.vtol = vtol;
+        Ok(self)
+    }
+
+    /// Appends the gaps of another surface (its law and VTOL are dropped: this set's apply).
+    pub fn append(&mut self, other: GapSet) {
+        self.gaps.extend(other.gaps);
+    }
+
+    /// Number of gaps (= number of contact multipliers ng).
+    pub fn len(&self) -> usize {
+        self.gaps.len()
+    }
+
+    /// Whether there is no gap.
+    pub fn is_empty(&self) -> bool {
+        self.gaps.is_empty()
+    }
+
+    /// Sets every gap's pad and rotor DOF indices from a node-id → [x, y, z] DOF map
+    /// (None for a fixed DOF).
+    pub fn assign_dofs(&mut self, mut dofs_of: impl FnMut(u64) -> [Option<usize>; 3]) {
+        for g in &mut self.gaps {
+            g.pad_dofs = dofs_of(g.pad_node);
+            g.rotor_dofs = dofs_of(g.rotor_node);
+        }
+    }
+
+    /// Checks that every DOF index is < `n`.
+    pub fn check_dofs(&self, n: usize) -> Result<(), ContactError> {
+        for (ig, g) in self.gaps.iter().enumerate() {
+            for d in g.pad_dofs.iter().chain(g.rotor_dofs.iter()).flatten() {
+                if *d >= n {
+                    return Err(ContactError::DofOutOfRange {
+                        gap: ig,
+                        pad_node: g.pad_node,
+                        rotor_node: g.rotor_node,
+                        dof: *d,
+                        n,
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+}

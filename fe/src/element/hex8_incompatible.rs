@@ -1,0 +1,58 @@
+//! Hex8 with Wilson's nine incompatible (bubble) modes and Taylor's correction.
+//!
+//! The displacement is enriched with u_inc = Σ_k P_k(ξ) α_k, P = (1−ξ², 1−η², 1−ζ²), α_k ∈ ℝ³.
+//! Taylor's correction evaluates the incompatible-mode gradients with the centroid Jacobian J0
+//! and scales them by det(J0)/det(J): ∇_x P_k = det(J0)/det(J) · J0^{-T} ∇_ξ P_k. Then
+//! ∫ ∇_x P_k dV = det(J0) J0^{-T} ∫ ∇_ξ P_k dξ = 0 under 2×2×2 Gauss, so constant strain states
+//! are reproduced on any (distorted) element and the patch test passes. The 9 internal DOFs are
+//! condensed statically: K = K_uu − K_uα K_αα⁻¹ K_αu.
+
+use super::{add_stiffness, gradients, jacobian, quadrature::hex_rule, shape};
+use crate::{FeError, Material, Real};
+use nalgebra::SMatrix;
+
+pub use super::hex8::Mat24;
+
+/// Stiffness of the incompatible-mode hex8 (2×2×2 Gauss), condensed to the 24 nodal DOFs.
+pub fn stiffness(x: &[[Real; 3]; 8], mat: &Material) -> Result<Mat24, FeError> {
+    let (lambda, mu) = mat.lame();
+    let (_, dn0) = shape::hex8([0.0; 3]);
+    let (j0, det0) = jacobian(x, &dn0, [0.0; 3])?;
+    let j0_inv = j0
+        .try_inverse()
+        .ok_or(FeError::ElementJacobian { det: det0, xi: [0.0; 3] })?;
+    // 8 nodal functions + 3 bubble functions → 33 DOFs.
+    let mut k = SMatrix::<Real, 33, 33>::zeros();
+    for (xi, w) in hex_rule(2) {
+        let (_, dn) = shape::hex8(xi);
+        let (j, det) = jacobian(x, &dn, xi)?;
+        let gn = gradients(&j, det, &dn);
+        let mut g = [[0.0; 3]; 11];
+        g[..8].copy_from_slice(&gn);
+        let scale = det0 / det;
+        for kk in 0..3 {
+            // ∂P_k/∂ξ_k = −2 ξ_k, other derivatives zero.
+            let dp = -2.0 * xi[kk];
+            for i in 0..3 {
+                g[8 + kk][i] = scale * j0_inv[(kk, i)] * dp;
+            }
+        }
+        add_stiffness(&mut k, &g, w * det, lambda, mu);
+    }
+    let kuu: SMatrix<Real, 24, 24> = k.fixed_view::<24, 24>(0, 0).into_owned();
+    let kua: SMatrix<Real, 24, 9> = k.fixed_view::<24, 9>(0, 24).into_owned();
+    let kaa: SMatrix<Real, 9, 9> = k.fixed_view::<9, 9>(24, 24).into_owned();
+    let chol = kaa
+        .cholesky()
+        .ok_or(FeError::ElementJacobian { det: det0, xi: [0.0; 3] })?;
+    let x_ = chol.solve(&kua.transpose());
+    let mut kc = kuu - kua * x_;
+    // Restore exact symmetry lost to rounding in the condensation.
+    kc = (kc + kc.transpose()) * 0.5;
+    Ok(kc)
+}
+
+/// Consistent mass (the incompatible modes carry no mass): the hex8 2×2×2 mass.
+pub fn mass(x: &[[Real; 3]; 8], mat: &Material) -> Result<Mat24, FeError> {
+    super::hex8::mass(x, mat)
+}

@@ -1,0 +1,185 @@
+//! The shifted matrix K − σM and its factorisation, used as the operator (K − σM)⁻¹.
+
+use super::options::FactorKind;
+use crate::{FeError, Real};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, LdltRef, LltRef, SymbolicCholesky, SymmetricOrdering,
+};
+use faer::sparse::linalg::solvers::Lu;
+use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat};
+use faer::{Conj, MatMut, Par, Side, Spec};
+
+/// A factorisation of K − σM.
+pub(crate) enum Factor {
+    Llt(SymbolicCholesky<usize>, Vec<Real>),
+    Ldlt(SymbolicCholesky<usize>, Vec<Real>),
+    Lu(Lu<usize, Real>),
+}
+
+pub(crate) struct Factored {
+    pub factor: Factor,
+    pub kind: FactorKind,
+    pub fallback_reason: Option<String>,
+    pub factor_nnz: usize,
+    pub factorisations: usize,
+}
+
+/// K − σM (lower triangle only if `lower`), merging the sorted columns of K and M.
+fn shifted(
+    k: SparseColMatRef<'_, usize, Real>,
+    m: SparseColMatRef<'_, usize, Real>,
+    sigma: Real,
+    lower: bool,
+) -> SparseColMat<usize, Real> {
+    let n = k.ncols();
+    let mut ptr = Vec::with_capacity(n + 1);
+    ptr.push(0);
+    let mut rows = Vec::with_capacity(k.compute_nnz() / if lower { 2 } else { 1 } + n);
+    let mut vals = Vec::with_capacity(rows.capacity());
+    for j in 0..n {
+        let (kr, kv) = (k.row_idx_of_col_raw(j), k.val_of_col(j));
+        let (mr, mv) = (m.row_idx_of_col_raw(j), m.val_of_col(j));
+        let (mut p, mut q) = (0, 0);
+        while p < kr.len() || q < mr.len() {
+            let rk = kr.get(p).copied().unwrap_or(usize::MAX);
+            let rm = mr.get(q).copied().unwrap_or(usize::MAX);
+            let (r, v) = if rk == rm {
+                p += 1;
+                q += 1;
+                (rk, kv[p - 1] - sigma * mv[q - 1])
+            } else if rk < rm {
+                p += 1;
+                (rk, kv[p - 1])
+            } else {
+                q += 1;
+                (rm, -sigma * mv[q - 1])
+            };
+            if !lower || r >= j {
+                rows.push(r);
+                vals.push(v);
+            }
+        }
+        ptr.push(rows.len());
+    }
+    SparseColMat::new(SymbolicSparseColMat::new_checked(n, n, ptr, None, rows), vals)
+}
+
+/// Factorises K − σM: Cholesky, else LDLᵀ on the same symbolic structure, else LU.
+pub(crate) fn factorise(
+    k: SparseColMatRef<'_, usize, Real>,
+    m: SparseColMatRef<'_, usize, Real>,
+    sigma: Real,
+) -> Result<Factored, FeError> {
+    let par = Par::rayon(0);
+    let a = shifted(k, m, sigma, true);
+    let fail = |what: &str, e: String| FeError::Factorisation {
+        what: format!("{what} of K - sigma M (sigma = {sigma:e})"),
+        reason: e,
+    };
+    let sym = factorize_symbolic_cholesky(
+        a.symbolic(),
+        Side::Lower,
+        SymmetricOrdering::Amd,
+        Default::default(),
+    )
+    .map_err(|e| fail("symbolic Cholesky", format!("{e:?}")))?;
+    let len = sym.len_val();
+    let mut vals = vec![0.0; len];
+    let llt = {
+        let mut buf = MemBuffer::try_new(
+            sym.factorize_numeric_llt_scratch::<Real>(par, Spec::default()),
+        )
+        .map_err(|e| fail("Cholesky workspace", format!("{e:?}")))?;
+        sym.factorize_numeric_llt(
+            &mut vals,
+            a.as_ref(),
+            Side::Lower,
+            LltRegularization::default(),
+            par,
+            MemStack::new(&mut buf),
+            Spec::default(),
+        )
+        .map(|_| ())
+    };
+    let llt_err = match llt {
+        Ok(()) => {
+            return Ok(Factored {
+                factor: Factor::Llt(sym, vals),
+                kind: FactorKind::Llt,
+                fallback_reason: None,
+                factor_nnz: len,
+                factorisations: 1,
+            })
+        }
+        Err(e) => format!("Cholesky failed ({e:?}): K - sigma M is not positive definite"),
+    };
+    let ldlt = {
+        let mut buf = MemBuffer::try_new(
+            sym.factorize_numeric_ldlt_scratch::<Real>(par, Spec::default()),
+        )
+        .map_err(|e| fail("LDLT workspace", format!("{e:?}")))?;
+        sym.factorize_numeric_ldlt(
+            &mut vals,
+            a.as_ref(),
+            Side::Lower,
+            LdltRegularization::default(),
+            par,
+            MemStack::new(&mut buf),
+            Spec::default(),
+        )
+        .map(|_| ())
+    };
+    if ldlt.is_ok() && vals.iter().all(|v| v.is_finite()) {
+        return Ok(Factored {
+            factor: Factor::Ldlt(sym, vals),
+            kind: FactorKind::Ldlt,
+            fallback_reason: Some(llt_err),
+            factor_nnz: len,
+            factorisations: 2,
+        });
+    }
+    let full = shifted(k, m, sigma, false);
+    let lu = full
+        .sp_lu()
+        .map_err(|e| fail("LU (after Cholesky and LDLT failed)", format!("{e:?}")))?;
+    Ok(Factored {
+        factor: Factor::Lu(lu),
+        kind: FactorKind::Lu,
+        fallback_reason: Some(format!("{llt_err}; LDLT failed too: {ldlt:?}")),
+        factor_nnz: 0,
+        factorisations: 3,
+    })
+}
+
+impl Factor {
+    /// Solves (K − σM) X = B in place, B ← X.
+    pub fn solve_in_place(&self, rhs: MatMut<'_, Real>) {
+        let par = Par::rayon(0);
+        let ncols = rhs.ncols();
+        match self {
+            Factor::Llt(sym, vals) => {
+                let mut buf = MemBuffer::new(sym.solve_in_place_scratch::<Real>(ncols, par));
+                LltRef::new(sym, vals).solve_in_place_with_conj(
+                    Conj::No,
+                    rhs,
+                    par,
+                    MemStack::new(&mut buf),
+                );
+            }
+            Factor::Ldlt(sym, vals) => {
+                let mut buf = MemBuffer::new(sym.solve_in_place_scratch::<Real>(ncols, par));
+                LdltRef::new(sym, vals).solve_in_place_with_conj(
+                    Conj::No,
+                    rhs,
+                    par,
+                    MemStack::new(&mut buf),
+                );
+            }
+            Factor::Lu(lu) => lu.solve_in_place(rhs),
+        }
+    }
+}

@@ -1,0 +1,15 @@
+//! Modal analysis: lowest eigenpairs of K φ = ω² M φ by shift-invert block Lanczos.
+//!
+//! The operator (K − σM)⁻¹M with σ < 0 is self-adjoint in the M-inner product; its largest
+//! eigenvalues θ = 1/(ω² − σ) are the lowest ω². K − σM is positive definite for σ < 0 even
+//! for free-free models, so it is factorised once by sparse Cholesky (symbolic once, numeric
+//! once; LDLᵀ on the same symbolic structure, then LU, as fall-backs reported in the stats).
+
+mod dense;
+mod factor;
+mod lanczos;
+mod options;
+mod solve;
+
+pub use options::{FactorKind, ModalOptions, ModalStats, ModalStatus, Modes};
+pub use solve::solve_modes;

@@ -1,0 +1,121 @@
+//! The crate's one error type. Messages carry the file, line and offending value.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong in squeal-meshes.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshError {
+    /// Reading or writing a file failed.
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// A malformed `.msh` file: bad number, missing field, truncated section, bad structure.
+    #[error("{file}:{line}: {message}")]
+    Parse {
+        file: String,
+        line: usize,
+        message: String,
+    },
+    /// The `$MeshFormat` names a version or file type this reader does not handle.
+    #[error("{file}:{line}: unsupported msh format `{version}` ({reason}); squeal reads 2.2 ASCII and 4.1 ASCII/binary (gmsh `-format msh41` or `msh22`)")]
+    UnsupportedVersion {
+        file: String,
+        line: usize,
+        version: String,
+        reason: String,
+    },
+    /// An element type squeal has no element for (tetrahedra, prisms, hex27, triangles, ...).
+    #[error("{file}:{line}: element {element_tag} has gmsh type {gmsh_type} ({type_name}), which squeal does not support (volumes: hex8 = 5, hex20 = 17; faces: quad4 = 3, quad8 = 16; for hex20 mesh with `-order 2` and Mesh.SecondOrderIncomplete=1)")]
+    UnsupportedElement {
+        file: String,
+        line: usize,
+        element_tag: u64,
+        gmsh_type: i64,
+        type_name: String,
+    },
+    /// An element refers to a node tag that `$Nodes` does not define.
+    #[error("{file}:{line}: element {element_tag} uses node {node_tag}, which is not in $Nodes")]
+    UnknownNode {
+        file: String,
+        line: usize,
+        element_tag: u64,
+        node_tag: u64,
+    },
+    /// A face cell of a physical surface uses a node that no volume cell uses.
+    #[error("{file}:{line}: face element {element_tag} of physical surface `{surface}` uses node {node_tag}, which no volume cell uses")]
+    FaceNodeNotInVolume {
+        file: String,
+        line: usize,
+        element_tag: u64,
+        surface: String,
+        node_tag: u64,
+    },
+    /// A physical surface mixes quad4 and quad8 faces.
+    #[error("{file}:{line}: physical surface `{surface}` mixes {first:?} and {second:?} faces (element {element_tag})")]
+    MixedFaceKinds {
+        file: String,
+        line: usize,
+        surface: String,
+        first: crate::CellKind,
+        second: crate::CellKind,
+        element_tag: u64,
+    },
+    /// A hexahedron with (near) zero or non-finite volume at its centroid.
+    #[error("{file}:{line}: hexahedron {element_tag} is degenerate (Jacobian determinant {det:e} at its centroid)")]
+    DegenerateCell {
+        file: String,
+        line: usize,
+        element_tag: u64,
+        det: f64,
+    },
+    /// The file has no hex8/hex20 volume cells.
+    #[error("{file}: no hex8/hex20 volume cells (is a physical volume defined, and was the mesh made with -3?)")]
+    NoVolumeCells { file: String },
+    /// A named node or face set that the mesh does not have.
+    #[error("no {what} named `{name}` (the mesh has: {available})")]
+    UnknownSet {
+        what: &'static str,
+        name: String,
+        available: String,
+    },
+    /// A geometry parameter out of range.
+    #[error("geometry parameter `{field}` = {value}: {reason}")]
+    InvalidGeometry {
+        field: &'static str,
+        value: String,
+        reason: String,
+    },
+    /// No gmsh program was found.
+    #[error("gmsh not found ({searched}). Set SQUEAL_GMSH to the gmsh program, put gmsh on PATH, or create the project's .venv with `bash scripts/setup.sh` (the README's setup; `bash scripts/test.sh` also runs it)")]
+    GmshNotFound { searched: String },
+    /// gmsh could not be started, failed, or wrote no mesh.
+    #[error("`{command}` failed ({status}): {message}")]
+    GmshFailed {
+        command: String,
+        status: String,
+        message: String,
+    },
+    /// An invalid gmsh option.
+    #[error("gmsh option `{field}` = {value}: {reason}")]
+    InvalidGmshOption {
+        field: &'static str,
+        value: String,
+        reason: String,
+    },
+    /// A data array given to the VTU writer does not fit the mesh.
+    #[error("VTU array `{name}`: {message}")]
+    VtuArray { name: String, message: String },
+}
+
+impl MeshError {
+    pub(crate) fn parse(file: &str, line: usize, message: impl Into<String>) -> MeshError {
+        MeshError::Parse {
+            file: file.to_string(),
+            line,
+            message: message.into(),
+        }
+    }
+}

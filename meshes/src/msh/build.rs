@@ -1,0 +1,216 @@
+//! From the file's raw nodes and elements to a [`Mesh`]: node renumbering, blocks per physical
+//! volume, faces per physical surface, node sets per physical group, hex20 reordering and
+//! orientation.
+
+use super::element_types::{GmshType, HEX20_FLIP, HEX20_FROM_GMSH, HEX8_FLIP};
+use super::{RawElement, RawMesh};
+use crate::query::hex_centroid_jacobian;
+use crate::{CellBlock, CellKind, Mesh, MeshError};
+use std::collections::{BTreeMap, HashMap};
+
+const UNUSED: usize = usize::MAX;
+
+pub(crate) fn build(raw: RawMesh, file: &str) -> Result<Mesh, MeshError> {
+    // Node tag → index in raw.nodes.
+    let mut by_tag: HashMap<u64, usize> = HashMap::with_capacity(raw.nodes.len());
+    for (i, n) in raw.nodes.iter().enumerate() {
+        if let Some(&j) = by_tag.get(&n.tag) {
+            return Err(MeshError::parse(
+                file,
+                n.line,
+                format!(
+                    "node tag {} defined twice (first on line {})",
+                    n.tag, raw.nodes[j].line
+                ),
+            ));
+        }
+        by_tag.insert(n.tag, i);
+    }
+    // Element node tags → raw node indices (unknown tags are errors).
+    let mut conn_raw = Vec::with_capacity(raw.conn.len());
+    for e in &raw.elements {
+        for &t in &raw.conn[e.start..e.start + e.ty.n_nodes()] {
+            match by_tag.get(&t) {
+                Some(&i) => conn_raw.push(i),
+                None => {
+                    return Err(MeshError::UnknownNode {
+                        file: file.to_string(),
+                        line: e.line,
+                        element_tag: e.tag,
+                        node_tag: t,
+                    })
+                }
+            }
+        }
+    }
+    let nodes_of = |e: &RawElement| &conn_raw[e.start..e.start + e.ty.n_nodes()];
+    let is_volume = |e: &RawElement| matches!(e.ty, GmshType::Cell(k) if k.is_volume());
+
+    // Keep the nodes of volume cells, numbered in file order.
+    let mut new_index = vec![UNUSED; raw.nodes.len()];
+    for e in raw.elements.iter().filter(|e| is_volume(e)) {
+        for &i in nodes_of(e) {
+            new_index[i] = 0;
+        }
+    }
+    let mut mesh = Mesh::default();
+    for (i, n) in raw.nodes.iter().enumerate() {
+        if new_index[i] != UNUSED {
+            new_index[i] = mesh.nodes.len();
+            mesh.nodes.push(n.xyz);
+            mesh.node_tags.push(n.tag);
+        }
+    }
+    if mesh.nodes.is_empty() {
+        return Err(MeshError::NoVolumeCells {
+            file: file.to_string(),
+        });
+    }
+
+    let name_of = |dim: i64, tag: i64| -> String {
+        raw.names
+            .get(&(dim, tag))
+            .cloned()
+            .unwrap_or_else(|| format!("physical_{tag}"))
+    };
+
+    // Volume blocks, keyed by (physical name, kind) in order of first appearance.
+    let mut block_of: HashMap<(Option<String>, CellKind), usize> = HashMap::new();
+    let mut sets: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+    let mut cell = Vec::with_capacity(20);
+    for e in &raw.elements {
+        let phys = &raw.phys_lists[e.phys];
+        let dim = e.ty.dim();
+        match e.ty {
+            GmshType::Cell(kind) if kind.is_volume() => {
+                cell.clear();
+                let nodes = nodes_of(e);
+                match kind {
+                    CellKind::Hex20 => cell.extend(HEX20_FROM_GMSH.iter().map(|&k| nodes[k])),
+                    _ => cell.extend_from_slice(nodes),
+                }
+                for c in cell.iter_mut() {
+                    *c = new_index[*c];
+                }
+                orient(&mesh.nodes, kind, &mut cell, file, e)?;
+                let name = phys.first().map(|&t| name_of(dim, t));
+                let b = *block_of.entry((name.clone(), kind)).or_insert_with(|| {
+                    mesh.volumes.push(CellBlock {
+                        name,
+                        kind,
+                        conn: Vec::new(),
+                        tags: Vec::new(),
+                    });
+                    mesh.volumes.len() - 1
+                });
+                mesh.volumes[b].conn.extend_from_slice(&cell);
+                mesh.volumes[b].tags.push(e.tag);
+            }
+            GmshType::Cell(kind) => {
+                let Some(&first) = phys.first() else {
+                    continue;
+                };
+                let surface = name_of(dim, first);
+                let mut conn = Vec::with_capacity(kind.n_nodes());
+                for (&i, &t) in nodes_of(e)
+                    .iter()
+                    .zip(&raw.conn[e.start..e.start + kind.n_nodes()])
+                {
+                    if new_index[i] == UNUSED {
+                        return Err(MeshError::FaceNodeNotInVolume {
+                            file: file.to_string(),
+                            line: e.line,
+                            element_tag: e.tag,
+                            surface,
+                            node_tag: t,
+                        });
+                    }
+                    conn.push(new_index[i]);
+                }
+                for &t in phys {
+                    let name = name_of(dim, t);
+                    let block = mesh.faces.entry(name.clone()).or_insert_with(|| CellBlock {
+                        name: Some(name.clone()),
+                        kind,
+                        conn: Vec::new(),
+                        tags: Vec::new(),
+                    });
+                    if block.kind != kind {
+                        return Err(MeshError::MixedFaceKinds {
+                            file: file.to_string(),
+                            line: e.line,
+                            surface: name,
+                            first: block.kind,
+                            second: kind,
+                            element_tag: e.tag,
+                        });
+                    }
+                    block.conn.extend_from_slice(&conn);
+                    block.tags.push(e.tag);
+                }
+            }
+            GmshType::Point | GmshType::Line2 | GmshType::Line3 => {}
+        }
+        // Node sets of every physical group, restricted to kept nodes.
+        for &t in phys {
+            let set = sets.entry(name_of(dim, t)).or_default();
+            set.extend(
+                nodes_of(e)
+                    .iter()
+                    .map(|&i| new_index[i])
+                    .filter(|&i| i != UNUSED),
+            );
+        }
+    }
+    for set in sets.values_mut() {
+        set.sort_unstable();
+        set.dedup();
+    }
+    mesh.node_sets = sets;
+    Ok(mesh)
+}
+
+/// Flips a hex with a negative centroid Jacobian; a (near) zero one is an error.
+fn orient(
+    nodes: &[[f64; 3]],
+    kind: CellKind,
+    cell: &mut [usize],
+    file: &str,
+    e: &RawElement,
+) -> Result<(), MeshError> {
+    let corners: [[f64; 3]; 8] = std::array::from_fn(|k| nodes[cell[k]]);
+    let det = hex_centroid_jacobian(&corners);
+    // Scale: the cube of the largest corner-to-corner extent of the cell.
+    let mut size: f64 = 0.0;
+    for a in &corners {
+        for b in &corners {
+            let d = (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max);
+            size = size.max(d);
+        }
+    }
+    if !det.is_finite() || det.abs() <= 1e-12 * size.powi(3) {
+        return Err(MeshError::DegenerateCell {
+            file: file.to_string(),
+            line: e.line,
+            element_tag: e.tag,
+            det,
+        });
+    }
+    if det < 0.0 {
+        let old: Vec<usize> = cell.to_vec();
+        match kind {
+            CellKind::Hex8 => {
+                for (k, &f) in HEX8_FLIP.iter().enumerate() {
+                    cell[k] = old[f];
+                }
+            }
+            CellKind::Hex20 => {
+                for (k, &f) in HEX20_FLIP.iter().enumerate() {
+                    cell[k] = old[f];
+                }
+            }
+            CellKind::Quad4 | CellKind::Quad8 => {}
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,166 @@
+//! gmsh element types squeal reads, and the gmsh → squeal node permutations.
+
+use crate::CellKind;
+
+/// An element type squeal keeps or knowingly skips.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum GmshType {
+    /// Type 15: 1-node point (kept for node sets only).
+    Point,
+    /// Type 1: 2-node line (kept for node sets only).
+    Line2,
+    /// Type 8: 3-node line (kept for node sets only).
+    Line3,
+    /// A cell squeal stores.
+    Cell(CellKind),
+}
+
+impl GmshType {
+    /// The type for a gmsh type number, or None when squeal does not support it.
+    pub fn from_number(t: i64) -> Option<GmshType> {
+        Some(match t {
+            15 => GmshType::Point,
+            1 => GmshType::Line2,
+            8 => GmshType::Line3,
+            3 => GmshType::Cell(CellKind::Quad4),
+            16 => GmshType::Cell(CellKind::Quad8),
+            5 => GmshType::Cell(CellKind::Hex8),
+            17 => GmshType::Cell(CellKind::Hex20),
+            _ => return None,
+        })
+    }
+
+    pub fn n_nodes(self) -> usize {
+        match self {
+            GmshType::Point => 1,
+            GmshType::Line2 => 2,
+            GmshType::Line3 => 3,
+            GmshType::Cell(k) => k.n_nodes(),
+        }
+    }
+
+    /// Topological dimension (matches the dimension of the physical group it belongs to).
+    pub fn dim(self) -> i64 {
+        match self {
+            GmshType::Point => 0,
+            GmshType::Line2 | GmshType::Line3 => 1,
+            GmshType::Cell(k) if k.is_volume() => 3,
+            GmshType::Cell(_) => 2,
+        }
+    }
+}
+
+/// A readable name for a gmsh element type number (for error messages).
+pub(crate) fn type_name(t: i64) -> String {
+    match t {
+        1 => "2-node line",
+        2 => "3-node triangle",
+        3 => "4-node quadrangle",
+        4 => "4-node tetrahedron",
+        5 => "8-node hexahedron",
+        6 => "6-node prism",
+        7 => "5-node pyramid",
+        8 => "3-node line",
+        9 => "6-node triangle",
+        10 => "9-node quadrangle",
+        11 => "10-node tetrahedron",
+        12 => "27-node hexahedron",
+        13 => "18-node prism",
+        14 => "14-node pyramid",
+        15 => "1-node point",
+        16 => "8-node quadrangle",
+        17 => "20-node hexahedron",
+        18 => "15-node prism",
+        19 => "13-node pyramid",
+        _ => "unknown or unsupported type",
+    }
+    .to_string()
+}
+
+/// `squeal[k] = gmsh[HEX20_FROM_GMSH[k]]`.
+///
+/// gmsh hex20 edge nodes: 8:(0,1) 9:(0,3) 10:(0,4) 11:(1,2) 12:(1,5) 13:(2,3) 14:(2,6)
+/// 15:(3,7) 16:(4,5) 17:(4,7) 18:(5,6) 19:(6,7); squeal (= VTK): 8:(0,1) 9:(1,2) 10:(2,3)
+/// 11:(3,0) 12:(4,5) 13:(5,6) 14:(6,7) 15:(7,4) 16:(0,4) 17:(1,5) 18:(2,6) 19:(3,7).
+/// Corners (0..8) are the same in both. quad4, quad8 and hex8 orders are the same too.
+pub(crate) const HEX20_FROM_GMSH: [usize; 20] = [
+    0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 13, 9, 16, 18, 19, 17, 10, 12, 14, 15,
+];
+
+/// Node permutation that turns a hex with negative orientation into a positive one by
+/// swapping its bottom and top faces (squeal order): `new[k] = old[FLIP[k]]`.
+pub(crate) const HEX8_FLIP: [usize; 8] = [4, 5, 6, 7, 0, 1, 2, 3];
+/// As [`HEX8_FLIP`] for hex20: corners swapped, the bottom and top edge rings swapped,
+/// the vertical edges kept.
+pub(crate) const HEX20_FLIP: [usize; 20] = [
+    4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11, 16, 17, 18, 19,
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The permutation is a bijection of 0..20 and keeps the corners.
+    #[test]
+    fn hex20_permutation_is_a_bijection() {
+        let mut seen = [false; 20];
+        for (k, &g) in HEX20_FROM_GMSH.iter().enumerate() {
+            assert!(!seen[g]);
+            seen[g] = true;
+            if k < 8 {
+                assert_eq!(g, k);
+            }
+        }
+        let mut seen = [false; 20];
+        for &g in &HEX20_FLIP {
+            assert!(!seen[g]);
+            seen[g] = true;
+        }
+    }
+
+    /// Edge endpoints of each scheme (from the gmsh manual's node ordering figure and the
+    /// VTK_QUADRATIC_HEXAHEDRON documentation) agree through the permutation.
+    #[test]
+    fn hex20_permutation_maps_edges() {
+        let gmsh: [(usize, usize); 12] = [
+            (0, 1),
+            (0, 3),
+            (0, 4),
+            (1, 2),
+            (1, 5),
+            (2, 3),
+            (2, 6),
+            (3, 7),
+            (4, 5),
+            (4, 7),
+            (5, 6),
+            (6, 7),
+        ];
+        let squeal: [(usize, usize); 12] = [
+            (0, 1),
+            (1, 2),
+            (2, 3),
+            (3, 0),
+            (4, 5),
+            (5, 6),
+            (6, 7),
+            (7, 4),
+            (0, 4),
+            (1, 5),
+            (2, 6),
+            (3, 7),
+        ];
+        let norm = |(a, b): (usize, usize)| (a.min(b), a.max(b));
+        for k in 8..20 {
+            let g = HEX20_FROM_GMSH[k];
+            assert_eq!(norm(squeal[k - 8]), norm(gmsh[g - 8]), "squeal node {k}");
+        }
+        // Flipping maps each squeal edge to the edge between the flipped corners.
+        for k in 8..20 {
+            let (a, b) = squeal[k - 8];
+            let (fa, fb) = (HEX20_FLIP[a], HEX20_FLIP[b]);
+            let (oa, ob) = squeal[HEX20_FLIP[k] - 8];
+            assert_eq!(norm((fa, fb)), norm((oa, ob)), "flipped node {k}");
+        }
+    }
+}

@@ -1,0 +1,33 @@
+//! The pipeline's error: each stage's error wrapped with the stage name.
+
+use std::path::PathBuf;
+
+#[derive(Debug, thiserror::Error)]
+pub enum PipelineError {
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("scene {path}: {message}")]
+    SceneParse { path: PathBuf, message: String },
+    #[error("scene field `{field}`: {message}")]
+    Scene { field: String, message: String },
+    #[error("--set {assignment}: {reason}")]
+    Override { assignment: String, reason: String },
+    #[error("mesh stage (component `{component}`): {source}")]
+    Mesh {
+        component: String,
+        #[source]
+        source: squeal_meshes::MeshError,
+    },
+    #[error("fe stage (component `{component}`): {source}")]
+    Fe {
+        component: String,
+        #[source]
+        source: squeal_fe::FeError,
+    },
+    #[error("writing {path}: {message}")]
+    Output { path: PathBuf, message: String },
+}

@@ -1,0 +1,256 @@
+//! The scene file: one TOML document that says what to simulate.
+//!
+//! Each table maps to one Options struct of the stage that owns it, with `deny_unknown_fields`,
+//! so a typo is an error naming the key. Only what the scene names is computed.
+
+mod overrides;
+
+pub use overrides::apply_override;
+
+use crate::error::PipelineError;
+use serde::{Deserialize, Serialize};
+use squeal_fe::modal::ModalOptions;
+use squeal_fe::{Hex8Formulation, Material};
+use squeal_meshes::geo::{BlockGeometry, RotorGeometry};
+use std::path::{Path, PathBuf};
+
+/// A whole scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Free text shown in reports (default: empty).
+    #[serde(default)]
+    pub title: String,
+    /// Unit system, for reports only: squeal uses consistent units (default: "SI").
+    #[serde(default = "default_units")]
+    pub units: String,
+    /// The structural components (rotor, pads, caliper, or a verification specimen).
+    #[serde(default)]
+    pub components: Vec<ComponentSpec>,
+    /// Modal analysis options; its presence asks for `squeal modes` (default: absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub modes: Option<ModalOptions>,
+    /// Folder that relative paths in the scene are resolved against (not read from the file).
+    #[serde(skip)]
+    pub base_dir: PathBuf,
+}
+
+fn default_units() -> String {
+    "SI".into()
+}
+
+/// One structural component.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ComponentSpec {
+    /// Name used in outputs and DOF maps (required, unique).
+    pub name: String,
+    /// Where the mesh comes from.
+    pub geometry: GeometrySpec,
+    /// Element kind when squeal meshes the geometry: `hex8` or `hex20` (default: hex20).
+    #[serde(default)]
+    pub element: ElementChoice,
+    /// Formulation of hex8 elements (default: incompatible).
+    #[serde(default)]
+    pub hex8: Hex8Formulation,
+    /// Isotropic linear-elastic material.
+    pub material: Material,
+    /// Fixed (SPC) node sets (default: none, a free-free component).
+    #[serde(default)]
+    pub fixed: Vec<FixedSpec>,
+}
+
+/// Element kind of a meshed geometry.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ElementChoice {
+    Hex8,
+    #[default]
+    Hex20,
+}
+
+impl ElementChoice {
+    /// gmsh element order (1 → hex8, 2 → incomplete second order = hex20).
+    pub fn gmsh_order(self) -> u8 {
+        match self {
+            ElementChoice::Hex8 => 1,
+            ElementChoice::Hex20 => 2,
+        }
+    }
+}
+
+/// Geometry of a component: a parametric template meshed by gmsh, or the user's own mesh.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum GeometrySpec {
+    /// Annular disc (brake rotor or annular plate).
+    Rotor(RotorGeometry),
+    /// Rectangular block (plates, beams, pads).
+    Block(BlockGeometry),
+    /// A gmsh `.msh` file (2.2 or 4.1), path relative to the scene file.
+    Msh { path: PathBuf },
+}
+
+/// A fixed node set: the named set's nodes have the given components held at zero.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FixedSpec {
+    /// Node-set (physical group) name.
+    pub set: String,
+    /// Fixed components as letters from "xyz" (default: "xyz").
+    #[serde(default = "default_dofs")]
+    pub dofs: String,
+}
+
+fn default_dofs() -> String {
+    "xyz".into()
+}
+
+impl FixedSpec {
+    /// Component indices 0..3 of `dofs`.
+    pub fn components(&self) -> Result<Vec<usize>, PipelineError> {
+        let mut out = Vec::new();
+        for ch in self.dofs.chars() {
+            let c = match ch {
+                'x' | 'X' | '1' => 0,
+                'y' | 'Y' | '2' => 1,
+                'z' | 'Z' | '3' => 2,
+                _ => {
+                    return Err(PipelineError::Scene {
+                        field: format!("fixed[set = {}].dofs", self.set),
+                        message: format!("`{}` has `{ch}`; use letters from \"xyz\"", self.dofs),
+                    })
+                }
+            };
+            if !out.contains(&c) {
+                out.push(c);
+            }
+        }
+        Ok(out)
+    }
+}
+
+impl Scene {
+    /// Reads a scene, applies `--set` overrides, types and validates it.
+    pub fn load(path: &Path, overrides: &[String]) -> Result<Scene, PipelineError> {
+        let text = std::fs::read_to_string(path).map_err(|source| PipelineError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let mut doc: toml::Value =
+            toml::from_str(&text).map_err(|e| PipelineError::SceneParse {
+                path: path.to_path_buf(),
+                message: e.to_string(),
+            })?;
+        for assignment in overrides {
+            apply_override(&mut doc, assignment)?;
+        }
+        let mut scene: Scene = doc.try_into().map_err(|e: toml::de::Error| {
+            PipelineError::SceneParse {
+                path: path.to_path_buf(),
+                message: e.to_string(),
+            }
+        })?;
+        scene.base_dir = path
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_else(|| PathBuf::from("."));
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Checks every table; errors name the field and the value.
+    pub fn validate(&self) -> Result<(), PipelineError> {
+        let mut names = std::collections::BTreeSet::new();
+        for (i, c) in self.components.iter().enumerate() {
+            if c.name.trim().is_empty() {
+                return Err(PipelineError::Scene {
+                    field: format!("components[{i}].name"),
+                    message: "empty name".into(),
+                });
+            }
+            if !names.insert(c.name.clone()) {
+                return Err(PipelineError::Scene {
+                    field: format!("components[{i}].name"),
+                    message: format!("`{}` is used twice", c.name),
+                });
+            }
+            c.material.validate().map_err(|e| PipelineError::Scene {
+                field: format!("components[{i}].material"),
+                message: e.to_string(),
+            })?;
+            match &c.geometry {
+                GeometrySpec::Rotor(g) => g.validate(),
+                GeometrySpec::Block(g) => g.validate(),
+                GeometrySpec::Msh { .. } => Ok(()),
+            }
+            .map_err(|e| PipelineError::Scene {
+                field: format!("components[{i}].geometry"),
+                message: e.to_string(),
+            })?;
+            for f in &c.fixed {
+                f.components()?;
+            }
+        }
+        if let Some(m) = &self.modes {
+            m.validate().map_err(|e| PipelineError::Scene {
+                field: "modes".into(),
+                message: e.to_string(),
+            })?;
+        }
+        Ok(())
+    }
+
+    /// The scene as TOML, with every default filled in.
+    pub fn resolved_toml(&self) -> String {
+        toml::to_string_pretty(self).unwrap_or_else(|e| format!("# could not print: {e}\n"))
+    }
+
+    /// The component named `name`, or the only one when `name` is None.
+    pub fn component(&self, name: Option<&str>) -> Result<&ComponentSpec, PipelineError> {
+        match name {
+            Some(n) => self
+                .components
+                .iter()
+                .find(|c| c.name == n)
+                .ok_or_else(|| PipelineError::Scene {
+                    field: "components".into(),
+                    message: format!(
+                        "no component named `{n}` (the scene has: {})",
+                        self.component_names()
+                    ),
+                }),
+            None => match self.components.as_slice() {
+                [one] => Ok(one),
+                [] => Err(PipelineError::Scene {
+                    field: "components".into(),
+                    message: "the scene has no component".into(),
+                }),
+                _ => Err(PipelineError::Scene {
+                    field: "components".into(),
+                    message: format!(
+                        "the scene has several components ({}); name one with --component",
+                        self.component_names()
+                    ),
+                }),
+            },
+        }
+    }
+
+    fn component_names(&self) -> String {
+        self.components
+            .iter()
+            .map(|c| c.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// Resolves a path written in the scene against the scene's folder.
+    pub fn resolve(&self, p: &Path) -> PathBuf {
+        if p.is_absolute() {
+            p.to_path_buf()
+        } else {
+            self.base_dir.join(p)
+        }
+    }
+}

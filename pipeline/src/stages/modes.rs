@@ -1,0 +1,133 @@
+//! `squeal modes`: mesh → assemble → shift-invert Lanczos → modes.json + modes.vtu.
+
+use super::mesh::{mesh_component, MeshReport};
+use crate::error::PipelineError;
+use crate::output::RunDir;
+use crate::progress::Progress;
+use crate::scene::{ComponentSpec, Scene};
+use serde::Serialize;
+use squeal_fe::modal::{solve_modes, ModalStats, ModalStatus};
+use squeal_fe::{assemble, AssemblyOptions, AssemblyStats, DofMap};
+use squeal_meshes::{vtu, Mesh};
+use std::time::Instant;
+
+/// What `squeal modes` found; also the content of `modes.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct ModesReport {
+    pub component: String,
+    pub n_nodes: usize,
+    pub n_dofs: usize,
+    pub frequencies_hz: Vec<f64>,
+    pub status: ModalStatus,
+    pub modal_stats: ModalStats,
+    pub assembly_stats: AssemblyStats,
+    pub mesh: MeshReport,
+    pub total_s: f64,
+}
+
+impl ModesReport {
+    /// A short text table of the frequencies.
+    pub fn table(&self) -> String {
+        let mut s = format!(
+            "{}: {} nodes, {} free DOFs, {} modes ({:?})\n  mode   frequency [Hz]\n",
+            self.component,
+            self.n_nodes,
+            self.n_dofs,
+            self.frequencies_hz.len(),
+            self.status
+        );
+        for (i, f) in self.frequencies_hz.iter().enumerate() {
+            s.push_str(&format!("  {:>4}   {:>14.3}\n", i + 1, f));
+        }
+        s
+    }
+}
+
+/// The fixed (node, component) pairs of a component's `fixed` sets.
+pub fn fixed_dofs(c: &ComponentSpec, mesh: &Mesh) -> Result<Vec<(usize, usize)>, PipelineError> {
+    let mut fixed = Vec::new();
+    for f in &c.fixed {
+        let nodes = mesh.node_sets.get(&f.set).ok_or_else(|| PipelineError::Scene {
+            field: format!("components[name = {}].fixed.set", c.name),
+            message: format!(
+                "the mesh has no node set `{}` (it has: {})",
+                f.set,
+                mesh.node_sets.keys().cloned().collect::<Vec<_>>().join(", ")
+            ),
+        })?;
+        let comps = f.components()?;
+        for &n in nodes {
+            for &k in &comps {
+                fixed.push((n, k));
+            }
+        }
+    }
+    Ok(fixed)
+}
+
+/// Runs the modal analysis of one component and writes its outputs.
+pub fn run(
+    scene: &Scene,
+    component: Option<&str>,
+    dir: &RunDir,
+    progress: Progress,
+) -> Result<ModesReport, PipelineError> {
+    let start = Instant::now();
+    let c = scene.component(component)?;
+    let opts = scene.modes.clone().unwrap_or_default();
+    let fe_err = |source| PipelineError::Fe {
+        component: c.name.clone(),
+        source,
+    };
+    let (mesh, mesh_report) = mesh_component(scene, c, dir, progress)?;
+    let fixed = fixed_dofs(c, &mesh)?;
+    let dofs = DofMap::new(mesh.nodes.len(), &fixed);
+    let materials = vec![c.material.clone(); mesh.volumes.len()];
+    let step = progress.step(format!("assembling K, M ({} DOFs)", dofs.n_free()));
+    let asm_opts = AssemblyOptions { hex8: c.hex8, ..Default::default() };
+    let assembled = assemble(&mesh, &materials, &dofs, &asm_opts).map_err(fe_err)?;
+    step.done(format!("assembled K, M ({} DOFs)", dofs.n_free()));
+    let step = progress.step("shift-invert Lanczos");
+    let modes = solve_modes(&assembled.k, &assembled.m, &opts).map_err(fe_err)?;
+    step.done(format!(
+        "{} modes in {:.2} s",
+        modes.frequencies_hz.len(),
+        modes.stats.factor_s + modes.stats.lanczos_s
+    ));
+
+    let mut arrays = Vec::new();
+    for (j, f) in modes.frequencies_hz.iter().enumerate() {
+        let col: Vec<f64> = (0..modes.shapes.nrows()).map(|i| modes.shapes[(i, j)]).collect();
+        let per_node = dofs.expand(&col);
+        let flat: Vec<f64> = per_node.iter().flat_map(|v| v.iter().copied()).collect();
+        arrays.push(vtu::PointArray {
+            name: format!("mode_{:02}_{:.1}Hz", j + 1, f),
+            components: 3,
+            values: flat,
+        });
+    }
+    vtu::write_vtu(&dir.path("modes.vtu"), &mesh, &arrays, &[]).map_err(|source| {
+        PipelineError::Mesh {
+            component: c.name.clone(),
+            source,
+        }
+    })?;
+    let report = ModesReport {
+        component: c.name.clone(),
+        n_nodes: mesh.nodes.len(),
+        n_dofs: dofs.n_free(),
+        frequencies_hz: modes.frequencies_hz.clone(),
+        status: modes.status.clone(),
+        modal_stats: modes.stats.clone(),
+        assembly_stats: assembled.stats.clone(),
+        mesh: mesh_report,
+        total_s: start.elapsed().as_secs_f64(),
+    };
+    dir.write_json("modes.json", &report)?;
+    dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
+    dir.write_json(
+        "summary.json",
+        &serde_json::json!({ "verb": "modes", "version": crate::VERSION, "modes": &report }),
+    )?;
+    Ok(report)
+}

@@ -1,0 +1,147 @@
+//! The reduced Craig–Bampton model, its statistics and data recovery.
+
+use crate::error::ReductionError;
+use faer::Mat;
+use serde::Serialize;
+use squeal_meshes::Real;
+
+/// How the fixed-interface eigenproblem was solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EigenMethod {
+    /// Dense: Cholesky of M_ii, self-adjoint eigen of L⁻¹ K_ii L⁻ᵀ.
+    Dense,
+    /// Shift-invert block Lanczos reusing the Cholesky factor of K_ii.
+    BlockLanczos,
+    /// No interior DOFs, or no modes asked for.
+    None,
+}
+
+/// Statistics of one Craig–Bampton reduction (wall times in seconds).
+#[derive(Debug, Clone, Serialize)]
+pub struct CbStats {
+    pub n_dofs: usize,
+    pub n_boundary: usize,
+    pub n_interior: usize,
+    pub n_modes: usize,
+    /// Nonzeros of the interior stiffness K_ii.
+    pub nnz_kii: usize,
+    /// Cutoff used, Hz (None when only a mode count was asked for).
+    pub cutoff_hz: Option<Real>,
+    pub eigen_method: EigenMethod,
+    /// Krylov dimension reached by the block Lanczos (0 when dense).
+    pub krylov_dim: usize,
+    /// Right-hand sides solved with the K_ii factor (constraint modes + Lanczos).
+    pub n_solves: usize,
+    pub partition_s: Real,
+    pub factor_s: Real,
+    pub constraint_modes_s: Real,
+    pub eigen_s: Real,
+    pub products_s: Real,
+    pub total_s: Real,
+    /// Peak resident memory (VmHWM, KiB) after each phase, when /proc/self/status is readable.
+    pub peak_rss_kib: PhaseMemory,
+}
+
+/// Peak resident set size after each phase, KiB (None off Linux).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct PhaseMemory {
+    pub partition: Option<u64>,
+    pub factor: Option<u64>,
+    pub constraint_modes: Option<u64>,
+    pub eigen: Option<u64>,
+    pub products: Option<u64>,
+}
+
+/// Peak resident set size of this process so far (VmHWM of /proc/self/status), KiB.
+pub fn peak_rss_kib() -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = s.lines().find(|l| l.starts_with("VmHWM:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
+}
+
+/// A Craig–Bampton reduced component.
+///
+/// Reduced coordinates are ordered `[u_b (boundary DOFs, in the order given), q (modal)]`;
+/// the transformation to the component's free DOFs is
+/// u_b = u_b, u_i = Ψ u_b + Φ q.
+#[derive(Debug, Clone)]
+pub struct CbModel {
+    /// Reduced stiffness [[K_bb + K_bi Ψ, 0], [0, diag ω²]].
+    pub k: Mat<Real>,
+    /// Reduced mass [[M̂_bb, M_bq], [M_qb, I]].
+    pub m: Mat<Real>,
+    /// Reduced damping Tᵀ B T, when a damping matrix was given.
+    pub b: Option<Mat<Real>>,
+    /// Boundary free-DOF indices, in reduced order.
+    pub boundary: Vec<usize>,
+    /// Interior free-DOF indices (increasing), the rows of `psi` and `phi`.
+    pub interior: Vec<usize>,
+    /// Number of fixed-interface modes kept.
+    pub n_modes: usize,
+    /// Their natural frequencies, Hz, ascending.
+    pub fixed_frequencies_hz: Vec<Real>,
+    /// Constraint modes Ψ = −K_ii⁻¹ K_ib (n_interior × n_boundary).
+    pub psi: Mat<Real>,
+    /// Fixed-interface modes Φ, M_ii-orthonormal (n_interior × n_modes).
+    pub phi: Mat<Real>,
+    /// Free DOFs of the full component.
+    pub n_dofs: usize,
+    pub stats: CbStats,
+}
+
+impl CbModel {
+    /// Size of the reduced model (boundary DOFs + modes).
+    pub fn n_reduced(&self) -> usize {
+        self.boundary.len() + self.n_modes
+    }
+
+    /// Data recovery: the full free-DOF vector of a reduced vector `[u_b, q]`:
+    /// u_b on the boundary, Ψ u_b + Φ q inside.
+    pub fn recover(&self, x_reduced: &[Real]) -> Result<Vec<Real>, ReductionError> {
+        let nb = self.boundary.len();
+        if x_reduced.len() != self.n_reduced() {
+            return Err(ReductionError::ShapeMismatch {
+                what: "reduced vector".into(),
+                rows: x_reduced.len(),
+                cols: 1,
+                expected_rows: self.n_reduced(),
+                expected_cols: 1,
+            });
+        }
+        let (ub, q) = x_reduced.split_at(nb);
+        let mut full = vec![0.0; self.n_dofs];
+        for (&dof, &u) in self.boundary.iter().zip(ub) {
+            full[dof] = u;
+        }
+        for (r, &dof) in self.interior.iter().enumerate() {
+            let mut acc = 0.0;
+            for (c, &u) in ub.iter().enumerate() {
+                acc += self.psi[(r, c)] * u;
+            }
+            for (c, &qc) in q.iter().enumerate() {
+                acc += self.phi[(r, c)] * qc;
+            }
+            full[dof] = acc;
+        }
+        Ok(full)
+    }
+
+    /// The transformation T (n_dofs × n_reduced) with u_full = T x_reduced (dense; small models).
+    pub fn transformation(&self) -> Mat<Real> {
+        let nb = self.boundary.len();
+        let mut t = Mat::<Real>::zeros(self.n_dofs, self.n_reduced());
+        for (c, &dof) in self.boundary.iter().enumerate() {
+            t[(dof, c)] = 1.0;
+        }
+        for (r, &dof) in self.interior.iter().enumerate() {
+            for c in 0..nb {
+                t[(dof, c)] = self.psi[(r, c)];
+            }
+            for c in 0..self.n_modes {
+                t[(dof, nb + c)] = self.phi[(r, c)];
+            }
+        }
+        t
+    }
+}

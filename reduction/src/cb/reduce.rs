@@ -1,0 +1,243 @@
+//! Craig–Bampton reduction of one component.
+
+use super::eigen::{self, LanczosParams, Want};
+use super::model::{peak_rss_kib, CbModel, CbStats, EigenMethod, PhaseMemory};
+use super::options::CbOptions;
+use super::partition::{check_square, split, spmm, to_dense, Blocks, Partition, Sparse};
+use crate::error::ReductionError;
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::{Mat, MatRef, Side};
+use rayon::prelude::*;
+use squeal_meshes::Real;
+use std::f64::consts::PI;
+use std::time::Instant;
+
+/// Craig–Bampton reduction of a component with stiffness `k` and mass `m` (sparse, full
+/// symmetric storage, over the component's free DOFs) onto the `boundary` free DOFs and the
+/// fixed-interface modes chosen by `opts`. See [`reduce_damped`].
+pub fn reduce(k: &Sparse, m: &Sparse, boundary: &[usize], opts: &CbOptions) -> Result<CbModel, ReductionError> {
+    reduce_damped(k, m, None, boundary, opts)
+}
+
+/// Craig–Bampton reduction, also reducing a viscous damping matrix `b` when given.
+///
+/// # Derivation
+/// Partition u = [u_b, u_i]. The constraint modes Ψ = −K_ii⁻¹ K_ib (one sparse Cholesky of
+/// K_ii, many right-hand sides) give the interior's static response to boundary motion; the
+/// fixed-interface modes Φ solve K_ii Φ = M_ii Φ diag(ω²), ΦᵀM_iiΦ = I. With
+/// T = [[I, 0], [Ψ, Φ]] and x = [u_b, q]:
+///
+/// K_r = TᵀKT = [[K_bb + K_bi Ψ, 0], [0, diag ω²]]  (K_ii Ψ + K_ib = 0 kills the coupling),
+/// M_r = TᵀMT = [[M_bb + ΨᵀM_ib + M_biΨ + ΨᵀM_iiΨ, (M_bi + ΨᵀM_ii)Φ], [·ᵀ, I]].
+///
+/// Computed as W = M_ii Ψ + M_ib (sparse × dense), M̂_bb = M_bb + M_ibᵀΨ + ΨᵀW, M_bq = WᵀΦ.
+#[allow(non_snake_case)]
+pub fn reduce_damped(
+    k: &Sparse,
+    m: &Sparse,
+    b: Option<&Sparse>,
+    boundary: &[usize],
+    opts: &CbOptions,
+) -> Result<CbModel, ReductionError> {
+    opts.validate()?;
+    let t_start = Instant::now();
+    let n = k.nrows();
+    check_square(k, n, "stiffness K")?;
+    check_square(m, n, "mass M")?;
+    if let Some(b) = b {
+        check_square(b, n, "damping B")?;
+    }
+    let part = Partition::new(n, boundary)?;
+    let (ni, nb) = (part.interior.len(), part.n_boundary);
+    let Kp = split(k, &part);
+    let Mp = split(m, &part);
+    let Bp = b.map(|b| split(b, &part));
+    let mut mem = PhaseMemory { partition: peak_rss_kib(), ..Default::default() };
+    let partition_s = t_start.elapsed().as_secs_f64();
+
+    // One sparse Cholesky of K_ii.
+    let t = Instant::now();
+    let fact_err = |detail: String| ReductionError::Factorization {
+        what: "interior stiffness K_ii (the boundary DOFs must restrain every rigid-body motion)".into(),
+        n: ni,
+        detail,
+    };
+    let llt = if ni > 0 {
+        let sym = SymbolicLlt::try_new(Kp.ii.symbolic(), Side::Lower).map_err(|e| fact_err(format!("{e:?}")))?;
+        Some(Llt::try_new_with_symbolic(sym, Kp.ii.as_ref(), Side::Lower).map_err(|e| fact_err(format!("{e:?}")))?)
+    } else {
+        None
+    };
+    mem.factor = peak_rss_kib();
+    let factor_s = t.elapsed().as_secs_f64();
+
+    // Constraint modes Ψ = −K_ii⁻¹ K_ib, solved in parallel column blocks.
+    let t = Instant::now();
+    let mut psi = Mat::<Real>::zeros(ni, nb);
+    add_sparse(psi.as_mut(), &Kp.ib, -1.0);
+    if let Some(llt) = &llt {
+        psi.par_col_chunks_mut(opts.constraint_block).for_each(|block| llt.solve_in_place(block));
+    }
+    check_finite(psi.as_ref(), "constraint modes Ψ")?;
+    mem.constraint_modes = peak_rss_kib();
+    let constraint_modes_s = t.elapsed().as_secs_f64();
+
+    // Fixed-interface modes of (K_ii, M_ii).
+    let t = Instant::now();
+    let cutoff_hz = opts.resolved_cutoff_hz();
+    let want = Want { lambda_max: cutoff_hz.map(|f| (2.0 * PI * f).powi(2)), n_max: opts.n_modes };
+    let (pairs, method) = match &llt {
+        _ if ni == 0 || opts.n_modes == Some(0) => (None, EigenMethod::None),
+        Some(_) if ni <= opts.dense_max => {
+            let p = eigen::dense(to_dense(&Kp.ii).as_ref(), to_dense(&Mp.ii).as_ref(), want, "fixed-interface K_ii, M_ii")?;
+            (Some(p), EigenMethod::Dense)
+        }
+        Some(llt) => {
+            let solve = |x: faer::MatMut<'_, Real>| llt.solve_in_place(x);
+            let params = LanczosParams { block: opts.lanczos_block, max_dim: opts.lanczos_max_dim, tol: opts.lanczos_tol };
+            let p = eigen::lanczos(&solve, &Mp.ii, 0.0, want, params, "fixed-interface K_ii, M_ii")?;
+            (Some(p), EigenMethod::BlockLanczos)
+        }
+        None => (None, EigenMethod::None),
+    };
+    let (lambda, phi, krylov_dim, eig_solves) = match pairs {
+        Some(p) => (p.values, p.vectors, p.krylov_dim, p.n_solves),
+        None => (Vec::new(), Mat::<Real>::zeros(ni, 0), 0, 0),
+    };
+    let nq = lambda.len();
+    mem.eigen = peak_rss_kib();
+    let eigen_s = t.elapsed().as_secs_f64();
+
+    // Reduced matrices.
+    let t = Instant::now();
+    let nr = nb + nq;
+    let mut kr = Mat::<Real>::zeros(nr, nr);
+    let kbb = condensed(&Kp, psi.as_ref(), false);
+    kr.submatrix_mut(0, 0, nb, nb).copy_from(&kbb);
+    for (j, &l) in lambda.iter().enumerate() {
+        kr[(nb + j, nb + j)] = l;
+    }
+    let mr = reduced_mass_like(&Mp, psi.as_ref(), phi.as_ref(), true);
+    let br = Bp.as_ref().map(|bp| reduced_mass_like(bp, psi.as_ref(), phi.as_ref(), false));
+    check_finite(kr.as_ref(), "reduced stiffness")?;
+    check_finite(mr.as_ref(), "reduced mass")?;
+    mem.products = peak_rss_kib();
+    let products_s = t.elapsed().as_secs_f64();
+
+    let stats = CbStats {
+        n_dofs: n,
+        n_boundary: nb,
+        n_interior: ni,
+        n_modes: nq,
+        nnz_kii: Kp.ii.val().len(),
+        cutoff_hz,
+        eigen_method: method,
+        krylov_dim,
+        n_solves: if ni > 0 { nb + eig_solves } else { 0 },
+        partition_s,
+        factor_s,
+        constraint_modes_s,
+        eigen_s,
+        products_s,
+        total_s: t_start.elapsed().as_secs_f64(),
+        peak_rss_kib: mem,
+    };
+    Ok(CbModel {
+        k: kr,
+        m: mr,
+        b: br,
+        boundary: boundary.to_vec(),
+        interior: part.interior,
+        n_modes: nq,
+        fixed_frequencies_hz: lambda.iter().map(|&l| l.max(0.0).sqrt() / (2.0 * PI)).collect(),
+        psi,
+        phi,
+        n_dofs: n,
+        stats,
+    })
+}
+
+/// `dst += alpha · a` for a sparse `a` of the same shape.
+fn add_sparse(mut dst: faer::MatMut<'_, Real>, a: &Sparse, alpha: Real) {
+    let cp = a.symbolic().col_ptr();
+    let ri = a.symbolic().row_idx();
+    let v = a.val();
+    for j in 0..a.ncols() {
+        for p in cp[j]..cp[j + 1] {
+            dst[(ri[p], j)] += alpha * v[p];
+        }
+    }
+}
+
+/// `A_ibᵀ X` for sparse A_ib (n_i × n_b) and dense X (n_i × c).
+fn sparse_t_dense(a: &Sparse, x: MatRef<'_, Real>) -> Mat<Real> {
+    let mut out = Mat::<Real>::zeros(a.ncols(), x.ncols());
+    let cp = a.symbolic().col_ptr();
+    let ri = a.symbolic().row_idx();
+    let v = a.val();
+    for c in 0..x.ncols() {
+        let xc = x.col(c);
+        for j in 0..a.ncols() {
+            let mut acc = 0.0;
+            for p in cp[j]..cp[j + 1] {
+                acc += v[p] * xc[ri[p]];
+            }
+            out[(j, c)] = acc;
+        }
+    }
+    out
+}
+
+/// Symmetric part of a square matrix.
+fn sym(a: Mat<Real>) -> Mat<Real> {
+    Mat::from_fn(a.nrows(), a.ncols(), |i, j| 0.5 * (a[(i, j)] + a[(j, i)]))
+}
+
+/// Boundary block of TᵀAT: A_bb + A_ibᵀΨ (+ ΨᵀW with W = A_iiΨ + A_ib when `with_ii`).
+fn condensed(a: &Blocks, psi: MatRef<'_, Real>, with_ii: bool) -> Mat<Real> {
+    let mut out = a.bb.clone() + sparse_t_dense(&a.ib, psi);
+    if with_ii {
+        let mut w = spmm(&a.ii, psi);
+        add_sparse(w.as_mut(), &a.ib, 1.0);
+        out += psi.transpose() * &w;
+    }
+    sym(out)
+}
+
+/// TᵀAT for a mass-like matrix A (M or B). The modal block is I when `unit_modal` (M, with
+/// M_ii-orthonormal Φ), else ΦᵀA_iiΦ.
+fn reduced_mass_like(a: &Blocks, psi: MatRef<'_, Real>, phi: MatRef<'_, Real>, unit_modal: bool) -> Mat<Real> {
+    let (nb, nq) = (psi.ncols(), phi.ncols());
+    let mut out = Mat::<Real>::zeros(nb + nq, nb + nq);
+    let mut w = spmm(&a.ii, psi);
+    add_sparse(w.as_mut(), &a.ib, 1.0);
+    let bb = sym(a.bb.clone() + sparse_t_dense(&a.ib, psi) + psi.transpose() * &w);
+    out.submatrix_mut(0, 0, nb, nb).copy_from(&bb);
+    if nq > 0 {
+        let bq = w.transpose() * phi;
+        out.submatrix_mut(0, nb, nb, nq).copy_from(&bq);
+        out.submatrix_mut(nb, 0, nq, nb).copy_from(bq.transpose());
+        if unit_modal {
+            for j in 0..nq {
+                out[(nb + j, nb + j)] = 1.0;
+            }
+        } else {
+            let qq = sym(phi.transpose() * spmm(&a.ii, phi));
+            out.submatrix_mut(nb, nb, nq, nq).copy_from(&qq);
+        }
+    }
+    out
+}
+
+fn check_finite(a: MatRef<'_, Real>, what: &str) -> Result<(), ReductionError> {
+    for j in 0..a.ncols() {
+        for i in 0..a.nrows() {
+            let v = a[(i, j)];
+            if !v.is_finite() {
+                return Err(ReductionError::NonFinite { what: what.to_string(), row: i, col: j, value: v });
+            }
+        }
+    }
+    Ok(())
+}

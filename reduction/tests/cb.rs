@@ -1,0 +1,520 @@
+//! Craig–Bampton reduction, checks and superelement assembly, verified against hand
+//! calculations and against the unreduced models they come from.
+//!
+//! The test models are small free-free hex8 meshes assembled by the private `fem` module below
+//! (plain trilinear hex8, 2×2×2 Gauss, consistent mass), so these tests do not depend on the
+//! fe crate; a CB reduction is exact algebra on whatever (K, M) it is given.
+
+use faer::sparse::{SparseColMat, Triplet};
+use faer::Mat;
+use squeal_reduction::cb::{self, dense_generalized_eigen, CbOptions, CheckOptions, DofPoint};
+use squeal_reduction::superelement::{self, Component, DofKey, DofKind, ReducedDofMap};
+
+type Sparse = SparseColMat<usize, f64>;
+
+mod fem {
+    use super::*;
+
+    /// Nodes and hex8 cells (squeal/VTK node order).
+    pub struct Hexes {
+        pub nodes: Vec<[f64; 3]>,
+        pub cells: Vec<[usize; 8]>,
+    }
+
+    fn cell(id: impl Fn(usize, usize, usize) -> usize, i: usize, j: usize, k: usize) -> [usize; 8] {
+        [
+            id(i, j, k),
+            id(i + 1, j, k),
+            id(i + 1, j + 1, k),
+            id(i, j + 1, k),
+            id(i, j, k + 1),
+            id(i + 1, j, k + 1),
+            id(i + 1, j + 1, k + 1),
+            id(i, j + 1, k + 1),
+        ]
+    }
+
+    /// Box [0,l]³ shifted by `origin`, n elements per direction; node (i,j,k) has index
+    /// i + (nx+1)(j + (ny+1)k).
+    pub fn box_mesh(n: [usize; 3], l: [f64; 3], origin: [f64; 3]) -> Hexes {
+        let [nx, ny, nz] = n;
+        let id = |i: usize, j: usize, k: usize| i + (nx + 1) * (j + (ny + 1) * k);
+        let mut nodes = Vec::new();
+        for k in 0..=nz {
+            for j in 0..=ny {
+                for i in 0..=nx {
+                    nodes.push([
+                        origin[0] + l[0] * i as f64 / nx as f64,
+                        origin[1] + l[1] * j as f64 / ny as f64,
+                        origin[2] + l[2] * k as f64 / nz as f64,
+                    ]);
+                }
+            }
+        }
+        let mut cells = Vec::new();
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    cells.push(cell(id, i, j, k));
+                }
+            }
+        }
+        Hexes { nodes, cells }
+    }
+
+    /// Annulus r_in..r_out, thickness t (z from 0), nr × nt × nz elements; node (i,j,k) =
+    /// (radial, circumferential, axial) has index i + (nr+1)(j + nt k).
+    pub fn annulus_mesh(r_in: f64, r_out: f64, t: f64, nr: usize, nt: usize, nz: usize) -> Hexes {
+        let id = |i: usize, j: usize, k: usize| i + (nr + 1) * ((j % nt) + nt * k);
+        let mut nodes = Vec::new();
+        for k in 0..=nz {
+            for j in 0..nt {
+                for i in 0..=nr {
+                    let r = r_in + (r_out - r_in) * i as f64 / nr as f64;
+                    let th = 2.0 * std::f64::consts::PI * j as f64 / nt as f64;
+                    nodes.push([r * th.cos(), r * th.sin(), t * k as f64 / nz as f64]);
+                }
+            }
+        }
+        let mut cells = Vec::new();
+        for k in 0..nz {
+            for j in 0..nt {
+                for i in 0..nr {
+                    cells.push(cell(id, i, j, k));
+                }
+            }
+        }
+        Hexes { nodes, cells }
+    }
+
+    const XI: [[f64; 3]; 8] = [
+        [-1., -1., -1.],
+        [1., -1., -1.],
+        [1., 1., -1.],
+        [-1., 1., -1.],
+        [-1., -1., 1.],
+        [1., -1., 1.],
+        [1., 1., 1.],
+        [-1., 1., 1.],
+    ];
+
+    /// Stiffness and consistent mass (24×24) of one hex8, isotropic, 2×2×2 Gauss.
+    fn hex8(x: &[[f64; 3]; 8], e: f64, nu: f64, rho: f64) -> (Vec<f64>, Vec<f64>) {
+        let lam = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+        let mu = e / (2.0 * (1.0 + nu));
+        let mut d = [[0.0; 6]; 6];
+        for a in 0..3 {
+            for b in 0..3 {
+                d[a][b] = lam;
+            }
+            d[a][a] = lam + 2.0 * mu;
+            d[a + 3][a + 3] = mu;
+        }
+        let g = 1.0 / 3f64.sqrt();
+        let mut ke = vec![0.0; 576];
+        let mut me = vec![0.0; 576];
+        for gp in XI.iter() {
+            let q = [gp[0] * g, gp[1] * g, gp[2] * g];
+            let mut n = [0.0; 8];
+            let mut dn = [[0.0; 3]; 8];
+            for a in 0..8 {
+                let f = [1.0 + XI[a][0] * q[0], 1.0 + XI[a][1] * q[1], 1.0 + XI[a][2] * q[2]];
+                n[a] = f[0] * f[1] * f[2] / 8.0;
+                dn[a] = [XI[a][0] * f[1] * f[2] / 8.0, XI[a][1] * f[0] * f[2] / 8.0, XI[a][2] * f[0] * f[1] / 8.0];
+            }
+            let mut j = [[0.0; 3]; 3];
+            for a in 0..8 {
+                for r in 0..3 {
+                    for c in 0..3 {
+                        j[r][c] += dn[a][r] * x[a][c];
+                    }
+                }
+            }
+            let det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1]) - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+                + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
+            assert!(det > 0.0, "inverted element");
+            let inv = [
+                [(j[1][1] * j[2][2] - j[1][2] * j[2][1]) / det, (j[0][2] * j[2][1] - j[0][1] * j[2][2]) / det, (j[0][1] * j[1][2] - j[0][2] * j[1][1]) / det],
+                [(j[1][2] * j[2][0] - j[1][0] * j[2][2]) / det, (j[0][0] * j[2][2] - j[0][2] * j[2][0]) / det, (j[0][2] * j[1][0] - j[0][0] * j[1][2]) / det],
+                [(j[1][0] * j[2][1] - j[1][1] * j[2][0]) / det, (j[0][1] * j[2][0] - j[0][0] * j[2][1]) / det, (j[0][0] * j[1][1] - j[0][1] * j[1][0]) / det],
+            ];
+            // dN/dx = J⁻¹ dN/dξ
+            let mut gx = [[0.0; 3]; 8];
+            for a in 0..8 {
+                for r in 0..3 {
+                    gx[a][r] = (0..3).map(|c| inv[r][c] * dn[a][c]).sum();
+                }
+            }
+            let mut bm = vec![[0.0; 24]; 6];
+            for a in 0..8 {
+                let [gxa, gya, gza] = gx[a];
+                bm[0][3 * a] = gxa;
+                bm[1][3 * a + 1] = gya;
+                bm[2][3 * a + 2] = gza;
+                bm[3][3 * a] = gya;
+                bm[3][3 * a + 1] = gxa;
+                bm[4][3 * a + 1] = gza;
+                bm[4][3 * a + 2] = gya;
+                bm[5][3 * a] = gza;
+                bm[5][3 * a + 2] = gxa;
+            }
+            let mut db = vec![[0.0; 24]; 6];
+            for r in 0..6 {
+                for c in 0..24 {
+                    db[r][c] = (0..6).map(|s| d[r][s] * bm[s][c]).sum();
+                }
+            }
+            for r in 0..24 {
+                for c in 0..24 {
+                    ke[r * 24 + c] += det * (0..6).map(|s| bm[s][r] * db[s][c]).sum::<f64>();
+                }
+            }
+            for a in 0..8 {
+                for b in 0..8 {
+                    for c in 0..3 {
+                        me[(3 * a + c) * 24 + 3 * b + c] += det * rho * n[a] * n[b];
+                    }
+                }
+            }
+        }
+        (ke, me)
+    }
+
+    /// Assembled K and M over all 3 n_nodes DOFs (DOF = 3 node + comp), free-free.
+    pub fn assemble(h: &Hexes, e: f64, nu: f64, rho: f64) -> (Sparse, Sparse) {
+        let (mut tk, mut tm) = (Vec::new(), Vec::new());
+        for c in &h.cells {
+            let x: [[f64; 3]; 8] = std::array::from_fn(|a| h.nodes[c[a]]);
+            let (ke, me) = hex8(&x, e, nu, rho);
+            for r in 0..24 {
+                for s in 0..24 {
+                    let (gr, gs) = (3 * c[r / 3] + r % 3, 3 * c[s / 3] + s % 3);
+                    tk.push(Triplet::new(gr, gs, ke[r * 24 + s]));
+                    if me[r * 24 + s] != 0.0 {
+                        tm.push(Triplet::new(gr, gs, me[r * 24 + s]));
+                    }
+                }
+            }
+        }
+        let n = 3 * h.nodes.len();
+        (
+            SparseColMat::try_new_from_triplets(n, n, &tk).unwrap(),
+            SparseColMat::try_new_from_triplets(n, n, &tm).unwrap(),
+        )
+    }
+
+    /// DOF points of all 3 n_nodes DOFs.
+    pub fn points(h: &Hexes) -> Vec<DofPoint> {
+        cb::dof_points(&h.nodes, 3 * h.nodes.len(), |i| (i / 3, i % 3))
+    }
+
+    /// All three DOFs of the given nodes.
+    pub fn dofs_of(nodes: &[usize]) -> Vec<usize> {
+        nodes.iter().flat_map(|&n| [3 * n, 3 * n + 1, 3 * n + 2]).collect()
+    }
+
+    /// Dense copy.
+    pub fn dense(a: &Sparse) -> Mat<f64> {
+        a.to_dense()
+    }
+
+    /// Keeps rows/columns `keep` of a sparse matrix (dense result).
+    pub fn restrict(a: &Sparse, keep: &[usize]) -> Mat<f64> {
+        let d = a.to_dense();
+        Mat::from_fn(keep.len(), keep.len(), |i, j| d[(keep[i], keep[j])])
+    }
+}
+
+/// Steel in SI units.
+const STEEL: (f64, f64, f64) = (210e9, 0.3, 7850.0);
+
+fn eig(k: &Mat<f64>, m: &Mat<f64>) -> Vec<f64> {
+    dense_generalized_eigen(k.as_ref(), m.as_ref()).unwrap().0
+}
+
+fn hz(l: f64) -> f64 {
+    l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI)
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3-DOF spring–mass chain by hand
+// ---------------------------------------------------------------------------------------------
+
+/// Chain m = diag(4, 5, 7), k1 = 9000 (DOF 1–2), k2 = 3000 (DOF 2–3), free; boundary = DOF 1.
+///
+/// Hand derivation (interior = DOFs 2, 3):
+///   K_ii = [[12000, −3000], [−3000, 3000]], K_ib = [−9000, 0]ᵀ, M_ii = diag(5, 7), M_ib = 0.
+///   K_ii⁻¹ = [[3000, 3000], [3000, 12000]] / 27e6  ⇒  Ψ = −K_ii⁻¹K_ib = [1, 1]ᵀ
+///   (the interior follows the boundary rigidly, as a free chain must).
+///   K̂_bb = K_bb + K_biΨ = 9000 − 9000 = 0;  M̂_bb = 4 + ΨᵀM_iiΨ = 4 + 5 + 7 = 16.
+///   Fixed-interface modes: det(K_ii − λM_ii) = 35λ² − 99000λ + 27e6 = 0,
+///   φ ∝ [3000, 12000 − 5λ] with φᵀM_iiφ = 1;  M_bq = (M_bi + ΨᵀM_ii)φ = 5φ₁ + 7φ₂.
+///   Full model: det(K − λM) = −λ(140λ² − 711000λ + 432e6) ⇒ λ = 0 and the two roots.
+#[test]
+fn chain_three_dof_by_hand() {
+    let t = |i, j, v| Triplet::new(i, j, v);
+    let k = Sparse::try_new_from_triplets(
+        3,
+        3,
+        &[t(0, 0, 9000.0), t(0, 1, -9000.0), t(1, 0, -9000.0), t(1, 1, 12000.0), t(1, 2, -3000.0), t(2, 1, -3000.0), t(2, 2, 3000.0)],
+    )
+    .unwrap();
+    let m = Sparse::try_new_from_triplets(3, 3, &[t(0, 0, 4.0), t(1, 1, 5.0), t(2, 2, 7.0)]).unwrap();
+    let model = cb::reduce(&k, &m, &[0], &CbOptions::with_n_modes(2)).unwrap();
+    assert_eq!(model.n_modes, 2);
+    assert_eq!(model.interior, vec![1, 2]);
+    for r in 0..2 {
+        assert!((model.psi[(r, 0)] - 1.0).abs() < 1e-12, "Ψ[{r}] = {}", model.psi[(r, 0)]);
+    }
+    assert!(model.k[(0, 0)].abs() < 1e-9, "K̂_bb = {}", model.k[(0, 0)]);
+    assert!((model.m[(0, 0)] - 16.0).abs() < 1e-12, "M̂_bb = {}", model.m[(0, 0)]);
+    let disc = (99000.0f64.powi(2) - 4.0 * 35.0 * 27e6).sqrt();
+    let lam = [(99000.0 - disc) / 70.0, (99000.0 + disc) / 70.0];
+    for (j, &l) in lam.iter().enumerate() {
+        assert!((model.k[(1 + j, 1 + j)] - l).abs() < 1e-9 * l, "K_qq[{j}] = {} vs {l}", model.k[(1 + j, 1 + j)]);
+        assert!((model.m[(1 + j, 1 + j)] - 1.0).abs() < 1e-14);
+        assert!(model.k[(0, 1 + j)].abs() < 1e-12 && model.k[(1 + j, 0)].abs() < 1e-12);
+        let (p1, p2) = (3000.0, 12000.0 - 5.0 * l);
+        let norm = (5.0 * p1 * p1 + 7.0 * p2 * p2).sqrt();
+        let mbq = (5.0 * p1 + 7.0 * p2) / norm;
+        assert!((model.m[(0, 1 + j)].abs() - mbq.abs()).abs() < 1e-12, "M_bq[{j}] = {} vs ±{mbq}", model.m[(0, 1 + j)]);
+        assert_eq!(model.m[(0, 1 + j)], model.m[(1 + j, 0)]);
+    }
+    assert!((model.k[(1, 2)]).abs() < 1e-12 && model.m[(1, 2)].abs() < 1e-14);
+    // All interior modes kept: the reduced eigenvalues are the full ones.
+    let disc = (711000.0f64.powi(2) - 4.0 * 140.0 * 432e6).sqrt();
+    let full = [0.0, (711000.0 - disc) / 280.0, (711000.0 + disc) / 280.0];
+    let red = eig(&model.k, &model.m);
+    assert!(red[0].abs() < 1e-9 * full[2], "rigid eigenvalue {}", red[0]);
+    for i in 1..3 {
+        assert!((red[i] - full[i]).abs() < 1e-12 * full[i], "λ{i}: {} vs {}", red[i], full[i]);
+    }
+    // Recovery of the rigid mode: all DOFs move together.
+    let x = model.recover(&[1.0, 0.0, 0.0]).unwrap();
+    assert!(x.iter().all(|v| (v - 1.0).abs() < 1e-12), "{x:?}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Convergence on a plate
+// ---------------------------------------------------------------------------------------------
+
+/// Steel plate 0.3 × 0.15 × 0.01 m, 6×3×1 hex8, free-free; boundary = the 8 nodes of the x = 0 edge.
+fn plate() -> (fem::Hexes, Sparse, Sparse, Vec<usize>) {
+    let h = fem::box_mesh([6, 3, 1], [0.3, 0.15, 0.01], [0.0; 3]);
+    let (k, m) = fem::assemble(&h, STEEL.0, STEEL.1, STEEL.2);
+    let edge: Vec<usize> = (0..h.nodes.len()).filter(|&n| h.nodes[n][0] == 0.0).collect();
+    assert_eq!(edge.len(), 8);
+    (h, k, m, fem::dofs_of(&edge))
+}
+
+/// Rayleigh–Ritz on nested subspaces (CB with more modes contains CB with fewer): every reduced
+/// eigenvalue bounds the full one from above and decreases monotonically as modes are added
+/// (Cauchy interlacing); with all interior modes the subspace is the whole space.
+#[test]
+fn cb_frequencies_converge_from_above() {
+    let (_, k, m, boundary) = plate();
+    let full = eig(&fem::dense(&k), &fem::dense(&m));
+    let n_interior = k.nrows() - boundary.len();
+    let mut previous: Option<Vec<f64>> = None;
+    for nq in [0, 2, 5, 10, 20, 40, 80, n_interior] {
+        let model = cb::reduce(&k, &m, &boundary, &CbOptions::with_n_modes(nq)).unwrap();
+        assert_eq!(model.n_modes, nq);
+        let red = eig(&model.k, &model.m);
+        // Elastic modes only: the 6 rigid ones are round-off around zero in both.
+        for i in 6..red.len() {
+            assert!(red[i] >= full[i] * (1.0 - 1e-10), "nq = {nq}, mode {i}: {} < full {}", red[i], full[i]);
+            if let Some(p) = &previous {
+                if i < p.len() {
+                    assert!(red[i] <= p[i] * (1.0 + 1e-10), "nq = {nq}, mode {i}: {} rose above {}", red[i], p[i]);
+                }
+            }
+        }
+        if nq == n_interior {
+            for i in 6..full.len() {
+                assert!((red[i] - full[i]).abs() <= 1e-8 * full[i], "all modes kept, mode {i}: {} vs {}", red[i], full[i]);
+            }
+        }
+        previous = Some(red);
+    }
+}
+
+/// The block Lanczos path (used above `dense_max`) keeps the same fixed-interface modes as the
+/// dense path: same frequencies, and reduced models with the same eigenvalues.
+#[test]
+fn lanczos_path_matches_dense_path() {
+    let (_, k, m, boundary) = plate();
+    let dense = cb::reduce(&k, &m, &boundary, &CbOptions { cutoff_hz: Some(20_000.0), ..CbOptions::default() }).unwrap();
+    let opts = CbOptions { cutoff_hz: Some(20_000.0), dense_max: 10, lanczos_block: 4, ..CbOptions::default() };
+    let lanczos = cb::reduce(&k, &m, &boundary, &opts).unwrap();
+    assert_eq!(lanczos.stats.eigen_method, cb::EigenMethod::BlockLanczos);
+    assert!(dense.n_modes >= 10, "cutoff keeps {} modes", dense.n_modes);
+    assert_eq!(lanczos.n_modes, dense.n_modes, "{:?} vs {:?}", lanczos.fixed_frequencies_hz, dense.fixed_frequencies_hz);
+    for (a, b) in lanczos.fixed_frequencies_hz.iter().zip(&dense.fixed_frequencies_hz) {
+        assert!((a - b).abs() < 1e-8 * b, "{a} vs {b}");
+    }
+    let (ra, rb) = (eig(&lanczos.k, &lanczos.m), eig(&dense.k, &dense.m));
+    for i in 6..ra.len() {
+        assert!((ra[i] - rb[i]).abs() < 1e-8 * rb[i], "mode {i}: {} vs {}", ra[i], rb[i]);
+    }
+    let chk = cb::check(&lanczos, Some((&k, &m)), None, &CheckOptions::default()).unwrap();
+    assert!(chk.mqq_max_deviation < 1e-10, "{}", chk.mqq_max_deviation);
+    assert!(chk.kbq_rel < 1e-10, "{}", chk.kbq_rel);
+}
+
+/// Recovery: u = T x exactly, so the full Rayleigh quotient of a recovered reduced mode equals
+/// the reduced eigenvalue, and the boundary entries are copied through.
+#[test]
+fn recovery_reproduces_reduced_energy() {
+    let (_, k, m, boundary) = plate();
+    let model = cb::reduce(&k, &m, &boundary, &CbOptions::with_n_modes(12)).unwrap();
+    let (vals, vecs) = dense_generalized_eigen(model.k.as_ref(), model.m.as_ref()).unwrap();
+    let i = 8; // an elastic mode
+    let x: Vec<f64> = (0..model.n_reduced()).map(|r| vecs[(r, i)]).collect();
+    let u = model.recover(&x).unwrap();
+    let uc = Mat::from_fn(u.len(), 1, |r, _| u[r]);
+    let ku = fem::dense(&k) * &uc;
+    let mu = fem::dense(&m) * &uc;
+    let (uku, umu) = ((uc.transpose() * &ku)[(0, 0)], (uc.transpose() * &mu)[(0, 0)]);
+    assert!((uku / umu - vals[i]).abs() < 1e-9 * vals[i], "{} vs {}", uku / umu, vals[i]);
+    assert!((umu - 1.0).abs() < 1e-10, "recovered mode has modal mass {umu}");
+    for (j, &d) in model.boundary.iter().enumerate() {
+        assert_eq!(u[d], x[j]);
+    }
+    assert!(model.recover(&x[1..]).is_err());
+}
+
+/// Proportional damping B = αM + βK reduces to αM_r + βK_r (T is the same for all three).
+#[test]
+fn damping_reduces_like_mass_and_stiffness() {
+    let (_, k, m, boundary) = plate();
+    let (alpha, beta) = (3.0, 2e-6);
+    let b = {
+        let (kd, md) = (fem::dense(&k), fem::dense(&m));
+        let n = kd.nrows();
+        let mut t = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                let v = alpha * md[(i, j)] + beta * kd[(i, j)];
+                if v != 0.0 {
+                    t.push(Triplet::new(i, j, v));
+                }
+            }
+        }
+        Sparse::try_new_from_triplets(n, n, &t).unwrap()
+    };
+    let model = cb::reduce_damped(&k, &m, Some(&b), &boundary, &CbOptions::with_n_modes(10)).unwrap();
+    let br = model.b.as_ref().unwrap();
+    let expect = &model.m * faer::Scale(alpha) + &model.k * faer::Scale(beta);
+    let scale = expect.norm_max();
+    let err = (br - &expect).norm_max();
+    assert!(err < 1e-10 * scale, "B_r error {err} (scale {scale})");
+}
+
+#[test]
+fn bad_input_is_an_error() {
+    let (_, k, m, boundary) = plate();
+    let opts = CbOptions::with_n_modes(4);
+    assert!(cb::reduce(&k, &m, &[0, 0], &opts).is_err(), "repeated boundary DOF");
+    assert!(cb::reduce(&k, &m, &[k.nrows()], &opts).is_err(), "out-of-range boundary DOF");
+    // Free-free with too few boundary DOFs: K_ii is singular.
+    let err = cb::reduce(&k, &m, &boundary[..2], &opts).unwrap_err();
+    assert!(matches!(err, squeal_reduction::ReductionError::Factorization { .. }), "{err}");
+    assert!(cb::reduce(&k, &m, &boundary, &CbOptions::default()).is_err(), "no cutoff and no mode count");
+    assert!(cb::reduce(&k, &m, &boundary, &CbOptions { cutoff_hz: Some(-1.0), ..opts }).is_err());
+}
+
+
+
+// ---------------------------------------------------------------------------------------------
+// Rotor and pad at the default cutoff; checks
+// ---------------------------------------------------------------------------------------------
+
+/// Steel annulus rotor r = 0.06..0.14 m, 25 mm thick, 2 × 24 × 2 hex8, free-free; boundary =
+/// the nodes of the friction face z = t.
+fn rotor() -> (fem::Hexes, Sparse, Sparse, Vec<usize>) {
+    let t = 0.025;
+    let h = fem::annulus_mesh(0.06, 0.14, t, 2, 24, 2);
+    let (k, m) = fem::assemble(&h, STEEL.0, STEEL.1, STEEL.2);
+    let face: Vec<usize> = (0..h.nodes.len()).filter(|&n| (h.nodes[n][2] - t).abs() < 1e-12).collect();
+    assert_eq!(face.len(), 3 * 24);
+    (h, k, m, fem::dofs_of(&face))
+}
+
+/// Pad-like block 80 × 50 × 12 mm (E = 5 GPa, ν = 0.25, ρ = 2500 kg/m³) offset from the
+/// origin, 6 × 4 × 2 hex8; boundary = the friction face (its lowest face).
+const PAD_ORIGIN: [f64; 3] = [0.06, -0.025, 0.025];
+const PAD_SIZE: [f64; 3] = [0.08, 0.05, 0.012];
+fn pad() -> (fem::Hexes, Sparse, Sparse, Vec<usize>) {
+    let h = fem::box_mesh([6, 4, 2], PAD_SIZE, PAD_ORIGIN);
+    let (k, m) = fem::assemble(&h, 5e9, 0.25, 2500.0);
+    let face: Vec<usize> = (0..h.nodes.len()).filter(|&n| h.nodes[n][2] == PAD_ORIGIN[2]).collect();
+    assert_eq!(face.len(), 7 * 5);
+    (h, k, m, fem::dofs_of(&face))
+}
+
+/// A frequency of interest between the 10th and 11th elastic full-model modes (geometric mean),
+/// so no mode sits on the edge of the comparison window.
+fn frequency_of_interest(full_hz: &[f64]) -> f64 {
+    (full_hz[6 + 9] * full_hz[6 + 10]).sqrt()
+}
+
+/// At the default cutoff (2 × frequency of interest, DESIGN.md) the reduced model reproduces
+/// every full-model frequency below the frequency of interest within 0.5 %.
+fn default_cutoff_case(name: &str, model: (fem::Hexes, Sparse, Sparse, Vec<usize>)) {
+    let (h, k, m, boundary) = model;
+    let full_hz: Vec<f64> = eig(&fem::dense(&k), &fem::dense(&m)).into_iter().map(hz).collect();
+    let foi = frequency_of_interest(&full_hz);
+    let model = cb::reduce(&k, &m, &boundary, &CbOptions::with_frequency_of_interest(foi)).unwrap();
+    assert_eq!(model.stats.cutoff_hz, Some(2.0 * foi));
+    assert!(model.fixed_frequencies_hz.iter().all(|&f| f <= 2.0 * foi));
+    let chk = cb::check(&model, Some((&k, &m)), Some(&fem::points(&h)), &CheckOptions::default()).unwrap();
+    println!("{name}:\n{chk}");
+    assert_eq!(chk.frequency_of_interest_hz, foi);
+    let n_full = full_hz.iter().filter(|&&f| f <= foi).count();
+    assert_eq!(n_full, 16);
+    assert_eq!(chk.frequencies.len(), n_full, "a mode crossed the frequency of interest");
+    for row in &chk.frequencies[6..] {
+        let e = row.error_pct.unwrap();
+        assert!((0.0..0.5).contains(&e), "{name} mode {}: error {e} %", row.mode);
+    }
+    assert_eq!(chk.n_rigid_modes, 6);
+    assert!(chk.kbq_rel < 1e-10, "{name} K_bq = {}", chk.kbq_rel);
+    assert!(chk.mqq_max_deviation < 1e-10, "{name} M_qq − I = {}", chk.mqq_max_deviation);
+    assert!(chk.k_asymmetry < 1e-14 && chk.m_asymmetry < 1e-14);
+    let rigid = chk.rigid.as_ref().unwrap();
+    assert!(rigid.mass_rel_err.unwrap() < 1e-10, "{name}: {:?}", rigid.mass_rel_err);
+    assert!(rigid.cg_rel_err.unwrap() < 1e-10, "{name}: {:?}", rigid.cg_rel_err);
+    assert!(rigid.matrix_rel_err.unwrap() < 1e-10, "{name}: {:?}", rigid.matrix_rel_err);
+}
+
+#[test]
+fn rotor_default_cutoff_within_half_percent() {
+    default_cutoff_case("rotor", rotor());
+}
+
+#[test]
+fn pad_default_cutoff_within_half_percent() {
+    default_cutoff_case("pad", pad());
+}
+
+/// Rigid-body mass and CG of the pad against the analytic values ρ·V and the box centre
+/// (consistent mass integrates a constant density exactly), through both the full and the
+/// reduced model.
+#[test]
+fn pad_rigid_body_mass_is_analytic() {
+    let (h, k, m, boundary) = pad();
+    let model = cb::reduce(&k, &m, &boundary, &CbOptions::with_n_modes(5)).unwrap();
+    let chk = cb::check(&model, Some((&k, &m)), Some(&fem::points(&h)), &CheckOptions::default()).unwrap();
+    let mass = 2500.0 * PAD_SIZE[0] * PAD_SIZE[1] * PAD_SIZE[2];
+    let centre: [f64; 3] = std::array::from_fn(|a| PAD_ORIGIN[a] + 0.5 * PAD_SIZE[a]);
+    let rigid = chk.rigid.as_ref().unwrap();
+    for props in [&rigid.reduced, rigid.full.as_ref().unwrap()] {
+        for a in 0..3 {
+            assert!((props.mass[a] - mass).abs() < 1e-10 * mass, "mass {:?} vs {mass}", props.mass);
+            assert!((props.cg[a] - centre[a]).abs() < 1e-10 * 0.1, "cg {:?} vs {centre:?}", props.cg);
+        }
+    }
+    // The check serialises (to be written into summary.json).
+    let json = serde_json::to_string(&chk).unwrap();
+    assert!(json.contains("\"n_rigid_modes\":6"), "{json}");
+}

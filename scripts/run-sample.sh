@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# The README's main job: installs what squeal needs, builds it, and runs the built-in sample.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+cd "$root"
+bash scripts/setup.sh
+cargo build --release --quiet -p squeal-pipeline --bin squeal
+./target/release/squeal modes examples/sample-rotor.toml --out out/sample-rotor "$@"
+echo "results: out/sample-rotor (modes.json, modes.vtu, summary.json)"

@@ -1,0 +1,300 @@
+//! The BSQL brake-squeal system, paper eqs. (8)–(18), as a [`DaeSystem`].
+//!
+//! Unknowns y = {v, λ, u} (lengths n, ng, n): velocities, contact *impulses* and
+//! displacements, so that λ' is the contact force of [Paper eq. (12)] (see DESIGN.md: with
+//! this reading ∂F/∂y' is nonsingular when G has full row rank and the iteration matrix is
+//! exactly eq. (18)). Constant matrices M, B, K (n × n) and G (ng × n) are dense (reduced
+//! models); friction enters through the [`FrictionForces`] callback.
+//!
+//! - [`residual`]: F(t, y, y'), eq. (16), and the load history P(t).
+//! - [`jacobian`]: the iteration matrix, eq. (18), with the u-row eliminated.
+//! - [`steady`]: the static sliding equilibrium.
+//! - [`energy`]: energy bookkeeping per accepted step.
+
+pub mod energy;
+pub mod jacobian;
+mod lu;
+pub mod residual;
+pub mod steady;
+
+use faer::Mat;
+use serde::{Deserialize, Serialize};
+
+pub use energy::{EnergyBalance, PowerTerms};
+pub use residual::LoadHistory;
+pub use steady::{steady_state, SteadyOptions, SteadyState};
+
+use crate::bdf::{DaeSystem, TolerancePartition, Tolerances};
+use crate::{Real, SolverError};
+
+/// Friction forces F_f(λ', v) of [Paper eq. (8)] and their tangents, supplied by the caller
+/// (the contact crate's gap elements, eqs. (1)–(7), or a test model).
+pub trait FrictionForces {
+    /// Add the friction forces F_f(λ', v) (length n) to `f`.
+    fn add_forces(
+        &mut self,
+        t: Real,
+        v: &[Real],
+        lambda_dot: &[Real],
+        f: &mut [Real],
+    ) -> Result<(), SolverError>;
+    /// ∂F_f/∂λ' (n × ng) and, if `d_dv` is Some, ∂F_f/∂v (n × n), added into dense matrices.
+    fn add_tangents(
+        &mut self,
+        t: Real,
+        v: &[Real],
+        lambda_dot: &[Real],
+        d_dlam: &mut Mat<Real>,
+        d_dv: Option<&mut Mat<Real>>,
+    ) -> Result<(), SolverError>;
+}
+
+/// No friction (F_f = 0): a linear constrained structure.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NoFriction;
+
+impl FrictionForces for NoFriction {
+    fn add_forces(&mut self, _: Real, _: &[Real], _: &[Real], _: &mut [Real]) -> Result<(), SolverError> {
+        Ok(())
+    }
+    fn add_tangents(
+        &mut self,
+        _: Real,
+        _: &[Real],
+        _: &[Real],
+        _: &mut Mat<Real>,
+        _: Option<&mut Mat<Real>>,
+    ) -> Result<(), SolverError> {
+        Ok(())
+    }
+}
+
+/// Options of the BSQL system.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BsqlOptions {
+    /// Include the friction damping C_f = ∂F_f/∂v in the transient iteration matrix
+    /// (default: false, as the paper: "included only for the complex eigenvalue solution";
+    /// Newton then converges linearly in the v-dependence of friction).
+    pub include_friction_damping: bool,
+}
+
+impl Default for BsqlOptions {
+    fn default() -> Self {
+        Self {
+            include_friction_damping: false,
+        }
+    }
+}
+
+impl BsqlOptions {
+    /// Nothing to check yet; kept for the Options/validate convention.
+    pub fn validate(&self) -> Result<(), SolverError> {
+        Ok(())
+    }
+}
+
+/// Counters and monitors of the BSQL system (written to `summary.json`).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct BsqlStats {
+    /// Residual evaluations.
+    pub residual_evals: u64,
+    /// Friction tangent evaluations (one per factorisation).
+    pub tangent_evals: u64,
+    /// Factorisations of the (n + ng) saddle system.
+    pub factorisations: u64,
+    /// Constraint drift ‖G v‖∞ at the last observed step.
+    pub constraint_drift: Real,
+    /// Largest ‖G v‖∞ over observed steps.
+    pub max_constraint_drift: Real,
+}
+
+/// What the last factorisation holds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Factored {
+    None,
+    /// J of eq. (18) at this cj, with the scaling s of the multiplier block.
+    Iteration { cj: Real, s: Real },
+    /// ∂F/∂y' alone (initial conditions), scaling s.
+    Derivative { s: Real },
+}
+
+/// The BSQL system with its workspace (allocated once in [`BsqlSystem::new`]).
+#[allow(non_snake_case)]
+pub struct BsqlSystem<F: FrictionForces> {
+    pub(crate) M: Mat<Real>,
+    pub(crate) B: Mat<Real>,
+    pub(crate) K: Mat<Real>,
+    pub(crate) G: Mat<Real>,
+    pub(crate) load: LoadHistory,
+    pub(crate) friction: F,
+    pub(crate) opts: BsqlOptions,
+    pub(crate) n: usize,
+    pub(crate) ng: usize,
+    /// Largest |G_ij| (for scaling the multiplier block).
+    pub(crate) g_scale: Real,
+    pub(crate) stats: BsqlStats,
+    // Workspace.
+    pub(crate) f_n: Vec<Real>,
+    pub(crate) t_n: Vec<Real>,
+    pub(crate) d_dlam: Mat<Real>,
+    pub(crate) d_dv: Mat<Real>,
+    pub(crate) rhs: Vec<Real>,
+    pub(crate) lu: lu::DenseLu,
+    factored: Factored,
+}
+
+#[allow(non_snake_case)]
+impl<F: FrictionForces> BsqlSystem<F> {
+    /// Build the system from M, B, K (n × n), G (ng × n), the loads and the friction model.
+    pub fn new(
+        M: Mat<Real>,
+        B: Mat<Real>,
+        K: Mat<Real>,
+        G: Mat<Real>,
+        load: LoadHistory,
+        friction: F,
+        opts: BsqlOptions,
+    ) -> Result<Self, SolverError> {
+        opts.validate()?;
+        let n = M.nrows();
+        for (what, m) in [("M", &M), ("B", &B), ("K", &K)] {
+            if m.nrows() != n || m.ncols() != n {
+                return Err(SolverError::DimensionMismatch {
+                    what,
+                    expected: n,
+                    got: if m.nrows() != n { m.nrows() } else { m.ncols() },
+                });
+            }
+        }
+        if G.ncols() != n {
+            return Err(SolverError::DimensionMismatch {
+                what: "G (columns)",
+                expected: n,
+                got: G.ncols(),
+            });
+        }
+        load.validate(n)?;
+        let ng = G.nrows();
+        let mut g_scale: Real = 0.0;
+        for j in 0..n {
+            for i in 0..ng {
+                g_scale = g_scale.max(G[(i, j)].abs());
+            }
+        }
+        let d_dv = if opts.include_friction_damping {
+            Mat::zeros(n, n)
+        } else {
+            Mat::zeros(0, 0)
+        };
+        Ok(Self {
+            M,
+            B,
+            K,
+            G,
+            load,
+            friction,
+            opts,
+            n,
+            ng,
+            g_scale: if g_scale > 0.0 { g_scale } else { 1.0 },
+            stats: BsqlStats::default(),
+            f_n: vec![0.0; n],
+            t_n: vec![0.0; n],
+            d_dlam: Mat::zeros(n, ng),
+            d_dv,
+            rhs: vec![0.0; n + ng],
+            lu: lu::DenseLu::new(n + ng),
+            factored: Factored::None,
+        })
+    }
+
+    /// Number of structural DOFs n.
+    pub fn n_dof(&self) -> usize {
+        self.n
+    }
+
+    /// Number of constraints ng.
+    pub fn n_constraints(&self) -> usize {
+        self.ng
+    }
+
+    /// Counters and the constraint-drift monitor.
+    pub fn stats(&self) -> &BsqlStats {
+        &self.stats
+    }
+
+    /// The friction model.
+    pub fn friction_mut(&mut self) -> &mut F {
+        &mut self.friction
+    }
+
+    /// The load history.
+    pub fn load(&self) -> &LoadHistory {
+        &self.load
+    }
+
+    /// BSQL's tolerance partitions: (RTOL1, ATOL1) on v and u, (RTOL2, ATOL2) on λ
+    /// (ATOL2 = 1e20 excludes the multipliers, as the paper ran).
+    pub fn tolerances(&self, rtol1: Real, atol1: Real, rtol2: Real, atol2: Real) -> Tolerances {
+        let p = |len, rtol, atol| TolerancePartition { len, rtol, atol };
+        Tolerances::Partitions {
+            parts: vec![
+                p(self.n, rtol1, atol1),
+                p(self.ng, rtol2, atol2),
+                p(self.n, rtol1, atol1),
+            ],
+        }
+    }
+
+    /// Split y (or y') into its partitions (v, λ, u).
+    pub fn split<'a>(&self, y: &'a [Real]) -> (&'a [Real], &'a [Real], &'a [Real]) {
+        let (v, rest) = y.split_at(self.n);
+        let (l, u) = rest.split_at(self.ng);
+        (v, l, u)
+    }
+
+    /// Assemble y = {v, λ, u}.
+    pub fn join(&self, v: &[Real], lambda: &[Real], u: &[Real]) -> Vec<Real> {
+        let mut y = Vec::with_capacity(2 * self.n + self.ng);
+        y.extend_from_slice(v);
+        y.extend_from_slice(lambda);
+        y.extend_from_slice(u);
+        y
+    }
+}
+
+impl<F: FrictionForces> DaeSystem for BsqlSystem<F> {
+    fn len(&self) -> usize {
+        2 * self.n + self.ng
+    }
+    fn residual(&mut self, t: Real, y: &[Real], yp: &[Real], res: &mut [Real]) -> Result<(), SolverError> {
+        self.eval_residual(t, y, yp, res)
+    }
+    fn setup_jacobian(&mut self, t: Real, y: &[Real], yp: &[Real], cj: Real) -> Result<(), SolverError> {
+        self.factored = Factored::None;
+        let s = self.assemble_iteration_matrix(t, y, yp, Some(cj))?;
+        self.lu.factor("BSQL iteration (eq. 18)", t)?;
+        self.stats.factorisations += 1;
+        self.factored = Factored::Iteration { cj, s };
+        Ok(())
+    }
+    fn solve_jacobian(&mut self, b: &mut [Real]) -> Result<(), SolverError> {
+        match self.factored {
+            Factored::Iteration { cj, s } => self.solve_iteration(b, Some(cj), s),
+            Factored::Derivative { s } => self.solve_iteration(b, None, s),
+            Factored::None => Err(SolverError::Callback {
+                t: Real::NAN,
+                message: "BSQL solve requested before a successful factorisation".into(),
+            }),
+        }
+    }
+    fn setup_derivative_jacobian(&mut self, t: Real, y: &[Real], yp: &[Real]) -> Result<bool, SolverError> {
+        self.factored = Factored::None;
+        let s = self.assemble_iteration_matrix(t, y, yp, None)?;
+        self.lu.factor("BSQL ∂F/∂y'", t)?;
+        self.stats.factorisations += 1;
+        self.factored = Factored::Derivative { s };
+        Ok(true)
+    }
+}

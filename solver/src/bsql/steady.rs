@@ -1,0 +1,178 @@
+//! The static sliding equilibrium (initial state of the transient and base state of CEA).
+
+use faer::Accum;
+use serde::{Deserialize, Serialize};
+
+use super::residual::matvec;
+use super::{BsqlSystem, FrictionForces};
+use crate::{Real, SolverError};
+
+/// Options of the steady-state Newton solve.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SteadyOptions {
+    /// Tolerance on the residual ∞-norm relative to max(1, ‖P(t)‖∞) (default: 1e-10).
+    pub tol: Real,
+    /// Maximum Newton iterations (default: 50).
+    pub max_iters: usize,
+}
+
+impl Default for SteadyOptions {
+    fn default() -> Self {
+        Self {
+            tol: 1e-10,
+            max_iters: 50,
+        }
+    }
+}
+
+impl SteadyOptions {
+    /// Check ranges; the error names the field.
+    pub fn validate(&self) -> Result<(), SolverError> {
+        if !(self.tol > 0.0) {
+            return Err(SolverError::InvalidOption {
+                field: "tol",
+                value: self.tol.to_string(),
+                reason: "must be > 0",
+            });
+        }
+        if self.max_iters == 0 {
+            return Err(SolverError::InvalidOption {
+                field: "max_iters",
+                value: "0".into(),
+                reason: "must be >= 1",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// A steady sliding state.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SteadyState {
+    /// Time at which the loads were evaluated.
+    pub t: Real,
+    /// Displacements u (length n).
+    pub u: Vec<Real>,
+    /// Contact forces λ' (length ng).
+    pub lambda_dot: Vec<Real>,
+    /// Newton iterations used.
+    pub iterations: usize,
+    /// Final residual ∞-norm.
+    pub residual_norm: Real,
+}
+
+impl SteadyState {
+    /// Consistent initial values for the transient: y = {v = 0, λ = 0, u}, y' = {0, λ', 0}.
+    pub fn initial_values(&self) -> (Vec<Real>, Vec<Real>) {
+        let (n, ng) = (self.u.len(), self.lambda_dot.len());
+        let mut y = vec![0.0; 2 * n + ng];
+        y[n + ng..].copy_from_slice(&self.u);
+        let mut yp = vec![0.0; 2 * n + ng];
+        yp[n..n + ng].copy_from_slice(&self.lambda_dot);
+        (y, yp)
+    }
+}
+
+/// Solve the static sliding equilibrium at time t (loads P(t)) by Newton's method.
+///
+/// # Reference
+/// Eq. (8) with v = v' = 0, Q from [Paper eq. (12)] and the position form of the constraint
+/// [Paper eq. (9)]:
+/// $$K u + G^T λ' = P(t) + F_f(λ', 0),\qquad G u = 0,$$
+/// Newton matrix $\begin{bmatrix} K & G^T − ∂F_f/∂λ' \\ G & 0\end{bmatrix}$ (the v-, λ-
+/// columns of eq. (18) at α = 0 with K in place of αM + B), scaled as in the transient.
+#[allow(non_snake_case)]
+pub fn steady_state<F: FrictionForces>(
+    sys: &mut BsqlSystem<F>,
+    t: Real,
+    opts: &SteadyOptions,
+) -> Result<SteadyState, SolverError> {
+    opts.validate()?;
+    let (n, ng) = (sys.n, sys.ng);
+    let mut u = vec![0.0; n];
+    let mut lamp = vec![0.0; ng];
+    let zero_v = vec![0.0; n];
+    let mut r = vec![0.0; n + ng];
+    let mut p = vec![0.0; n];
+    sys.load.add_to(t, 1.0, &mut p);
+    let scale = p.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+    let tol = opts.tol * scale;
+    let mut iterations = 0;
+    loop {
+        // Residual.
+        let (ru, rg) = r.split_at_mut(n);
+        matvec(sys.K.as_ref(), &u, ru, Accum::Replace, 1.0);
+        matvec(sys.G.transpose(), &lamp, ru, Accum::Add, 1.0);
+        sys.f_n.fill(0.0);
+        sys.friction.add_forces(t, &zero_v, &lamp, &mut sys.f_n)?;
+        for i in 0..n {
+            ru[i] -= p[i] + sys.f_n[i];
+        }
+        matvec(sys.G.as_ref(), &u, rg, Accum::Replace, 1.0);
+        let mut rn: Real = 0.0;
+        for (i, x) in r.iter().enumerate() {
+            if !x.is_finite() {
+                return Err(SolverError::NonFinite {
+                    what: "steady-state residual",
+                    t,
+                    index: i,
+                    value: *x,
+                });
+            }
+            rn = rn.max(x.abs());
+        }
+        if rn <= tol {
+            return Ok(SteadyState {
+                t,
+                u,
+                lambda_dot: lamp,
+                iterations,
+                residual_norm: rn,
+            });
+        }
+        if iterations == opts.max_iters {
+            return Err(SolverError::NewtonFailed {
+                what: "steady state",
+                iterations,
+                residual: rn,
+                tolerance: tol,
+            });
+        }
+        iterations += 1;
+        // Newton matrix.
+        sys.d_dlam.fill(0.0);
+        sys.friction
+            .add_tangents(t, &zero_v, &lamp, &mut sys.d_dlam, None)?;
+        let a = &mut sys.lu.a;
+        let mut k_scale: Real = 0.0;
+        for j in 0..n {
+            for i in 0..n {
+                a[(i, j)] = sys.K[(i, j)];
+            }
+            k_scale = k_scale.max(sys.K[(j, j)].abs());
+        }
+        let s = if k_scale > 0.0 { k_scale / sys.g_scale } else { 1.0 };
+        for k in 0..ng {
+            for i in 0..n {
+                a[(i, n + k)] = s * (sys.G[(k, i)] - sys.d_dlam[(i, k)]);
+                a[(n + k, i)] = s * sys.G[(k, i)];
+            }
+            for l in 0..ng {
+                a[(n + k, n + l)] = 0.0;
+            }
+        }
+        sys.lu.factor("steady-state Newton", t)?;
+        sys.stats.factorisations += 1;
+        for k in 0..ng {
+            r[n + k] *= s;
+        }
+        sys.lu.solve(&mut r)?;
+        for i in 0..n {
+            u[i] -= r[i];
+        }
+        for k in 0..ng {
+            lamp[k] -= s * r[n + k];
+        }
+    }
+}

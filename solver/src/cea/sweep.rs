@@ -1,0 +1,281 @@
+//! Friction sweep: CEA at a list of μ, mode tracking, critical μ.
+
+use super::track::{assign, mac_matrix};
+use super::{complex_eigen, CeaError, CeaMatrices, CeaOptions, CeaResult, CeaStats, Cplx, Mode, SweepOptions};
+use serde::Serialize;
+use std::fmt::Display;
+use std::time::Instant;
+
+/// The modes at one μ of the sweep.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SweepStep {
+    /// Friction coefficient.
+    pub mu: f64,
+    /// Modes sorted by frequency (shapes empty unless `keep_shapes`).
+    pub modes: Vec<Mode>,
+    /// Statistics of the solve.
+    pub stats: CeaStats,
+}
+
+/// Onset of instability of one tracked mode.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Critical {
+    /// Critical μ: bisection-refined if `bisection`, else `mu_interpolated`.
+    pub mu: f64,
+    /// μ where Re p crosses 0, linearly interpolated between the bracketing steps.
+    pub mu_interpolated: f64,
+    /// Index of the last step at which the mode was stable (the next one is unstable).
+    pub step: usize,
+    /// Frequency of the mode at the onset (from the last bisection solve, or interpolated), Hz.
+    pub frequency_hz: f64,
+    /// Track id of the mode it merges with: the other mode whose frequency is nearest at the
+    /// first unstable step (mode-coupling partner); `None` if it is alone.
+    pub partner: Option<usize>,
+    /// Frequency of this mode at the last stable step, Hz.
+    pub frequency_before_hz: f64,
+    /// Frequency of the partner at the last stable step, Hz (a coalescing pair: close).
+    pub partner_frequency_before_hz: Option<f64>,
+    /// Frequency of this mode at the first unstable step, Hz.
+    pub frequency_after_hz: f64,
+    /// Frequency of the partner at the first unstable step, Hz.
+    pub partner_frequency_after_hz: Option<f64>,
+    /// Number of eigenvalue solves spent in the bisection.
+    pub bisection_solves: usize,
+}
+
+/// A mode followed across the sweep by eigenvector correlation.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Track {
+    /// Track id (index in [`Sweep::tracks`]).
+    pub id: usize,
+    /// Index of the mode in `steps[s].modes` at each step s (`None` before the track starts
+    /// or after it ends).
+    pub modes: Vec<Option<usize>>,
+    /// The mode was already unstable at its first step (no onset inside the sweep).
+    pub unstable_at_start: bool,
+    /// First onset of instability inside the sweep, if any.
+    pub critical: Option<Critical>,
+}
+
+/// Statistics of a sweep.
+#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+pub struct SweepStats {
+    /// Number of μ steps.
+    pub n_steps: usize,
+    /// Number of eigenvalue solves (steps + bisection).
+    pub n_solves: usize,
+    /// Number of tracks.
+    pub n_tracks: usize,
+    /// Number of tracks with an onset of instability.
+    pub n_critical: usize,
+    /// Wall time, seconds.
+    pub time_s: f64,
+    /// Wall time spent in the eigenvalue solves, seconds.
+    pub time_eigen_s: f64,
+}
+
+/// Result of [`sweep`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Sweep {
+    /// One entry per μ.
+    pub steps: Vec<SweepStep>,
+    /// Tracked modes.
+    pub tracks: Vec<Track>,
+    /// Statistics.
+    pub stats: SweepStats,
+}
+
+impl Sweep {
+    /// The smallest critical μ over all tracks, with its track id.
+    pub fn lowest_critical(&self) -> Option<(usize, &Critical)> {
+        self.tracks
+            .iter()
+            .filter_map(|t| t.critical.as_ref().map(|c| (t.id, c)))
+            .min_by(|a, b| a.1.mu.total_cmp(&b.1.mu))
+    }
+
+    /// The eigenvalue of track `id` at each step (`None` where the track is absent).
+    pub fn track_eigenvalues(&self, id: usize) -> Vec<Option<Cplx>> {
+        self.tracks[id]
+            .modes
+            .iter()
+            .enumerate()
+            .map(|(s, m)| m.map(|i| self.steps[s].modes[i].eigenvalue))
+            .collect()
+    }
+}
+
+struct Solver<'a, F> {
+    build: F,
+    cea: CeaOptions,
+    stats: &'a mut SweepStats,
+}
+
+impl<F, E> Solver<'_, F>
+where
+    F: FnMut(f64) -> Result<CeaMatrices, E>,
+    E: Display,
+{
+    fn solve(&mut self, mu: f64) -> Result<CeaResult, CeaError> {
+        let sys = (self.build)(mu).map_err(|e| CeaError::Build { mu, message: e.to_string() })?;
+        let t = Instant::now();
+        let r = complex_eigen(&sys, &self.cea)?;
+        self.stats.n_solves += 1;
+        self.stats.time_eigen_s += t.elapsed().as_secs_f64();
+        Ok(r)
+    }
+
+    /// Bisection on "a mode resembling `reference` is unstable" in (lo, hi].
+    /// Candidates at a trial μ are the modes whose MAC with the reference is at least half the
+    /// best MAC (near a coalescence both partners qualify, and the unstable one counts).
+    fn bisect(&mut self, mut lo: f64, mut hi: f64, mut reference: Vec<Cplx>, opts: &SweepOptions, mut freq: f64) -> Result<(f64, f64, usize), CeaError> {
+        let mut count = 0;
+        while hi - lo > opts.bisection_tol * hi.abs().max(1.0) && count < opts.max_bisection {
+            let mid = 0.5 * (lo + hi);
+            let r = self.solve(mid)?;
+            count += 1;
+            let macs: Vec<f64> = r.modes.iter().map(|m| super::mac(&reference, &m.shape)).collect();
+            let best = macs.iter().cloned().fold(0.0, f64::max);
+            let unstable = r.modes.iter().zip(&macs).filter(|(m, &x)| x >= 0.5 * best && m.unstable).max_by(|a, b| a.1.total_cmp(b.1));
+            if let Some((m, _)) = unstable {
+                hi = mid;
+                freq = m.frequency_hz;
+            } else {
+                lo = mid;
+                if let Some(i) = (0..macs.len()).max_by(|&a, &b| macs[a].total_cmp(&macs[b])) {
+                    reference = r.modes[i].shape.clone();
+                }
+            }
+        }
+        Ok((0.5 * (lo + hi), freq, count))
+    }
+}
+
+/// Runs the CEA at each friction coefficient of `mus` (strictly increasing), tracks the
+/// modes from step to step by complex MAC (greedy assignment, ties by eigenvalue distance)
+/// and finds, per tracked mode, the first μ where Re p crosses 0.
+///
+/// The critical μ is linearly interpolated in Re p between the bracketing steps and, when
+/// `opts.bisection`, refined by bisection (each trial μ is a new `build` + solve). The
+/// merging partner is the tracked mode with the nearest frequency at the first unstable
+/// step (for a mode-coupling instability the two frequencies coalesce there).
+///
+/// `build(μ)` returns the linearised matrices at μ (e.g. friction tangents from the
+/// contact crate); its error is wrapped in [`CeaError::Build`].
+pub fn sweep<F, E>(build: F, mus: &[f64], opts: &SweepOptions) -> Result<Sweep, CeaError>
+where
+    F: FnMut(f64) -> Result<CeaMatrices, E>,
+    E: Display,
+{
+    opts.validate()?;
+    if mus.is_empty() {
+        return Err(CeaError::InvalidOption { field: "sweep.mus", value: "[]".into(), reason: "needs at least one value".into() });
+    }
+    for (i, w) in mus.windows(2).enumerate() {
+        if !(w[1] > w[0]) || !w[1].is_finite() {
+            return Err(CeaError::InvalidOption { field: "sweep.mus", value: format!("mus[{}] = {}, mus[{}] = {}", i, w[0], i + 1, w[1]), reason: "must be finite and strictly increasing".into() });
+        }
+    }
+    let start = Instant::now();
+    let mut stats = SweepStats { n_steps: mus.len(), ..SweepStats::default() };
+    let mut cea = opts.cea.clone();
+    cea.compute_shapes = true;
+    let mut solver = Solver { build, cea, stats: &mut stats };
+    let mut steps: Vec<SweepStep> = Vec::with_capacity(mus.len());
+    let mut tracks: Vec<Track> = Vec::new();
+    // (track id, mode index) of the tracks alive at the previous step, and its modes.
+    let mut alive: Vec<(usize, usize)> = Vec::new();
+    let mut prev: Option<CeaResult> = None;
+    for (s, &mu) in mus.iter().enumerate() {
+        let res = solver.solve(mu)?;
+        let mut next_alive = Vec::with_capacity(res.modes.len());
+        let mut taken = vec![false; res.modes.len()];
+        if let Some(pr) = &prev {
+            let a: Vec<&[Cplx]> = alive.iter().map(|&(_, i)| pr.modes[i].shape.as_slice()).collect();
+            let b: Vec<&[Cplx]> = res.modes.iter().map(|m| m.shape.as_slice()).collect();
+            let pa: Vec<Cplx> = alive.iter().map(|&(_, i)| pr.modes[i].eigenvalue).collect();
+            let pb: Vec<Cplx> = res.modes.iter().map(|m| m.eigenvalue).collect();
+            let map = assign(&mac_matrix(&a, &b), &pa, &pb, opts.mac_min);
+            for (k, &(tid, _)) in alive.iter().enumerate() {
+                if let Some(j) = map[k] {
+                    tracks[tid].modes.push(Some(j));
+                    taken[j] = true;
+                    next_alive.push((tid, j));
+                } else {
+                    tracks[tid].modes.push(None);
+                }
+            }
+            // Tracks that ended earlier stay None.
+            for t in tracks.iter_mut() {
+                if t.modes.len() < s + 1 {
+                    t.modes.push(None);
+                }
+            }
+        }
+        for (j, m) in res.modes.iter().enumerate() {
+            if !taken[j] {
+                let id = tracks.len();
+                let mut modes = vec![None; s];
+                modes.push(Some(j));
+                tracks.push(Track { id, modes, unstable_at_start: m.unstable, critical: None });
+                next_alive.push((id, j));
+            }
+        }
+        // Onsets between step s−1 and s.
+        if let Some(pr) = &prev {
+            let freq_now: Vec<(usize, f64)> = next_alive.iter().map(|&(t, j)| (t, res.modes[j].frequency_hz)).collect();
+            for &(tid, j) in &next_alive {
+                let (Some(i), true) = (tracks[tid].modes[s - 1], tracks[tid].critical.is_none()) else {
+                    continue;
+                };
+                let (m0, m1) = (&pr.modes[i], &res.modes[j]);
+                if m0.unstable || !m1.unstable {
+                    continue;
+                }
+                let (mu0, mu1) = (mus[s - 1], mu);
+                let (r0, r1) = (m0.real_part, m1.real_part);
+                let frac = if r1 > r0 { (-r0 / (r1 - r0)).clamp(0.0, 1.0) } else { 0.5 };
+                let mu_lin = mu0 + frac * (mu1 - mu0);
+                let f_lin = m0.frequency_hz + frac * (m1.frequency_hz - m0.frequency_hz);
+                let partner = freq_now
+                    .iter()
+                    .filter(|&&(t, _)| t != tid)
+                    .min_by(|a, b| (a.1 - m1.frequency_hz).abs().total_cmp(&(b.1 - m1.frequency_hz).abs()))
+                    .map(|&(t, _)| t);
+                let pf = |step_modes: &Vec<Mode>, st: usize| partner.and_then(|p| tracks[p].modes[st].map(|k| step_modes[k].frequency_hz));
+                let partner_before = pf(&pr.modes, s - 1);
+                let partner_after = pf(&res.modes, s);
+                let (mu_c, f_c, nb) = if opts.bisection {
+                    solver.bisect(mu0, mu1, m0.shape.clone(), opts, m1.frequency_hz)?
+                } else {
+                    (mu_lin, f_lin, 0)
+                };
+                tracks[tid].critical = Some(Critical {
+                    mu: mu_c,
+                    mu_interpolated: mu_lin,
+                    step: s - 1,
+                    frequency_hz: f_c,
+                    partner,
+                    frequency_before_hz: m0.frequency_hz,
+                    partner_frequency_before_hz: partner_before,
+                    frequency_after_hz: m1.frequency_hz,
+                    partner_frequency_after_hz: partner_after,
+                    bisection_solves: nb,
+                });
+            }
+        }
+        let mut modes_out = res.modes.clone();
+        if !opts.keep_shapes {
+            for m in &mut modes_out {
+                m.shape = Vec::new();
+            }
+        }
+        steps.push(SweepStep { mu, modes: modes_out, stats: res.stats.clone() });
+        alive = next_alive;
+        prev = Some(res);
+    }
+    stats.n_tracks = tracks.len();
+    stats.n_critical = tracks.iter().filter(|t| t.critical.is_some()).count();
+    stats.time_s = start.elapsed().as_secs_f64();
+    Ok(Sweep { steps, tracks, stats })
+}

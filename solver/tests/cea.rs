@@ -1,0 +1,248 @@
+//! Verification of the complex eigenvalue analysis (`squeal_solver::cea`) against analytic
+//! references: Hoffmann's 2-DOF mode-coupling model (undamped, equally damped, unequally
+//! damped), the same model with an extra constrained DOF, a constraint with friction
+//! tangent D, proportional damping, and real roots.
+
+use faer::{Mat, Side};
+use squeal_solver::cea::{complex_eigen, sweep, CeaError, CeaMatrices, CeaOptions, Cplx, SweepOptions};
+
+/// Hoffmann et al. (2002) 2-DOF model: M = I, K = [[k11, k12 − μ k3], [k21, k22]] with
+/// k11 = 1, k12 = k21 = 0.3, k22 = 1.2, k3 = 1, and B = diag(c1, c2).
+fn hoffmann(mu: f64, c1: f64, c2: f64) -> CeaMatrices {
+    let k = Mat::from_fn(2, 2, |i, j| [[1.0, 0.3 - mu], [0.3, 1.2]][i][j]);
+    let mut s = CeaMatrices::new(Mat::identity(2, 2), k);
+    if c1 != 0.0 || c2 != 0.0 {
+        s.b = Some(Mat::from_fn(2, 2, |i, j| if i == j { [c1, c2][i] } else { 0.0 }));
+    }
+    s
+}
+
+fn mus(lo: f64, hi: f64, n: usize) -> Vec<f64> {
+    (0..n).map(|i| lo + (hi - lo) * i as f64 / (n - 1) as f64).collect()
+}
+
+fn critical_mu(build: impl FnMut(f64) -> Result<CeaMatrices, CeaError>, lo: f64, hi: f64) -> (f64, f64, squeal_solver::cea::Sweep) {
+    let s = sweep(build, &mus(lo, hi, 26), &SweepOptions::default()).unwrap();
+    let (_, c) = s.lowest_critical().expect("an onset of instability inside the sweep");
+    eprintln!("critical mu = {:.8} (interpolated {:.8}), {} bisection solves, omega = {:.8}", c.mu, c.mu_interpolated, c.bisection_solves, 2.0 * std::f64::consts::PI * c.frequency_hz);
+    (c.mu, c.frequency_hz, s)
+}
+
+/// Undamped: eigenvalues ω² of K coalesce when (k11 − k22)² + 4 k21 (k12 − μ k3) = 0, i.e.
+/// 0.04 + 1.2 (0.3 − μ) = 0 → μc = 0.3 + 0.04/1.2 = 1/3, at ω² = (k11 + k22)/2 = 1.1,
+/// ω = 1.048809 rad/s (lock-in frequency).
+#[test]
+fn hoffmann_undamped_critical_mu_and_lock_in() {
+    let (mu_c, f_c, s) = critical_mu(|mu| Ok(hoffmann(mu, 0.0, 0.0)), 0.2, 0.45);
+    assert!((mu_c - 1.0 / 3.0).abs() < 1e-4, "mu_c = {mu_c}");
+    let omega = 2.0 * std::f64::consts::PI * f_c;
+    assert!((omega - 1.1f64.sqrt()).abs() < 1e-4, "lock-in omega = {omega}");
+    assert!((1.1f64.sqrt() - 1.048809).abs() < 1e-6);
+    // The two modes that merge: partner found, and their frequencies before the onset
+    // bracket the lock-in frequency.
+    let (_, c) = s.lowest_critical().unwrap();
+    let fp = c.partner_frequency_before_hz.expect("a partner");
+    let (f1, f2) = (c.frequency_before_hz.min(fp), c.frequency_before_hz.max(fp));
+    let f_lock = 1.1f64.sqrt() / (2.0 * std::f64::consts::PI);
+    assert!(f1 < f_lock && f_lock < f2, "{f1} < {f_lock} < {f2}");
+    // Below μc the eigenvalues are ±iω with ω² = 1.1 ± sqrt(0.01 + 0.3 (0.3 − μ)).
+    let mu = 0.25;
+    let r = complex_eigen(&hoffmann(mu, 0.0, 0.0), &CeaOptions::default()).unwrap();
+    assert_eq!(r.modes.len(), 2);
+    let d = (0.01 + 0.3 * (0.3 - mu) as f64).sqrt();
+    for (m, w2) in r.modes.iter().zip([1.1 - d, 1.1 + d]) {
+        assert!((m.eigenvalue.im - w2.sqrt()).abs() < 1e-12 && m.real_part.abs() < 1e-12, "{:?}", m.eigenvalue);
+        assert!(!m.unstable);
+    }
+}
+
+/// Equal damping c on both DOFs: with p = iΩ on the boundary, Ω² = 1.1 and the imaginary
+/// part of ω² equals c Ω: 0.3 (μ − 0.3) − 0.01 = 1.1 c², μc = 0.3 + (0.01 + 1.1 c²)/0.3
+/// = 0.3425 for c = 0.05 (damping raises μc).
+#[test]
+fn hoffmann_equal_damping_raises_critical_mu() {
+    let (mu_c, _, _) = critical_mu(|mu| Ok(hoffmann(mu, 0.05, 0.05)), 0.2, 0.45);
+    assert!((mu_c - 0.3425).abs() < 1e-4, "mu_c = {mu_c}");
+}
+
+/// c1 = 0.1, c2 = 0: det(p²I + pC + K) at p = iΩ: the imaginary part c1 Ω (1.2 − Ω²) = 0
+/// gives Ω² = 1.2, the real part then −0.09 + 0.3 μ = 0: μc = 0.3 < 1/3 — damping on one DOF
+/// only *lowers* the threshold (the destabilisation paradox).
+#[test]
+fn hoffmann_unequal_damping_destabilises() {
+    let (mu_c, f_c, _) = critical_mu(|mu| Ok(hoffmann(mu, 0.1, 0.0)), 0.2, 0.45);
+    assert!((mu_c - 0.3).abs() < 1e-4, "mu_c = {mu_c}");
+    let omega = 2.0 * std::f64::consts::PI * f_c;
+    assert!((omega - 1.2f64.sqrt()).abs() < 1e-3, "omega = {omega}");
+}
+
+/// The same model with DOF y split into two halves y_a, y_b (mass 1/2 each, the y-row
+/// stiffness split in halves) tied by G = [0, −1, 1]: summing the two y rows gives back
+/// Hoffmann's y equation, so the eigenvalues are identical, and the constraint adds no
+/// (spurious zero) root.
+fn split_hoffmann(mu: f64, c1: f64, c2: f64) -> CeaMatrices {
+    let a = 0.3 - mu;
+    let k = [[1.0, a / 2.0, a / 2.0], [0.15, 0.6, 0.0], [0.15, 0.0, 0.6]];
+    let mut s = CeaMatrices::new(Mat::from_fn(3, 3, |i, j| [[1.0, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 0.5]][i][j]), Mat::from_fn(3, 3, |i, j| k[i][j]));
+    s.b = Some(Mat::from_fn(3, 3, |i, j| if i == j { [c1, c2 / 2.0, c2 / 2.0][i] } else { 0.0 }));
+    s.g = Some(Mat::from_fn(1, 3, |_, j| [0.0, -1.0, 1.0][j]));
+    s
+}
+
+#[test]
+fn constrained_model_has_same_eigenvalues_and_no_spurious_roots() {
+    for &(mu, c1, c2) in &[(0.1, 0.0, 0.0), (0.36, 0.0, 0.0), (0.32, 0.05, 0.05), (0.31, 0.1, 0.0)] {
+        let a = complex_eigen(&hoffmann(mu, c1, c2), &CeaOptions::default()).unwrap();
+        let b = complex_eigen(&split_hoffmann(mu, c1, c2), &CeaOptions::default()).unwrap();
+        assert_eq!(b.stats.n_reduced, 2);
+        assert_eq!(b.modes.len(), a.modes.len(), "mu = {mu}");
+        for y in &b.modes {
+            // Compare with the nearest root (coalesced pairs share a frequency to round-off).
+            let x = a.modes.iter().min_by(|p, q| (p.eigenvalue - y.eigenvalue).norm().total_cmp(&(q.eigenvalue - y.eigenvalue).norm())).unwrap();
+            assert!((x.eigenvalue - y.eigenvalue).norm() < 1e-10, "mu = {mu}: {} vs {}", x.eigenvalue, y.eigenvalue);
+            assert!(y.eigenvalue.norm() > 0.5, "spurious root {}", y.eigenvalue);
+            // Shapes satisfy G u = 0.
+            assert!((y.shape[2] - y.shape[1]).norm() < 1e-12);
+        }
+    }
+    let (mu_c, _, _) = critical_mu(|mu| Ok(split_hoffmann(mu, 0.05, 0.05)), 0.2, 0.45);
+    assert!((mu_c - 0.3425).abs() < 1e-4, "mu_c = {mu_c}");
+}
+
+/// Hoffmann's model with the normal spring k3 = 1 carried by a third DOF z_r of mass m_r,
+/// constrained to follow z (G = [0, −1, 1]), the friction force depending on the constraint
+/// force N through D (∂F_x/∂N = −μ, the tangent of F_x = μ·(−N)). Eliminating N from the
+/// z_r row (N = −k3 z − m_r z̈) gives the 2-DOF problem with the unsymmetric mass
+/// [[1, −μ m_r], [0, 1 + m_r]] and K = [[1, 0.3 − μ], [0.3, 1.2]] whose characteristic
+/// polynomial in s = p² is
+/// (1 + m_r) s² + (1.2 + (1 + m_r) + 0.3 μ m_r) s + 1.2 − 0.3 (0.3 − μ) = 0.
+#[test]
+fn friction_tangent_d_is_projected_exactly() {
+    let m_r = 0.5;
+    for &mu in &[0.2, 0.33, 0.5] {
+        let mut s = CeaMatrices::new(
+            Mat::from_fn(3, 3, |i, j| if i == j { [1.0, 1.0, m_r][i] } else { 0.0 }),
+            Mat::from_fn(3, 3, |i, j| [[1.0, 0.3, 0.0], [0.3, 0.2, 0.0], [0.0, 0.0, 1.0]][i][j]),
+        );
+        s.g = Some(Mat::from_fn(1, 3, |_, j| [0.0, -1.0, 1.0][j]));
+        s.d = Some(Mat::from_fn(3, 1, |i, _| [-mu, 0.0, 0.0][i]));
+        let r = complex_eigen(&s, &CeaOptions::default()).unwrap();
+        let (a, b, c) = (1.0 + m_r, 1.2 + (1.0 + m_r) + 0.3 * mu * m_r, 1.2 - 0.3 * (0.3 - mu));
+        let disc = Cplx::new(b * b - 4.0 * a * c, 0.0).sqrt();
+        let mut expect: Vec<Cplx> = [(-b + disc) / (2.0 * a), (-b - disc) / (2.0 * a)]
+            .iter()
+            .flat_map(|s| [s.sqrt(), -s.sqrt()])
+            .filter(|p| p.im >= 0.0)
+            .collect();
+        expect.sort_by(|x, y| x.im.total_cmp(&y.im).then(x.re.total_cmp(&y.re)));
+        assert_eq!(r.modes.len(), expect.len(), "mu = {mu}");
+        for (m, e) in r.modes.iter().zip(&expect) {
+            assert!((m.eigenvalue - e).norm() < 1e-10, "mu = {mu}: {} vs {e}", m.eigenvalue);
+        }
+    }
+}
+
+/// Small deterministic generator (xorshift64*), uniform in [−1, 1).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        let x = self.0.wrapping_mul(0x2545_f491_4f6c_dd1d);
+        (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
+
+fn random_spd(n: usize, rng: &mut Rng, shift: f64) -> Mat<f64> {
+    let a = Mat::from_fn(n, n, |_, _| rng.next());
+    let mut s = &a * a.transpose();
+    for i in 0..n {
+        s[(i, i)] += shift;
+    }
+    s
+}
+
+/// Proportional damping C = αM + βK on a random symmetric positive system: the modes are the
+/// undamped ones (ω_i² from the symmetric eigenproblem of L⁻¹KL⁻ᵀ, a different algorithm) with
+/// ζ_i = (α/ω_i + β ω_i)/2 and p = −ζω ± iω√(1 − ζ²).
+#[test]
+fn proportional_damping_matches_modal_solution() {
+    let n = 12;
+    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let m = random_spd(n, &mut rng, 1.0);
+    let k = random_spd(n, &mut rng, 0.5);
+    let (alpha, beta) = (0.02, 0.01);
+    let mut s = CeaMatrices::new(m.clone(), k.clone());
+    s.b = Some(&m * alpha + &k * beta);
+    let r = complex_eigen(&s, &CeaOptions::default()).unwrap();
+    let llt = m.llt(Side::Lower).unwrap();
+    let l = llt.L();
+    let mut y = k.clone();
+    l.solve_lower_triangular_in_place(&mut y);
+    let mut z = y.transpose().to_owned();
+    l.solve_lower_triangular_in_place(&mut z);
+    let w2 = z.self_adjoint_eigenvalues(Side::Lower).unwrap();
+    assert_eq!(r.modes.len(), n);
+    for (mode, &w2) in r.modes.iter().zip(&w2) {
+        let w = w2.sqrt();
+        let zeta = 0.5 * (alpha / w + beta * w);
+        let p = Cplx::new(-zeta * w, w * (1.0 - zeta * zeta).sqrt());
+        assert!((mode.eigenvalue - p).norm() < 1e-9 * w, "{} vs {p}", mode.eigenvalue);
+        // ζ here is the critical-damping ratio; DESIGN.md's damping_ratio = −2 Re/|Im|.
+        let g = mode.damping_ratio.unwrap();
+        assert!((g - 2.0 * zeta / (1.0 - zeta * zeta).sqrt()).abs() < 1e-8);
+        // The shape solves the quadratic problem: |(p²M + pC + K) u| small.
+        let res: f64 = (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| (mode.eigenvalue * mode.eigenvalue * m[(i, j)] + mode.eigenvalue * s.b.as_ref().unwrap()[(i, j)] + k[(i, j)]) * mode.shape[j])
+                    .sum::<Cplx>()
+                    .norm_sqr()
+            })
+            .sum::<f64>()
+            .sqrt();
+        assert!(res < 1e-9 * (1.0 + w2), "residual {res}");
+    }
+}
+
+/// One overdamped DOF, m = 1, c = 3, k = 1: two real roots p = (−3 ± √5)/2, no damping ratio.
+#[test]
+fn real_roots_are_kept_without_damping_ratio() {
+    let mut s = CeaMatrices::new(Mat::identity(1, 1), Mat::identity(1, 1));
+    s.b = Some(Mat::from_fn(1, 1, |_, _| 3.0));
+    let r = complex_eigen(&s, &CeaOptions::default()).unwrap();
+    assert_eq!(r.modes.len(), 2);
+    assert_eq!(r.stats.n_real_roots, 2);
+    let mut re: Vec<f64> = r.modes.iter().map(|m| m.real_part).collect();
+    re.sort_by(f64::total_cmp);
+    assert!((re[0] - (-3.0 - 5f64.sqrt()) / 2.0).abs() < 1e-12);
+    assert!((re[1] - (-3.0 + 5f64.sqrt()) / 2.0).abs() < 1e-12);
+    assert!(r.modes.iter().all(|m| m.damping_ratio.is_none() && m.frequency_hz == 0.0 && !m.unstable));
+}
+
+#[test]
+fn bad_inputs_are_errors_with_numbers() {
+    // Redundant constraints.
+    let mut s = split_hoffmann(0.2, 0.0, 0.0);
+    s.g = Some(Mat::from_fn(2, 3, |_, j| [0.0, -1.0, 1.0][j]));
+    let e = complex_eigen(&s, &CeaOptions::default()).unwrap_err();
+    assert!(matches!(e, CeaError::RankDeficientConstraints { ng: 2, n: 3, .. }), "{e}");
+    // Indefinite mass.
+    let mut s = hoffmann(0.2, 0.0, 0.0);
+    s.m[(1, 1)] = -1.0;
+    let e = complex_eigen(&s, &CeaOptions::default()).unwrap_err();
+    assert!(matches!(e, CeaError::NotPositiveDefinite { pivot: 1, .. }), "{e}");
+    // Shape and NaN.
+    let mut s = hoffmann(0.2, 0.0, 0.0);
+    s.b = Some(Mat::zeros(3, 3));
+    assert!(matches!(complex_eigen(&s, &CeaOptions::default()), Err(CeaError::Shape { what: "B", .. })));
+    let mut s = hoffmann(0.2, 0.0, 0.0);
+    s.k[(0, 1)] = f64::NAN;
+    assert!(matches!(complex_eigen(&s, &CeaOptions::default()), Err(CeaError::NonFinite { what: "K", row: 0, col: 1, .. })));
+    // Non-increasing sweep.
+    let e = sweep(|mu| Ok::<_, CeaError>(hoffmann(mu, 0.0, 0.0)), &[0.1, 0.1], &SweepOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("mus[0] = 0.1"), "{e}");
+    let o = CeaOptions { unstable_tol: -1.0, ..CeaOptions::default() };
+    assert!(complex_eigen(&hoffmann(0.2, 0.0, 0.0), &o).is_err());
+}
