@@ -10,6 +10,7 @@ pub mod gmsh;
 pub mod mesh;
 pub mod msh;
 mod query;
+pub mod structured;
 pub mod vtu;
 
 pub use error::MeshError;

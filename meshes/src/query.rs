@@ -17,13 +17,11 @@ impl Mesh {
 
     /// Face cells of the physical surface `name`.
     pub fn face_set(&self, name: &str) -> Result<&CellBlock, MeshError> {
-        self.faces
-            .get(name)
-            .ok_or_else(|| MeshError::UnknownSet {
-                what: "face set",
-                name: name.to_string(),
-                available: list(self.faces.keys()),
-            })
+        self.faces.get(name).ok_or_else(|| MeshError::UnknownSet {
+            what: "face set",
+            name: name.to_string(),
+            available: list(self.faces.keys()),
+        })
     }
 
     /// Smallest and largest coordinates over all nodes, or None for a mesh without nodes.
@@ -86,7 +84,8 @@ pub fn hex_centroid_jacobian(corners: &[[Real; 3]; 8]) -> Real {
             }
         }
     }
-    j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1]) - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+    j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
+        - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
         + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0])
 }
 

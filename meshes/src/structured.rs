@@ -74,7 +74,11 @@ impl Grid {
     }
 
     fn flat(&self, i: usize, j: usize, k: usize) -> usize {
-        let j = if self.periodic_eta { j % self.dims[1] } else { j };
+        let j = if self.periodic_eta {
+            j % self.dims[1]
+        } else {
+            j
+        };
         (k * self.dims[1] + j) * self.dims[0] + i
     }
 
@@ -255,11 +259,11 @@ pub fn box_mesh(
         let val = if f % 2 == 1 { d[axis] - 1 } else { 0 };
         let set = grid.node_set(&|i, j, k| [i, j, k][axis] == val);
         mesh.node_sets.insert(name.to_string(), set);
-        mesh.faces.insert(name.to_string(), grid.face_block(name, f));
+        mesh.faces
+            .insert(name.to_string(), grid.face_block(name, f));
     }
-    let edges = grid.node_set(&|i, j, k| {
-        k == 0 && (i == 0 || i == d[0] - 1 || j == 0 || j == d[1] - 1)
-    });
+    let edges =
+        grid.node_set(&|i, j, k| k == 0 && (i == 0 || i == d[0] - 1 || j == 0 || j == d[1] - 1));
     mesh.node_sets.insert("z0_edges".to_string(), edges);
     mesh
 }
@@ -299,7 +303,8 @@ pub fn annulus_mesh(
         let val = if f % 2 == 1 { d[axis] - 1 } else { 0 };
         let set = grid.node_set(&|i, j, k| [i, j, k][axis] == val);
         mesh.node_sets.insert(name.to_string(), set);
-        mesh.faces.insert(name.to_string(), grid.face_block(name, f));
+        mesh.faces
+            .insert(name.to_string(), grid.face_block(name, f));
     }
     mesh
 }
@@ -319,7 +324,8 @@ mod tests {
                 [x[0] - y[0], x[1] - y[1], x[2] - y[2]]
             };
             let (e1, e2, e3) = (d(1), d(3), d(4));
-            let det = e1[0] * (e2[1] * e3[2] - e2[2] * e3[1]) - e1[1] * (e2[0] * e3[2] - e2[2] * e3[0])
+            let det = e1[0] * (e2[1] * e3[2] - e2[2] * e3[1])
+                - e1[1] * (e2[0] * e3[2] - e2[2] * e3[0])
                 + e1[2] * (e2[0] * e3[1] - e2[1] * e3[0]);
             det > 0.0
         })

@@ -89,7 +89,13 @@ pub fn write_vtu(
     );
     s.push_str("      <PointData>\n");
     for a in point_data {
-        data_array(&mut s, "Float64", Some(a.name), a.n_components, &f64_bytes(a.values));
+        data_array(
+            &mut s,
+            "Float64",
+            Some(a.name),
+            a.n_components,
+            &f64_bytes(a.values),
+        );
     }
     s.push_str("      </PointData>\n      <CellData>\n");
     let block: Vec<u8> = mesh
@@ -101,7 +107,13 @@ pub fn write_vtu(
         .collect();
     data_array(&mut s, "Int32", Some("block"), 1, &block);
     for a in cell_data {
-        data_array(&mut s, "Float64", Some(a.name), a.n_components, &f64_bytes(a.values));
+        data_array(
+            &mut s,
+            "Float64",
+            Some(a.name),
+            a.n_components,
+            &f64_bytes(a.values),
+        );
     }
     s.push_str("      </CellData>\n      <Points>\n");
     let points: Vec<Real> = mesh.nodes.iter().flatten().copied().collect();
@@ -178,10 +190,11 @@ fn data_array(s: &mut String, ty: &str, name: Option<&str>, n_components: usize,
     if let Some(name) = name {
         let _ = write!(s, " Name=\"{}\"", xml_escape(name));
     }
-    let _ = write!(
-        s,
-        " NumberOfComponents=\"{n_components}\" format=\"binary\">\n          "
-    );
+    // Scalars without NumberOfComponents, as VTK writes them (readers then give 1-D arrays).
+    if n_components != 1 {
+        let _ = write!(s, " NumberOfComponents=\"{n_components}\"");
+    }
+    s.push_str(" format=\"binary\">\n          ");
     let mut payload = Vec::with_capacity(8 + data.len());
     payload.extend_from_slice(&(data.len() as u64).to_le_bytes());
     payload.extend_from_slice(data);

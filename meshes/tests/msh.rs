@@ -53,7 +53,11 @@ fn box_corners(a: f64, b: f64, c: f64) -> [[f64; 3]; 8] {
 }
 
 fn mid(p: [f64; 3], q: [f64; 3]) -> [f64; 3] {
-    [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0, (p[2] + q[2]) / 2.0]
+    [
+        (p[0] + q[0]) / 2.0,
+        (p[1] + q[1]) / 2.0,
+        (p[2] + q[2]) / 2.0,
+    ]
 }
 
 fn close(p: [f64; 3], q: [f64; 3], tol: f64) -> bool {
@@ -93,7 +97,11 @@ $EndElements
 "#;
 
 fn check_single_hex8(m: &Mesh) {
-    assert_eq!(m.nodes.len(), 8, "node 99 is used by no cell and must be dropped");
+    assert_eq!(
+        m.nodes.len(),
+        8,
+        "node 99 is used by no cell and must be dropped"
+    );
     assert_eq!(m.node_tags, vec![10, 11, 12, 13, 14, 15, 16, 17]);
     assert_eq!(m.nodes[5], [1.0, 0.0, 2.0]);
     assert_eq!(m.volumes.len(), 1);
@@ -294,11 +302,18 @@ fn v41_hex20_is_permuted_to_squeal_order() {
     let m = parse_msh(hex20_v41().as_bytes(), "hex20.msh").unwrap();
     assert_eq!(m.nodes.len(), 20);
     let b = &m.volumes[0];
-    assert_eq!((b.name.as_deref(), b.kind), (Some("solid"), CellKind::Hex20));
+    assert_eq!(
+        (b.name.as_deref(), b.kind),
+        (Some("solid"), CellKind::Hex20)
+    );
     let cell = b.cell(0);
     for (k, &(p, q)) in SQUEAL_HEX20_EDGES.iter().enumerate() {
         let want = mid(m.nodes[cell[p]], m.nodes[cell[q]]);
-        assert!(close(m.nodes[cell[8 + k]], want, 1e-15), "squeal node {}", 8 + k);
+        assert!(
+            close(m.nodes[cell[8 + k]], want, 1e-15),
+            "squeal node {}",
+            8 + k
+        );
     }
     let top = m.face_set("top").unwrap();
     assert_eq!(top.kind, CellKind::Quad8);
@@ -336,14 +351,24 @@ fn err_text(text: &str) -> String {
 #[test]
 fn errors_name_file_line_and_value() {
     // A tetrahedron: unsupported, with type, element tag and line.
-    let e = err_text(&HEX8_V22.replace("3 5 2 1 1 10 11 12 13 14 15 16 17", "3 4 2 1 1 10 11 12 13"));
-    assert!(e.contains("bad.msh:27") && e.contains("type 4") && e.contains("element 3"), "{e}");
+    let e =
+        err_text(&HEX8_V22.replace("3 5 2 1 1 10 11 12 13 14 15 16 17", "3 4 2 1 1 10 11 12 13"));
+    assert!(
+        e.contains("bad.msh:27") && e.contains("type 4") && e.contains("element 3"),
+        "{e}"
+    );
     // hex27 in 4.1
     let e = err_text(&HEX8_V41.replace("3 1 5 1\n", "3 1 12 1\n"));
-    assert!(e.contains("type 12") && e.contains("27-node") && e.contains("element 3"), "{e}");
+    assert!(
+        e.contains("type 12") && e.contains("27-node") && e.contains("element 3"),
+        "{e}"
+    );
     // Unknown node tag.
     let e = err_text(&HEX8_V22.replace("10 11 12 13 14 15 16 17", "10 11 12 13 14 15 16 18"));
-    assert!(e.contains("bad.msh:27") && e.contains("node 18") && e.contains("element 3"), "{e}");
+    assert!(
+        e.contains("bad.msh:27") && e.contains("node 18") && e.contains("element 3"),
+        "{e}"
+    );
     // A bad number.
     let e = err_text(&HEX8_V22.replace("15 1 0 2", "15 1 0x 2"));
     assert!(e.contains("bad.msh:18") && e.contains("`0x`"), "{e}");
@@ -367,7 +392,9 @@ fn errors_name_file_line_and_value() {
     assert!(e.contains("$Elements"), "{e}");
     // Binary truncated.
     let bin = hex8_v41_binary();
-    let e = parse_msh(&bin[..bin.len() - 40], "b.msh").unwrap_err().to_string();
+    let e = parse_msh(&bin[..bin.len() - 40], "b.msh")
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("b.msh") && e.contains("Elements"), "{e}");
 }
 
@@ -445,7 +472,11 @@ fn radius(p: [f64; 3]) -> f64 {
 
 /// Checks counts, orientation and face sets of a gmsh rotor of geometry `g` and `order`.
 fn check_rotor(m: &Mesh, g: &RotorGeometry, order: u8) {
-    let kind = if order == 1 { CellKind::Hex8 } else { CellKind::Hex20 };
+    let kind = if order == 1 {
+        CellKind::Hex8
+    } else {
+        CellKind::Hex20
+    };
     assert_eq!(m.nodes.len(), g.n_nodes(order));
     assert_eq!(m.volumes.len(), 1);
     assert_eq!(m.volumes[0].name.as_deref(), Some("rotor"));
@@ -496,6 +527,22 @@ fn gmsh_rotor_hex8() {
     check_rotor(&m, &g, 1);
 }
 
+/// The thin annular plate of the verification suite (a = 0.16 m, b = 0.08 m, h = 4 mm,
+/// 64 × 8 × 2 hex20) is a RotorGeometry; its clamped set "hub" lies at r = b.
+#[test]
+fn gmsh_annular_plate_hex20() {
+    let g = RotorGeometry::annular_plate();
+    let m = mesh_with_gmsh(&geo::annulus(&g), "annulus20.msh", &GmshOptions::default());
+    check_rotor(&m, &g, 2);
+    // hub (quad8 cylinder): at each of the n_thick + 1 levels a ring of n_circ corners and
+    // n_circ circumferential mid-edge nodes, plus n_circ axial mid-edge nodes per layer.
+    let hub = m.node_set("hub").unwrap();
+    assert_eq!(
+        hub.len(),
+        2 * g.n_circ * (g.n_thick + 1) + g.n_circ * g.n_thick
+    );
+}
+
 /// hex20 mid-edge nodes: an edge along the inner or outer circle has its mid node on the arc
 /// (same radius and z as its corners, mean angle: gmsh places second-order nodes on the
 /// geometry); every other edge (radial, axial, and circumferential edges inside the plane
@@ -527,7 +574,11 @@ fn gmsh_rotor_hex20_midnodes() {
             } else {
                 mid(a, e)
             };
-            assert!(close(x, want, tol), "cell {c} node {}: {x:?} vs {want:?}", 8 + k);
+            assert!(
+                close(x, want, tol),
+                "cell {c} node {}: {x:?} vs {want:?}",
+                8 + k
+            );
         }
     }
     // Each cell touching the hub or the outer circle has 2 arc edges there (z = 0 and z = t).
@@ -559,7 +610,11 @@ fn gmsh_block_hex20_midnodes_and_sets() {
         let cell = b.cell(c);
         for (k, &(p, q)) in SQUEAL_HEX20_EDGES.iter().enumerate() {
             let want = mid(m.nodes[cell[p]], m.nodes[cell[q]]);
-            assert!(close(m.nodes[cell[8 + k]], want, tol), "cell {c} node {}", 8 + k);
+            assert!(
+                close(m.nodes[cell[8 + k]], want, tol),
+                "cell {c} node {}",
+                8 + k
+            );
         }
     }
     let (lo, hi) = m.bounding_box().unwrap();
@@ -574,10 +629,20 @@ fn gmsh_block_hex20_midnodes_and_sets() {
             .any(|d| d.abs() < tol);
         assert!((p[2] - lo[2]).abs() < tol && on_border, "{p:?}");
     }
-    for (name, axis, at) in [("x0", 0, lo[0]), ("x1", 0, hi[0]), ("y0", 1, lo[1]), ("y1", 1, hi[1]), ("z0", 2, lo[2]), ("z1", 2, hi[2])] {
+    for (name, axis, at) in [
+        ("x0", 0, lo[0]),
+        ("x1", 0, hi[0]),
+        ("y0", 1, lo[1]),
+        ("y1", 1, hi[1]),
+        ("z0", 2, lo[2]),
+        ("z1", 2, hi[2]),
+    ] {
         let set = m.node_set(name).unwrap();
         assert!(!set.is_empty());
-        assert!(set.iter().all(|&i| (m.nodes[i][axis] - at).abs() < tol), "{name}");
+        assert!(
+            set.iter().all(|&i| (m.nodes[i][axis] - at).abs() < tol),
+            "{name}"
+        );
         assert!(!m.face_set(name).unwrap().is_empty());
     }
 }
@@ -622,7 +687,9 @@ fn gmsh_error_is_reported() {
     };
     let path = out_dir("bad_rotor.msh");
     match mesh_geo(&geo::rotor(&g), &path, &GmshOptions::default()) {
-        Err(MeshError::GmshFailed { command, message, .. }) => {
+        Err(MeshError::GmshFailed {
+            command, message, ..
+        }) => {
             assert!(command.contains("bad_rotor.geo"), "{command}");
             assert!(message.contains("n_circ = 10"), "{message}");
         }

@@ -46,7 +46,11 @@ impl RunDir {
     }
 
     /// Writes pretty JSON atomically.
-    pub fn write_json<T: Serialize>(&self, name: &str, value: &T) -> Result<PathBuf, PipelineError> {
+    pub fn write_json<T: Serialize>(
+        &self,
+        name: &str,
+        value: &T,
+    ) -> Result<PathBuf, PipelineError> {
         let text = serde_json::to_string_pretty(value).map_err(|e| PipelineError::Output {
             path: self.path(name),
             message: e.to_string(),

@@ -84,7 +84,4 @@ pub enum ReductionError {
     /// A matrix cannot be written in the requested file format.
     #[error("cannot write matrix `{matrix}`: {detail}")]
     Unwritable { matrix: String, detail: String },
-    /// The kind of a matrix file could not be recognised.
-    #[error("{path}: not an OP4 or punch (DMIG) file: {detail}")]
-    UnknownFileKind { path: String, detail: String },
 }

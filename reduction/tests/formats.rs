@@ -221,7 +221,7 @@ fn op4_round_trips_every_option() {
                         assert_eq!(b.precision.is_single(), single, "{ctx}");
                         assert_eq!(b.precision.is_complex(), a.is_complex(), "{ctx}");
                         let want = if single { to_single(a) } else { a.clone() };
-                        // Round trips are exact: 17 significant digits (double) / 10 (single).
+                        // Round trips are exact: ASCII files carry 17 significant digits.
                         assert_eq!(want.max_abs_diff(b), Some(0.0), "{ctx}");
                     }
                 }

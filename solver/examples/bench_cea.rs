@@ -51,10 +51,17 @@ fn model(n: usize, ng: usize) -> Model {
         // Friction on a tangential DOF of the pad driven by the normal force.
         let t = 2 * ng + r;
         d1[(t, r)] = -1.0;
-        k1[(t, p)] = 0.5 * rng.next();
-        k1[(t, q)] = 0.5 * rng.next();
+        k1[(t, p)] = 5.0 * rng.next();
+        k1[(t, q)] = 5.0 * rng.next();
     }
-    Model { m, k0, k1, b, g, d1 }
+    Model {
+        m,
+        k0,
+        k1,
+        b,
+        g,
+        d1,
+    }
 }
 
 fn build(md: &Model, mu: f64) -> CeaMatrices {
@@ -66,7 +73,10 @@ fn build(md: &Model, mu: f64) -> CeaMatrices {
 }
 
 fn main() {
-    let args: Vec<usize> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
+    let args: Vec<usize> = std::env::args()
+        .skip(1)
+        .filter_map(|a| a.parse().ok())
+        .collect();
     let n = args.first().copied().unwrap_or(500);
     let ng = args.get(1).copied().unwrap_or(20);
     let steps = args.get(2).copied().unwrap_or(50);
@@ -75,24 +85,53 @@ fn main() {
     let r = complex_eigen(&build(&md, 0.5), &CeaOptions::default()).expect("CEA");
     let t_cea = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    let r2 = complex_eigen(&build(&md, 0.5), &CeaOptions { compute_shapes: false, ..CeaOptions::default() }).expect("CEA");
+    let r2 = complex_eigen(
+        &build(&md, 0.5),
+        &CeaOptions {
+            compute_shapes: false,
+            ..CeaOptions::default()
+        },
+    )
+    .expect("CEA");
     let t_cea_values = t.elapsed().as_secs_f64();
     assert_eq!(r.modes.len(), r2.modes.len());
-    let mus: Vec<f64> = (0..steps).map(|i| 2.0 * i as f64 / (steps - 1).max(1) as f64).collect();
+    let mus: Vec<f64> = (0..steps)
+        .map(|i| 2.0 * i as f64 / (steps - 1).max(1) as f64)
+        .collect();
     let t = Instant::now();
-    let opts = SweepOptions { bisection: false, ..SweepOptions::default() };
+    let opts = SweepOptions {
+        bisection: false,
+        ..SweepOptions::default()
+    };
     let s = sweep(|mu| Ok::<_, CeaError>(build(&md, mu)), &mus, &opts).expect("sweep");
     let t_sweep = t.elapsed().as_secs_f64();
-    let low = s.lowest_critical().map(|(id, c)| (id, c.mu, c.frequency_hz));
+    let low = s
+        .lowest_critical()
+        .map(|(id, c)| (id, c.mu, c.frequency_hz));
     println!("{{");
-    println!("  \"n\": {n}, \"n_constraints\": {ng}, \"n_reduced\": {}, \"first_order_size\": {},", r.stats.n_reduced, 2 * r.stats.n_reduced);
-    println!("  \"cea_with_shapes_s\": {t_cea:.4}, \"cea_reduce_s\": {:.4}, \"cea_eigen_s\": {:.4},", r.stats.time_reduce_s, r.stats.time_eigen_s);
+    println!(
+        "  \"n\": {n}, \"n_constraints\": {ng}, \"n_reduced\": {}, \"first_order_size\": {},",
+        r.stats.n_reduced,
+        2 * r.stats.n_reduced
+    );
+    println!(
+        "  \"cea_with_shapes_s\": {t_cea:.4}, \"cea_reduce_s\": {:.4}, \"cea_eigen_s\": {:.4},",
+        r.stats.time_reduce_s, r.stats.time_eigen_s
+    );
     println!("  \"cea_eigenvalues_only_s\": {t_cea_values:.4},");
-    println!("  \"cea_modes\": {}, \"cea_unstable_at_mu_0_5\": {},", r.stats.n_modes, r.stats.n_unstable);
+    println!(
+        "  \"cea_modes\": {}, \"cea_unstable_at_mu_0_5\": {},",
+        r.stats.n_modes, r.stats.n_unstable
+    );
     println!("  \"sweep_steps\": {}, \"sweep_solves\": {}, \"sweep_s\": {t_sweep:.4}, \"sweep_eigen_s\": {:.4}, \"sweep_per_step_s\": {:.4},", s.stats.n_steps, s.stats.n_solves, s.stats.time_eigen_s, t_sweep / s.stats.n_solves as f64);
-    println!("  \"sweep_tracks\": {}, \"sweep_critical\": {},", s.stats.n_tracks, s.stats.n_critical);
+    println!(
+        "  \"sweep_tracks\": {}, \"sweep_critical\": {},",
+        s.stats.n_tracks, s.stats.n_critical
+    );
     match low {
-        Some((id, mu, f)) => println!("  \"lowest_critical\": {{\"track\": {id}, \"mu\": {mu:.6}, \"frequency_hz\": {f:.6}}}"),
+        Some((id, mu, f)) => println!(
+            "  \"lowest_critical\": {{\"track\": {id}, \"mu\": {mu:.6}, \"frequency_hz\": {f:.6}}}"
+        ),
         None => println!("  \"lowest_critical\": null"),
     }
     println!("}}");

@@ -30,7 +30,9 @@ pub enum SolverError {
         got: usize,
     },
     /// A dense factorisation met a (numerically) zero pivot.
-    #[error("singular {what} matrix at t = {t:e}: pivot {index} = {pivot:e} (largest {max_pivot:e})")]
+    #[error(
+        "singular {what} matrix at t = {t:e}: pivot {index} = {pivot:e} (largest {max_pivot:e})"
+    )]
     SingularMatrix {
         /// Which matrix (e.g. "BSQL iteration").
         what: &'static str,

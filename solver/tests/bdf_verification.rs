@@ -106,7 +106,10 @@ fn bdf3_adds_energy_to_undamped_oscillator() {
     assert!(status.is_success(), "{status:?}");
     println!("BDF3 ωh=0.1: measured ζ = {zeta:.6e}, theory {theory:.6e}");
     assert!(zeta < 0.0);
-    assert!((zeta - theory).abs() < 0.01 * theory.abs(), "measured {zeta} vs theory {theory}");
+    assert!(
+        (zeta - theory).abs() < 0.01 * theory.abs(),
+        "measured {zeta} vs theory {theory}"
+    );
 }
 
 #[test]
@@ -147,12 +150,24 @@ impl DaeSystem for SemiExplicit {
     fn len(&self) -> usize {
         2
     }
-    fn residual(&mut self, _t: Real, y: &[Real], yp: &[Real], r: &mut [Real]) -> Result<(), SolverError> {
+    fn residual(
+        &mut self,
+        _t: Real,
+        y: &[Real],
+        yp: &[Real],
+        r: &mut [Real],
+    ) -> Result<(), SolverError> {
         r[0] = yp[0] + y[0] - y[1];
         r[1] = y[1] - 2.0 * y[0];
         Ok(())
     }
-    fn setup_jacobian(&mut self, _t: Real, _y: &[Real], _yp: &[Real], cj: Real) -> Result<(), SolverError> {
+    fn setup_jacobian(
+        &mut self,
+        _t: Real,
+        _y: &[Real],
+        _yp: &[Real],
+        cj: Real,
+    ) -> Result<(), SolverError> {
         self.cj = cj;
         Ok(())
     }
@@ -176,18 +191,35 @@ fn consistent_initial_conditions_differential_and_algebraic() {
     let mut y0 = [1.0, 0.5];
     let mut yp0 = [7.0, -3.0];
     let st = consistent_initial_conditions(&mut osc, 0.0, &mut y0, &mut yp0, None, &opts).unwrap();
-    assert!((yp0[0] - 0.5).abs() < 1e-10 && (yp0[1] + 4.0).abs() < 1e-10, "{yp0:?} {st:?}");
+    assert!(
+        (yp0[0] - 0.5).abs() < 1e-10 && (yp0[1] + 4.0).abs() < 1e-10,
+        "{yp0:?} {st:?}"
+    );
     assert_eq!(y0, [1.0, 0.5]);
     // Semi-explicit DAE: z0 = 2 x0 = 2, x0' = −x0 + z0 = 1.
     let mut sys = SemiExplicit { cj: 0.0 };
     let mut y0 = [1.0, 0.0];
     let mut yp0 = [0.0, 0.0];
-    consistent_initial_conditions(&mut sys, 0.0, &mut y0, &mut yp0, Some(&[false, true]), &opts).unwrap();
-    assert!((y0[1] - 2.0).abs() < 1e-10 && (yp0[0] - 1.0).abs() < 1e-10, "{y0:?} {yp0:?}");
+    consistent_initial_conditions(
+        &mut sys,
+        0.0,
+        &mut y0,
+        &mut yp0,
+        Some(&[false, true]),
+        &opts,
+    )
+    .unwrap();
+    assert!(
+        (y0[1] - 2.0).abs() < 1e-10 && (yp0[0] - 1.0).abs() < 1e-10,
+        "{y0:?} {yp0:?}"
+    );
     // And the DAE integrates: x(t) = e^{t}, z = 2x.
     let mut bdf = Bdf::new(
         BdfOptions {
-            tolerances: Tolerances::Scalar { rtol: 1e-7, atol: 1e-9 },
+            tolerances: Tolerances::Scalar {
+                rtol: 1e-7,
+                atol: 1e-9,
+            },
             ..Default::default()
         },
         0.0,
@@ -211,11 +243,23 @@ impl DaeSystem for Breaks {
     fn len(&self) -> usize {
         1
     }
-    fn residual(&mut self, t: Real, y: &[Real], yp: &[Real], r: &mut [Real]) -> Result<(), SolverError> {
+    fn residual(
+        &mut self,
+        t: Real,
+        y: &[Real],
+        yp: &[Real],
+        r: &mut [Real],
+    ) -> Result<(), SolverError> {
         r[0] = if t > 0.5 { Real::NAN } else { yp[0] + y[0] };
         Ok(())
     }
-    fn setup_jacobian(&mut self, t: Real, _y: &[Real], _yp: &[Real], cj: Real) -> Result<(), SolverError> {
+    fn setup_jacobian(
+        &mut self,
+        t: Real,
+        _y: &[Real],
+        _yp: &[Real],
+        cj: Real,
+    ) -> Result<(), SolverError> {
         if t > self.t_sing {
             return Err(SolverError::SingularMatrix {
                 what: "test",
@@ -236,7 +280,10 @@ impl DaeSystem for Breaks {
 
 #[test]
 fn step_size_collapse_on_nan_residual_is_a_clean_status() {
-    let mut sys = Breaks { t_sing: Real::INFINITY, cj: 0.0 };
+    let mut sys = Breaks {
+        t_sing: Real::INFINITY,
+        cj: 0.0,
+    };
     let opts = BdfOptions {
         h_min: 1e-6,
         ..Default::default()
@@ -245,7 +292,12 @@ fn step_size_collapse_on_nan_residual_is_a_clean_status() {
     let st = bdf.integrate_to(&mut sys, 1.0).unwrap();
     println!("{st:?}");
     match st {
-        Status::StepSizeTooSmall { t, h, order, residual_norm } => {
+        Status::StepSizeTooSmall {
+            t,
+            h,
+            order,
+            residual_norm,
+        } => {
             assert!(t <= 0.5 && t > 0.5 - 1e-3, "t = {t}");
             assert!(h < 1e-6 && h > 0.0);
             assert!((1..=2).contains(&order));
@@ -256,7 +308,10 @@ fn step_size_collapse_on_nan_residual_is_a_clean_status() {
     // The solution up to the failure is intact: y(t) = e^{−t}.
     assert!((bdf.state().phi[0][0] - (-bdf.t()).exp()).abs() < 1e-3);
     // Default h_min: the step-size floor is never reached; the convergence-failure limit is.
-    let mut sys = Breaks { t_sing: Real::INFINITY, cj: 0.0 };
+    let mut sys = Breaks {
+        t_sing: Real::INFINITY,
+        cj: 0.0,
+    };
     let mut bdf = Bdf::new(BdfOptions::default(), 0.0, &[1.0], &[-1.0]).unwrap();
     let st = bdf.integrate_to(&mut sys, 1.0).unwrap();
     assert!(
@@ -267,12 +322,16 @@ fn step_size_collapse_on_nan_residual_is_a_clean_status() {
 
 #[test]
 fn singular_iteration_matrix_is_a_clean_status() {
-    let mut sys = Breaks { t_sing: 0.3, cj: 0.0 };
+    let mut sys = Breaks {
+        t_sing: 0.3,
+        cj: 0.0,
+    };
     let mut bdf = Bdf::new(BdfOptions::default(), 0.0, &[1.0], &[-1.0]).unwrap();
     let st = bdf.integrate_to(&mut sys, 1.0).unwrap();
     println!("{st:?}");
     match st {
-        Status::ConvergenceFailures { t, h, order, .. } | Status::StepSizeTooSmall { t, h, order, .. } => {
+        Status::ConvergenceFailures { t, h, order, .. }
+        | Status::StepSizeTooSmall { t, h, order, .. } => {
             // The matrix formed before t = 0.3 is reused while cj/cj_old stays in [0.6, 1.67];
             // the failure comes at the first step after 0.3 that needs a new one.
             assert!(t > 0.3 - 0.1 && t < 1.0, "t = {t}");
@@ -284,11 +343,17 @@ fn singular_iteration_matrix_is_a_clean_status() {
 
 #[test]
 fn options_validate_and_round_trip() {
-    let bad = BdfOptions { max_order: 7, ..Default::default() };
+    let bad = BdfOptions {
+        max_order: 7,
+        ..Default::default()
+    };
     let e = bad.validate().unwrap_err();
     assert!(e.to_string().contains("max_order"), "{e}");
     let opts = BdfOptions {
-        tolerances: Tolerances::Vector { rtol: vec![1e-4; 2], atol: vec![1e-6, 1e20] },
+        tolerances: Tolerances::Vector {
+            rtol: vec![1e-4; 2],
+            atol: vec![1e-6, 1e20],
+        },
         ..Default::default()
     };
     let s = serde_json::to_string(&opts).unwrap();

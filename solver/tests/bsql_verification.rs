@@ -4,7 +4,9 @@
 mod common;
 
 use common::{peaks, slope, Belt};
-use squeal_solver::bdf::{consistent_initial_conditions, Bdf, BdfOptions, BdfState, InitialConditionOptions, Status};
+use squeal_solver::bdf::{
+    consistent_initial_conditions, Bdf, BdfOptions, BdfState, InitialConditionOptions, Status,
+};
 use squeal_solver::bsql::{steady_state, BsqlOptions, EnergyBalance, SteadyOptions};
 use squeal_solver::Real;
 
@@ -23,18 +25,36 @@ fn belt(c: Real) -> Belt {
 
 /// Steady sliding state, then a velocity kick of 0.05 on the tangential DOF, then consistent
 /// initial derivatives. Returns (y0, y0').
-fn initial(sys: &mut squeal_solver::bsql::BsqlSystem<common::BeltFriction>, b: &Belt) -> (Vec<Real>, Vec<Real>) {
+fn initial(
+    sys: &mut squeal_solver::bsql::BsqlSystem<common::BeltFriction>,
+    b: &Belt,
+) -> (Vec<Real>, Vec<Real>) {
     let ss = steady_state(sys, 0.0, &SteadyOptions::default()).unwrap();
     // Reference: K u + Gᵀλ' = P + F_f(λ', 0) → λ' = N, x = N(μ0 − aV)/k, z = 0.
     assert!((ss.lambda_dot[0] - b.n_load).abs() < 1e-9 * b.n_load);
     let x_eq = b.n_load * (b.mu0 - b.a * b.v_belt) / b.k;
-    assert!((ss.u[0] - x_eq).abs() < 1e-10 && ss.u[1].abs() < 1e-12, "{ss:?}");
+    assert!(
+        (ss.u[0] - x_eq).abs() < 1e-10 && ss.u[1].abs() < 1e-12,
+        "{ss:?}"
+    );
     let (mut y0, mut yp0) = ss.initial_values();
     y0[0] = 0.05;
-    consistent_initial_conditions(sys, 0.0, &mut y0, &mut yp0, None, &InitialConditionOptions::default()).unwrap();
+    consistent_initial_conditions(
+        sys,
+        0.0,
+        &mut y0,
+        &mut yp0,
+        None,
+        &InitialConditionOptions::default(),
+    )
+    .unwrap();
     // F_v = 0 at the kick: m v' = −c·0.05 + N·a·0.05 (friction change) with λ' = N.
     let vp_ref = (-b.c * 0.05 + b.n_load * b.a * 0.05) / b.m;
-    assert!((yp0[0] - vp_ref).abs() < 1e-9, "v'0 = {} vs {vp_ref}", yp0[0]);
+    assert!(
+        (yp0[0] - vp_ref).abs() < 1e-9,
+        "v'0 = {} vs {vp_ref}",
+        yp0[0]
+    );
     assert!((yp0[2] - b.n_load).abs() < 1e-9);
     (y0, yp0)
 }
@@ -97,13 +117,12 @@ fn belt_with_enough_damping_decays_at_linearised_rate() {
 }
 
 #[test]
-fn constraint_drift_stays_at_newton_tolerance_and_energy_balance_closes() {
+fn energy_balance_closes_on_damped_friction_driven_belt() {
     // Decaying, damped, friction-driven case; 30 periods.
     let b = belt(0.7);
     let mut sys = b.system(BsqlOptions::default());
     let (y0, yp0) = initial(&mut sys, &b);
     let opts = options(&sys);
-    let rtol = 1e-7;
     let mut bdf = Bdf::new(opts, 0.0, &y0, &yp0).unwrap();
     let mut bal = EnergyBalance::new();
     let p0 = sys.observe(0.0, &y0, &yp0).unwrap();
@@ -119,17 +138,28 @@ fn constraint_drift_stays_at_newton_tolerance_and_energy_balance_closes() {
         })
         .unwrap();
     assert!(st.is_success());
-    let drift = sys.stats().max_constraint_drift;
-    println!("drift: initial {drift0:e}, max {drift:e}; v_max {v_max}; balance {bal:?}; residual {:e}", bal.residual());
-    // Drift: G v' = 0 is solved by Newton to 0.33 × the error-test weight (rtol|v| + atol);
-    // G v then moves only by the Newton remainder, far below one such unit.
-    assert_eq!(drift0, 0.0);
-    assert!(drift <= 0.33 * (rtol * v_max + 1e-9), "drift {drift}");
-    // Energy: friction work in, damping out; the balance closes to the integration tolerance
-    // relative to the largest energy term (trapezoidal quadrature over accepted steps).
+    println!(
+        "balance {bal:?}; residual {:e}; drift {drift0:e}, v_max {v_max}",
+        bal.residual()
+    );
+    // Energy: friction work in, damping out. The exact solution satisfies
+    // d(T + V)/dt = P·v + F_f·v − (Gᵀλ')·v − vᵀBv; the powers are integrated with the
+    // trapezoidal rule over the accepted steps, whose error the accumulator estimates
+    // (Σ h³/12·|f''|). The balance must close within that estimate, and far below the
+    // work terms themselves.
     assert!(bal.friction_work > 0.0 && bal.damping_dissipated > 0.0);
-    let rel = bal.residual().abs() / bal.scale();
-    assert!(rel < 10.0 * rtol, "relative energy balance error {rel:e}");
+    let work = bal.friction_work + bal.damping_dissipated;
+    assert!(
+        bal.residual().abs() <= bal.quadrature_error,
+        "residual {:e} > quadrature estimate {:e}",
+        bal.residual(),
+        bal.quadrature_error
+    );
+    assert!(
+        bal.residual().abs() < 1e-3 * work,
+        "residual {:e} vs work {work:e}",
+        bal.residual()
+    );
 }
 
 #[test]
@@ -147,7 +177,10 @@ fn restart_from_saved_state_reproduces_uninterrupted_run() {
     let mut sys1 = b.system(BsqlOptions::default());
     let (y0, yp0) = initial(&mut sys1, &b);
     let mut bdf1 = Bdf::new(options(&sys1), 0.0, &y0, &yp0).unwrap();
-    assert!(bdf1.integrate_to(&mut sys1, 0.5 * t_end).unwrap().is_success());
+    assert!(bdf1
+        .integrate_to(&mut sys1, 0.5 * t_end)
+        .unwrap()
+        .is_success());
     let json = serde_json::to_string(bdf1.state()).unwrap();
     drop((bdf1, sys1));
     let state: BdfState = serde_json::from_str(&json).unwrap();
@@ -158,9 +191,25 @@ fn restart_from_saved_state_reproduces_uninterrupted_run() {
         .iter()
         .zip(bdf2.y())
         .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-    println!("restart: max |Δy| = {diff:e}, steps {steps_ref} vs {}", bdf2.stats().steps);
+    println!(
+        "restart: max |Δy| = {diff:e}, steps {steps_ref} vs {}",
+        bdf2.stats().steps
+    );
     assert!(diff <= 1e-10, "restart differs by {diff}");
     assert_eq!(bdf2.stats().steps, steps_ref);
+    // An in-memory copy of the state (no decimal round trip) reproduces the run bit for bit.
+    let mut sys3 = b.system(BsqlOptions::default());
+    let (y0, yp0) = initial(&mut sys3, &b);
+    let mut bdf3 = Bdf::new(options(&sys3), 0.0, &y0, &yp0).unwrap();
+    assert!(bdf3
+        .integrate_to(&mut sys3, 0.5 * t_end)
+        .unwrap()
+        .is_success());
+    let state = bdf3.state().clone();
+    let mut sys4 = b.system(BsqlOptions::default());
+    let mut bdf4 = Bdf::from_state(options(&sys4), state).unwrap();
+    assert!(bdf4.integrate_to(&mut sys4, t_end).unwrap().is_success());
+    assert_eq!(bdf4.y(), &y_ref[..]);
 }
 
 #[test]
@@ -176,7 +225,10 @@ fn rank_deficient_constraints_give_clean_failure() {
         Mat::zeros(2, 2),
         Mat::identity(2, 2),
         g,
-        LoadHistory { p_pre: vec![1.0, 0.0], ..Default::default() },
+        LoadHistory {
+            p_pre: vec![1.0, 0.0],
+            ..Default::default()
+        },
         NoFriction,
         BsqlOptions::default(),
     )
@@ -186,5 +238,114 @@ fn rank_deficient_constraints_give_clean_failure() {
     let y0 = vec![0.0; 6];
     let mut bdf = Bdf::new(BdfOptions::default(), 0.0, &y0, &y0).unwrap();
     let st = bdf.integrate_to(&mut sys, 1.0).unwrap();
-    assert!(matches!(st, Status::ConvergenceFailures { t, h, order: 1, .. } if t == 0.0 && h > 0.0), "{st:?}");
+    assert!(
+        matches!(st, Status::ConvergenceFailures { t, h, order: 1, .. } if t == 0.0 && h > 0.0),
+        "{st:?}"
+    );
+}
+
+#[test]
+fn constraint_drift_stays_at_newton_tolerance_on_coupled_model() {
+    use faer::Mat;
+    use squeal_solver::bsql::{BsqlSystem, LoadHistory};
+    // 3 coupled DOFs, one oblique contact constraint G = [0.3, 1, −0.5], friction from the
+    // belt law on DOF 0 driven by the contact force λ'.
+    let m = [[1.0, 0.1, 0.0], [0.1, 2.0, 0.2], [0.0, 0.2, 1.5]];
+    let k = [[40.0, -10.0, 0.0], [-10.0, 60.0, -15.0], [0.0, -15.0, 30.0]];
+    let mat = |a: [[Real; 3]; 3]| Mat::from_fn(3, 3, |i, j| a[i][j]);
+    let bmat = Mat::from_fn(3, 3, |i, j| 0.02 * k[i][j]);
+    let g = Mat::from_fn(1, 3, |_, j| [0.3, 1.0, -0.5][j]);
+    let fr = common::BeltFriction {
+        mu0: 0.5,
+        a: 0.05,
+        v_belt: 1.0,
+    };
+    let load = LoadHistory {
+        p_pre: vec![0.0, 10.0, 0.0],
+        ..Default::default()
+    };
+    let mut sys =
+        BsqlSystem::new(mat(m), bmat, mat(k), g, load, fr, BsqlOptions::default()).unwrap();
+    let ss = steady_state(&mut sys, 0.0, &SteadyOptions::default()).unwrap();
+    // G u = 0 at the steady state (position form of the constraint, paper eq. (9)).
+    assert!((0.3 * ss.u[0] + ss.u[1] - 0.5 * ss.u[2]).abs() < 1e-12);
+    let (mut y0, mut yp0) = ss.initial_values();
+    y0[0] = 0.05; // G v = 0.3·0.05 − 0.5·0.03 = 0
+    y0[2] = 0.03;
+    consistent_initial_conditions(
+        &mut sys,
+        0.0,
+        &mut y0,
+        &mut yp0,
+        None,
+        &InitialConditionOptions::default(),
+    )
+    .unwrap();
+    let (rtol, atol) = (1e-6, 1e-8);
+    let opts = BdfOptions {
+        tolerances: sys.tolerances(rtol, atol, rtol, atol),
+        ..Default::default()
+    };
+    let mut bdf = Bdf::new(opts, 0.0, &y0, &yp0).unwrap();
+    sys.observe(0.0, &y0, &yp0).unwrap();
+    let drift0 = sys.stats().constraint_drift;
+    let mut v_max: Real = 0.0;
+    let st = bdf
+        .step_to(&mut sys, 20.0, |s, t, y, yp| {
+            s.observe(t, y, yp)?;
+            v_max = v_max.max(y[..3].iter().fold(0.0, |m: Real, x| m.max(x.abs())));
+            Ok(true)
+        })
+        .unwrap();
+    assert!(st.is_success(), "{st:?}");
+    let drift = sys.stats().max_constraint_drift;
+    println!(
+        "coupled drift: initial {drift0:e}, max {drift:e}, v_max {v_max}, stats {:?}",
+        bdf.stats()
+    );
+    // Reference: G v' = 0 (eq. (11)) is satisfied to the Newton tolerance, 0.33 in the
+    // weighted norm, i.e. |δv_i| ≲ 0.33·(rtol|v_i| + atol) per step; G v may move by no more
+    // than ‖G‖₁ times that unit over the run.
+    assert!(drift0 < 1e-15);
+    assert!(
+        drift <= 1.8 * 0.33 * (rtol * v_max + atol),
+        "drift {drift:e}"
+    );
+}
+
+#[test]
+fn iteration_matrix_solve_inverts_finite_difference_jacobian() {
+    use squeal_solver::bdf::DaeSystem;
+    // With C_f included, solve_jacobian must invert J = ∂F/∂y + cj ∂F/∂y' (eq. (18)); check
+    // J·x by central differences of the residual, then solve back to x.
+    let b = belt(0.3);
+    let mut sys = b.system(BsqlOptions {
+        include_friction_damping: true,
+    });
+    let (y0, yp0) = initial(&mut sys, &b);
+    let cj = 250.0;
+    let x: Vec<Real> = (0..5).map(|i| 0.1 + 0.37 * i as Real).collect();
+    let eps = 1e-6;
+    let mut rp = vec![0.0; 5];
+    let mut rm = vec![0.0; 5];
+    let shift = |s: Real| -> (Vec<Real>, Vec<Real>) {
+        (
+            y0.iter().zip(&x).map(|(a, d)| a + s * d).collect(),
+            yp0.iter().zip(&x).map(|(a, d)| a + s * cj * d).collect(),
+        )
+    };
+    let (yp_, ypp) = shift(eps);
+    sys.residual(0.0, &yp_, &ypp, &mut rp).unwrap();
+    let (ym, ypm) = shift(-eps);
+    sys.residual(0.0, &ym, &ypm, &mut rm).unwrap();
+    let mut jx: Vec<Real> = rp
+        .iter()
+        .zip(&rm)
+        .map(|(a, b)| (a - b) / (2.0 * eps))
+        .collect();
+    sys.setup_jacobian(0.0, &y0, &yp0, cj).unwrap();
+    sys.solve_jacobian(&mut jx).unwrap();
+    for (a, b) in jx.iter().zip(&x) {
+        assert!((a - b).abs() < 1e-7 * b.abs().max(1.0), "{jx:?} vs {x:?}");
+    }
 }

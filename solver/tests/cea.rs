@@ -4,7 +4,9 @@
 //! tangent D, proportional damping, and real roots.
 
 use faer::{Mat, Side};
-use squeal_solver::cea::{complex_eigen, sweep, CeaError, CeaMatrices, CeaOptions, Cplx, SweepOptions};
+use squeal_solver::cea::{
+    complex_eigen, sweep, CeaError, CeaMatrices, CeaOptions, Cplx, SweepOptions,
+};
 
 /// Hoffmann et al. (2002) 2-DOF model: M = I, K = [[k11, k12 − μ k3], [k21, k22]] with
 /// k11 = 1, k12 = k21 = 0.3, k22 = 1.2, k3 = 1, and B = diag(c1, c2).
@@ -12,19 +14,37 @@ fn hoffmann(mu: f64, c1: f64, c2: f64) -> CeaMatrices {
     let k = Mat::from_fn(2, 2, |i, j| [[1.0, 0.3 - mu], [0.3, 1.2]][i][j]);
     let mut s = CeaMatrices::new(Mat::identity(2, 2), k);
     if c1 != 0.0 || c2 != 0.0 {
-        s.b = Some(Mat::from_fn(2, 2, |i, j| if i == j { [c1, c2][i] } else { 0.0 }));
+        s.b = Some(Mat::from_fn(
+            2,
+            2,
+            |i, j| if i == j { [c1, c2][i] } else { 0.0 },
+        ));
     }
     s
 }
 
 fn mus(lo: f64, hi: f64, n: usize) -> Vec<f64> {
-    (0..n).map(|i| lo + (hi - lo) * i as f64 / (n - 1) as f64).collect()
+    (0..n)
+        .map(|i| lo + (hi - lo) * i as f64 / (n - 1) as f64)
+        .collect()
 }
 
-fn critical_mu(build: impl FnMut(f64) -> Result<CeaMatrices, CeaError>, lo: f64, hi: f64) -> (f64, f64, squeal_solver::cea::Sweep) {
+fn critical_mu(
+    build: impl FnMut(f64) -> Result<CeaMatrices, CeaError>,
+    lo: f64,
+    hi: f64,
+) -> (f64, f64, squeal_solver::cea::Sweep) {
     let s = sweep(build, &mus(lo, hi, 26), &SweepOptions::default()).unwrap();
-    let (_, c) = s.lowest_critical().expect("an onset of instability inside the sweep");
-    eprintln!("critical mu = {:.8} (interpolated {:.8}), {} bisection solves, omega = {:.8}", c.mu, c.mu_interpolated, c.bisection_solves, 2.0 * std::f64::consts::PI * c.frequency_hz);
+    let (_, c) = s
+        .lowest_critical()
+        .expect("an onset of instability inside the sweep");
+    eprintln!(
+        "critical mu = {:.8} (interpolated {:.8}), {} bisection solves, omega = {:.8}",
+        c.mu,
+        c.mu_interpolated,
+        c.bisection_solves,
+        2.0 * std::f64::consts::PI * c.frequency_hz
+    );
     (c.mu, c.frequency_hz, s)
 }
 
@@ -36,7 +56,10 @@ fn hoffmann_undamped_critical_mu_and_lock_in() {
     let (mu_c, f_c, s) = critical_mu(|mu| Ok(hoffmann(mu, 0.0, 0.0)), 0.2, 0.45);
     assert!((mu_c - 1.0 / 3.0).abs() < 1e-4, "mu_c = {mu_c}");
     let omega = 2.0 * std::f64::consts::PI * f_c;
-    assert!((omega - 1.1f64.sqrt()).abs() < 1e-4, "lock-in omega = {omega}");
+    assert!(
+        (omega - 1.1f64.sqrt()).abs() < 1e-4,
+        "lock-in omega = {omega}"
+    );
     assert!((1.1f64.sqrt() - 1.048809).abs() < 1e-6);
     // The two modes that merge: partner found, and their frequencies before the onset
     // bracket the lock-in frequency.
@@ -51,7 +74,11 @@ fn hoffmann_undamped_critical_mu_and_lock_in() {
     assert_eq!(r.modes.len(), 2);
     let d = (0.01 + 0.3 * (0.3 - mu) as f64).sqrt();
     for (m, w2) in r.modes.iter().zip([1.1 - d, 1.1 + d]) {
-        assert!((m.eigenvalue.im - w2.sqrt()).abs() < 1e-12 && m.real_part.abs() < 1e-12, "{:?}", m.eigenvalue);
+        assert!(
+            (m.eigenvalue.im - w2.sqrt()).abs() < 1e-12 && m.real_part.abs() < 1e-12,
+            "{:?}",
+            m.eigenvalue
+        );
         assert!(!m.unstable);
     }
 }
@@ -83,23 +110,52 @@ fn hoffmann_unequal_damping_destabilises() {
 fn split_hoffmann(mu: f64, c1: f64, c2: f64) -> CeaMatrices {
     let a = 0.3 - mu;
     let k = [[1.0, a / 2.0, a / 2.0], [0.15, 0.6, 0.0], [0.15, 0.0, 0.6]];
-    let mut s = CeaMatrices::new(Mat::from_fn(3, 3, |i, j| [[1.0, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 0.5]][i][j]), Mat::from_fn(3, 3, |i, j| k[i][j]));
-    s.b = Some(Mat::from_fn(3, 3, |i, j| if i == j { [c1, c2 / 2.0, c2 / 2.0][i] } else { 0.0 }));
+    let mut s = CeaMatrices::new(
+        Mat::from_fn(3, 3, |i, j| {
+            [[1.0, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 0.5]][i][j]
+        }),
+        Mat::from_fn(3, 3, |i, j| k[i][j]),
+    );
+    s.b = Some(Mat::from_fn(3, 3, |i, j| {
+        if i == j {
+            [c1, c2 / 2.0, c2 / 2.0][i]
+        } else {
+            0.0
+        }
+    }));
     s.g = Some(Mat::from_fn(1, 3, |_, j| [0.0, -1.0, 1.0][j]));
     s
 }
 
 #[test]
 fn constrained_model_has_same_eigenvalues_and_no_spurious_roots() {
-    for &(mu, c1, c2) in &[(0.1, 0.0, 0.0), (0.36, 0.0, 0.0), (0.32, 0.05, 0.05), (0.31, 0.1, 0.0)] {
+    for &(mu, c1, c2) in &[
+        (0.1, 0.0, 0.0),
+        (0.36, 0.0, 0.0),
+        (0.32, 0.05, 0.05),
+        (0.31, 0.1, 0.0),
+    ] {
         let a = complex_eigen(&hoffmann(mu, c1, c2), &CeaOptions::default()).unwrap();
         let b = complex_eigen(&split_hoffmann(mu, c1, c2), &CeaOptions::default()).unwrap();
         assert_eq!(b.stats.n_reduced, 2);
         assert_eq!(b.modes.len(), a.modes.len(), "mu = {mu}");
         for y in &b.modes {
             // Compare with the nearest root (coalesced pairs share a frequency to round-off).
-            let x = a.modes.iter().min_by(|p, q| (p.eigenvalue - y.eigenvalue).norm().total_cmp(&(q.eigenvalue - y.eigenvalue).norm())).unwrap();
-            assert!((x.eigenvalue - y.eigenvalue).norm() < 1e-10, "mu = {mu}: {} vs {}", x.eigenvalue, y.eigenvalue);
+            let x = a
+                .modes
+                .iter()
+                .min_by(|p, q| {
+                    (p.eigenvalue - y.eigenvalue)
+                        .norm()
+                        .total_cmp(&(q.eigenvalue - y.eigenvalue).norm())
+                })
+                .unwrap();
+            assert!(
+                (x.eigenvalue - y.eigenvalue).norm() < 1e-10,
+                "mu = {mu}: {} vs {}",
+                x.eigenvalue,
+                y.eigenvalue
+            );
             assert!(y.eigenvalue.norm() > 0.5, "spurious root {}", y.eigenvalue);
             // Shapes satisfy G u = 0.
             assert!((y.shape[2] - y.shape[1]).norm() < 1e-12);
@@ -122,12 +178,18 @@ fn friction_tangent_d_is_projected_exactly() {
     for &mu in &[0.2, 0.33, 0.5] {
         let mut s = CeaMatrices::new(
             Mat::from_fn(3, 3, |i, j| if i == j { [1.0, 1.0, m_r][i] } else { 0.0 }),
-            Mat::from_fn(3, 3, |i, j| [[1.0, 0.3, 0.0], [0.3, 0.2, 0.0], [0.0, 0.0, 1.0]][i][j]),
+            Mat::from_fn(3, 3, |i, j| {
+                [[1.0, 0.3, 0.0], [0.3, 0.2, 0.0], [0.0, 0.0, 1.0]][i][j]
+            }),
         );
         s.g = Some(Mat::from_fn(1, 3, |_, j| [0.0, -1.0, 1.0][j]));
         s.d = Some(Mat::from_fn(3, 1, |i, _| [-mu, 0.0, 0.0][i]));
         let r = complex_eigen(&s, &CeaOptions::default()).unwrap();
-        let (a, b, c) = (1.0 + m_r, 1.2 + (1.0 + m_r) + 0.3 * mu * m_r, 1.2 - 0.3 * (0.3 - mu));
+        let (a, b, c) = (
+            1.0 + m_r,
+            1.2 + (1.0 + m_r) + 0.3 * mu * m_r,
+            1.2 - 0.3 * (0.3 - mu),
+        );
         let disc = Cplx::new(b * b - 4.0 * a * c, 0.0).sqrt();
         let mut expect: Vec<Cplx> = [(-b + disc) / (2.0 * a), (-b - disc) / (2.0 * a)]
             .iter()
@@ -137,7 +199,11 @@ fn friction_tangent_d_is_projected_exactly() {
         expect.sort_by(|x, y| x.im.total_cmp(&y.im).then(x.re.total_cmp(&y.re)));
         assert_eq!(r.modes.len(), expect.len(), "mu = {mu}");
         for (m, e) in r.modes.iter().zip(&expect) {
-            assert!((m.eigenvalue - e).norm() < 1e-10, "mu = {mu}: {} vs {e}", m.eigenvalue);
+            assert!(
+                (m.eigenvalue - e).norm() < 1e-10,
+                "mu = {mu}: {} vs {e}",
+                m.eigenvalue
+            );
         }
     }
 }
@@ -188,7 +254,11 @@ fn proportional_damping_matches_modal_solution() {
         let w = w2.sqrt();
         let zeta = 0.5 * (alpha / w + beta * w);
         let p = Cplx::new(-zeta * w, w * (1.0 - zeta * zeta).sqrt());
-        assert!((mode.eigenvalue - p).norm() < 1e-9 * w, "{} vs {p}", mode.eigenvalue);
+        assert!(
+            (mode.eigenvalue - p).norm() < 1e-9 * w,
+            "{} vs {p}",
+            mode.eigenvalue
+        );
         // ζ here is the critical-damping ratio; DESIGN.md's damping_ratio = −2 Re/|Im|.
         let g = mode.damping_ratio.unwrap();
         assert!((g - 2.0 * zeta / (1.0 - zeta * zeta).sqrt()).abs() < 1e-8);
@@ -196,7 +266,12 @@ fn proportional_damping_matches_modal_solution() {
         let res: f64 = (0..n)
             .map(|i| {
                 (0..n)
-                    .map(|j| (mode.eigenvalue * mode.eigenvalue * m[(i, j)] + mode.eigenvalue * s.b.as_ref().unwrap()[(i, j)] + k[(i, j)]) * mode.shape[j])
+                    .map(|j| {
+                        (mode.eigenvalue * mode.eigenvalue * m[(i, j)]
+                            + mode.eigenvalue * s.b.as_ref().unwrap()[(i, j)]
+                            + k[(i, j)])
+                            * mode.shape[j]
+                    })
                     .sum::<Cplx>()
                     .norm_sqr()
             })
@@ -218,7 +293,10 @@ fn real_roots_are_kept_without_damping_ratio() {
     re.sort_by(f64::total_cmp);
     assert!((re[0] - (-3.0 - 5f64.sqrt()) / 2.0).abs() < 1e-12);
     assert!((re[1] - (-3.0 + 5f64.sqrt()) / 2.0).abs() < 1e-12);
-    assert!(r.modes.iter().all(|m| m.damping_ratio.is_none() && m.frequency_hz == 0.0 && !m.unstable));
+    assert!(r
+        .modes
+        .iter()
+        .all(|m| m.damping_ratio.is_none() && m.frequency_hz == 0.0 && !m.unstable));
 }
 
 #[test]
@@ -227,22 +305,47 @@ fn bad_inputs_are_errors_with_numbers() {
     let mut s = split_hoffmann(0.2, 0.0, 0.0);
     s.g = Some(Mat::from_fn(2, 3, |_, j| [0.0, -1.0, 1.0][j]));
     let e = complex_eigen(&s, &CeaOptions::default()).unwrap_err();
-    assert!(matches!(e, CeaError::RankDeficientConstraints { ng: 2, n: 3, .. }), "{e}");
+    assert!(
+        matches!(e, CeaError::RankDeficientConstraints { ng: 2, n: 3, .. }),
+        "{e}"
+    );
     // Indefinite mass.
     let mut s = hoffmann(0.2, 0.0, 0.0);
     s.m[(1, 1)] = -1.0;
     let e = complex_eigen(&s, &CeaOptions::default()).unwrap_err();
-    assert!(matches!(e, CeaError::NotPositiveDefinite { pivot: 1, .. }), "{e}");
+    assert!(
+        matches!(e, CeaError::NotPositiveDefinite { pivot: 1, .. }),
+        "{e}"
+    );
     // Shape and NaN.
     let mut s = hoffmann(0.2, 0.0, 0.0);
     s.b = Some(Mat::zeros(3, 3));
-    assert!(matches!(complex_eigen(&s, &CeaOptions::default()), Err(CeaError::Shape { what: "B", .. })));
+    assert!(matches!(
+        complex_eigen(&s, &CeaOptions::default()),
+        Err(CeaError::Shape { what: "B", .. })
+    ));
     let mut s = hoffmann(0.2, 0.0, 0.0);
     s.k[(0, 1)] = f64::NAN;
-    assert!(matches!(complex_eigen(&s, &CeaOptions::default()), Err(CeaError::NonFinite { what: "K", row: 0, col: 1, .. })));
+    assert!(matches!(
+        complex_eigen(&s, &CeaOptions::default()),
+        Err(CeaError::NonFinite {
+            what: "K",
+            row: 0,
+            col: 1,
+            ..
+        })
+    ));
     // Non-increasing sweep.
-    let e = sweep(|mu| Ok::<_, CeaError>(hoffmann(mu, 0.0, 0.0)), &[0.1, 0.1], &SweepOptions::default()).unwrap_err();
+    let e = sweep(
+        |mu| Ok::<_, CeaError>(hoffmann(mu, 0.0, 0.0)),
+        &[0.1, 0.1],
+        &SweepOptions::default(),
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("mus[0] = 0.1"), "{e}");
-    let o = CeaOptions { unstable_tol: -1.0, ..CeaOptions::default() };
+    let o = CeaOptions {
+        unstable_tol: -1.0,
+        ..CeaOptions::default()
+    };
     assert!(complex_eigen(&hoffmann(0.2, 0.0, 0.0), &o).is_err());
 }

@@ -13,6 +13,9 @@ pub mod hex8_incompatible;
 pub mod quadrature;
 pub mod shape;
 
+#[cfg(test)]
+mod tests;
+
 use crate::{FeError, Real};
 use nalgebra::{Matrix3, SMatrix};
 

@@ -18,8 +18,7 @@ pub(crate) struct Want {
 }
 
 pub(crate) struct LanczosOut {
-    /// Ritz values θ (descending) and vectors (n × count) of the selected pairs.
-    pub theta: Vec<Real>,
+    /// Ritz vectors (n × count) of the selected pairs, θ descending.
     pub x: Mat<Real>,
     pub converged: usize,
     pub done: bool,
@@ -258,7 +257,6 @@ pub(crate) fn lanczos(
             let mut x = Mat::<Real>::zeros(n, count);
             matmul(x.as_mut(), Accum::Replace, v.as_ref().subcols(0, cur), y.as_ref().subcols(0, count), 1.0, ctx.par);
             return LanczosOut {
-                theta: theta[..count].to_vec(),
                 x,
                 converged: converged.min(count),
                 done,
@@ -278,7 +276,6 @@ pub(crate) fn lanczos(
             let mut x = Mat::<Real>::zeros(n, count);
             matmul(x.as_mut(), Accum::Replace, v.as_ref().subcols(0, cur), y.as_ref().subcols(0, count), 1.0, ctx.par);
             return LanczosOut {
-                theta: theta[..count].to_vec(),
                 x,
                 converged: converged.min(count),
                 done: false,

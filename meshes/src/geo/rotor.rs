@@ -215,7 +215,13 @@ mod tests {
         assert!(text.contains("r_in = {0.08, Name \"Parameters/r_in\"}"));
         assert!(text.contains("thickness = {0.004,"));
         assert!(text.contains("n_circ = {64.0,"));
-        for name in ["\"rotor\"", "\"hub\"", "\"outer\"", "\"friction_bottom\"", "\"friction_top\""] {
+        for name in [
+            "\"rotor\"",
+            "\"hub\"",
+            "\"outer\"",
+            "\"friction_bottom\"",
+            "\"friction_top\"",
+        ] {
             assert!(text.contains(name), "{name}");
         }
     }

@@ -131,14 +131,22 @@ fn read_format(lines: &mut Lines) -> Result<Format, MeshError> {
     let binary = match file_type {
         "0" => false,
         "1" => true,
-        _ => return Err(unsupported(&format!("file-type `{file_type}` is not 0 or 1"))),
+        _ => {
+            return Err(unsupported(&format!(
+                "file-type `{file_type}` is not 0 or 1"
+            )))
+        }
     };
     if data_size != "8" {
         return Err(unsupported(&format!("data-size `{data_size}` is not 8")));
     }
     let format = match version.as_str() {
         "2" | "2.0" | "2.1" | "2.2" if !binary => Format::V22,
-        "2" | "2.0" | "2.1" | "2.2" => return Err(unsupported("2.2 binary is not read; write msh41 binary or msh22 ASCII")),
+        "2" | "2.0" | "2.1" | "2.2" => {
+            return Err(unsupported(
+                "2.2 binary is not read; write msh41 binary or msh22 ASCII",
+            ))
+        }
         "4.1" => Format::V41 { binary },
         _ => return Err(unsupported("version not read")),
     };

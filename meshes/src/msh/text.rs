@@ -184,7 +184,8 @@ impl<'a> Fields<'a> {
     /// A signed integer (entity and physical tags, which may be negative for orientation).
     pub fn i64(&mut self, what: &str) -> Result<i64, MeshError> {
         let t = self.next_tok(what)?;
-        t.parse::<i64>().map_err(|_| self.bad(what, t, "an integer"))
+        t.parse::<i64>()
+            .map_err(|_| self.bad(what, t, "an integer"))
     }
 
     /// A finite real number.

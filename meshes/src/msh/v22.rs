@@ -59,15 +59,14 @@ fn elements(
         let line = f.line;
         let tag = f.u64("element tag")?;
         let type_number = f.i64("element type")?;
-        let ty = GmshType::from_number(type_number).ok_or_else(|| {
-            MeshError::UnsupportedElement {
+        let ty =
+            GmshType::from_number(type_number).ok_or_else(|| MeshError::UnsupportedElement {
                 file: lines.file.to_string(),
                 line,
                 element_tag: tag,
                 gmsh_type: type_number,
                 type_name: type_name(type_number),
-            }
-        })?;
+            })?;
         let n_tags = f.count("number of tags")?;
         let mut physical = 0;
         for i in 0..n_tags {

@@ -37,9 +37,9 @@ pub(crate) fn parse(lines: &mut Lines, binary: bool) -> Result<RawMesh, MeshErro
                 lines.expect_end("Entities")?;
             }
             "PartitionedEntities" => {
-                return Err(lines.err(
-                    "partitioned meshes are not read; save the mesh without partitions",
-                ))
+                return Err(
+                    lines.err("partitioned meshes are not read; save the mesh without partitions")
+                )
             }
             "Nodes" => {
                 sections::once(lines, "Nodes", &mut nodes_seen)?;
@@ -65,7 +65,10 @@ pub(crate) fn parse(lines: &mut Lines, binary: bool) -> Result<RawMesh, MeshErro
     sections::require(lines, nodes_seen, elements_seen)?;
     let mut phys_index = HashMap::new();
     for b in &blocks {
-        let tags = entities.get(&(b.dim, b.entity)).cloned().unwrap_or_default();
+        let tags = entities
+            .get(&(b.dim, b.entity))
+            .cloned()
+            .unwrap_or_default();
         let phys = raw.intern_phys(&tags, &mut phys_index);
         for e in &mut raw.elements[b.first..b.first + b.count] {
             e.phys = phys;

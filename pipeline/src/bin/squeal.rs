@@ -5,9 +5,14 @@ use clap::{Args, Parser, Subcommand};
 use squeal_pipeline::progress::Progress;
 use squeal_pipeline::{stages, RunDir, Scene};
 use std::path::PathBuf;
+use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "squeal", version, about = "Disc-brake squeal simulator (BSQL method, open front end)")]
+#[command(
+    name = "squeal",
+    version,
+    about = "Disc-brake squeal simulator (BSQL method, open front end)"
+)]
 struct Cli {
     /// Print no progress.
     #[arg(short, long, global = true)]
@@ -63,8 +68,19 @@ fn run_dir(args: &RunArgs) -> Result<RunDir> {
     Ok(RunDir::create(&out)?)
 }
 
-fn main() -> Result<()> {
+fn main() -> ExitCode {
     let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // Each stage's error already carries its cause's text; print it once.
+            eprintln!("squeal: error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
     let progress = Progress { quiet: cli.quiet };
     match cli.verb {
         Verb::Check(args) => {

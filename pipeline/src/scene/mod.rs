@@ -145,12 +145,12 @@ impl Scene {
         for assignment in overrides {
             apply_override(&mut doc, assignment)?;
         }
-        let mut scene: Scene = doc.try_into().map_err(|e: toml::de::Error| {
-            PipelineError::SceneParse {
-                path: path.to_path_buf(),
-                message: e.to_string(),
-            }
-        })?;
+        let mut scene: Scene =
+            doc.try_into()
+                .map_err(|e: toml::de::Error| PipelineError::SceneParse {
+                    path: path.to_path_buf(),
+                    message: e.to_string(),
+                })?;
         scene.base_dir = path
             .parent()
             .map(Path::to_path_buf)
@@ -209,17 +209,18 @@ impl Scene {
     /// The component named `name`, or the only one when `name` is None.
     pub fn component(&self, name: Option<&str>) -> Result<&ComponentSpec, PipelineError> {
         match name {
-            Some(n) => self
-                .components
-                .iter()
-                .find(|c| c.name == n)
-                .ok_or_else(|| PipelineError::Scene {
-                    field: "components".into(),
-                    message: format!(
-                        "no component named `{n}` (the scene has: {})",
-                        self.component_names()
-                    ),
-                }),
+            Some(n) => {
+                self.components
+                    .iter()
+                    .find(|c| c.name == n)
+                    .ok_or_else(|| PipelineError::Scene {
+                        field: "components".into(),
+                        message: format!(
+                            "no component named `{n}` (the scene has: {})",
+                            self.component_names()
+                        ),
+                    })
+            }
             None => match self.components.as_slice() {
                 [one] => Ok(one),
                 [] => Err(PipelineError::Scene {

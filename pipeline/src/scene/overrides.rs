@@ -6,10 +6,12 @@ use crate::error::PipelineError;
 /// indexes an array (`components.0.element`). The value is parsed as a TOML value (`12`, `1e-5`,
 /// `true`, `"hex20"`, `[1, 2]`); anything that does not parse is taken as a string.
 pub fn apply_override(doc: &mut toml::Value, assignment: &str) -> Result<(), PipelineError> {
-    let (key, raw) = assignment.split_once('=').ok_or_else(|| PipelineError::Override {
-        assignment: assignment.to_string(),
-        reason: "expected key=value".into(),
-    })?;
+    let (key, raw) = assignment
+        .split_once('=')
+        .ok_or_else(|| PipelineError::Override {
+            assignment: assignment.to_string(),
+            reason: "expected key=value".into(),
+        })?;
     let key = key.trim();
     if key.is_empty() {
         return Err(PipelineError::Override {
@@ -38,10 +40,14 @@ pub fn apply_override(doc: &mut toml::Value, assignment: &str) -> Result<(), Pip
                     reason: format!("`{seg}` indexes an array and must be a number"),
                 })?;
                 let len = items.len();
-                let item = items.get_mut(index).ok_or_else(|| PipelineError::Override {
-                    assignment: assignment.to_string(),
-                    reason: format!("index {index} is out of range (the array has {len} items)"),
-                })?;
+                let item = items
+                    .get_mut(index)
+                    .ok_or_else(|| PipelineError::Override {
+                        assignment: assignment.to_string(),
+                        reason: format!(
+                            "index {index} is out of range (the array has {len} items)"
+                        ),
+                    })?;
                 if last {
                     *item = value;
                     return Ok(());
@@ -51,10 +57,7 @@ pub fn apply_override(doc: &mut toml::Value, assignment: &str) -> Result<(), Pip
             _ => {
                 return Err(PipelineError::Override {
                     assignment: assignment.to_string(),
-                    reason: format!(
-                        "`{}` is a value, not a table",
-                        segments[..depth].join(".")
-                    ),
+                    reason: format!("`{}` is a value, not a table", segments[..depth].join(".")),
                 })
             }
         };
@@ -65,7 +68,9 @@ pub fn apply_override(doc: &mut toml::Value, assignment: &str) -> Result<(), Pip
 fn parse_value(raw: &str) -> toml::Value {
     let wrapped = format!("v = {raw}");
     match wrapped.parse::<toml::Table>() {
-        Ok(mut t) => t.remove("v").unwrap_or_else(|| toml::Value::String(raw.to_string())),
+        Ok(mut t) => t
+            .remove("v")
+            .unwrap_or_else(|| toml::Value::String(raw.to_string())),
         Err(_) => toml::Value::String(raw.to_string()),
     }
 }

@@ -44,7 +44,10 @@ pub fn mesh_component(
                 ..Default::default()
             };
             let run = gmsh::mesh_geo(&text, &out, &opts).map_err(err)?;
-            step.done(format!("gmsh: meshed `{}` in {:.2} s", c.name, run.elapsed_s));
+            step.done(format!(
+                "gmsh: meshed `{}` in {:.2} s",
+                c.name, run.elapsed_s
+            ));
             (out, Some(run.elapsed_s))
         }
     };
@@ -60,7 +63,11 @@ pub fn mesh_component(
 }
 
 /// `squeal mesh`: meshes every component and writes `<name>.vtu` beside each `.msh`.
-pub fn run(scene: &Scene, dir: &RunDir, progress: Progress) -> Result<Vec<MeshReport>, PipelineError> {
+pub fn run(
+    scene: &Scene,
+    dir: &RunDir,
+    progress: Progress,
+) -> Result<Vec<MeshReport>, PipelineError> {
     let mut reports = Vec::new();
     for c in &scene.components {
         let (mesh, report) = mesh_component(scene, c, dir, progress)?;

@@ -47,14 +47,21 @@ impl ModesReport {
 pub fn fixed_dofs(c: &ComponentSpec, mesh: &Mesh) -> Result<Vec<(usize, usize)>, PipelineError> {
     let mut fixed = Vec::new();
     for f in &c.fixed {
-        let nodes = mesh.node_sets.get(&f.set).ok_or_else(|| PipelineError::Scene {
-            field: format!("components[name = {}].fixed.set", c.name),
-            message: format!(
-                "the mesh has no node set `{}` (it has: {})",
-                f.set,
-                mesh.node_sets.keys().cloned().collect::<Vec<_>>().join(", ")
-            ),
-        })?;
+        let nodes = mesh
+            .node_sets
+            .get(&f.set)
+            .ok_or_else(|| PipelineError::Scene {
+                field: format!("components[name = {}].fixed.set", c.name),
+                message: format!(
+                    "the mesh has no node set `{}` (it has: {})",
+                    f.set,
+                    mesh.node_sets
+                        .keys()
+                        .cloned()
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            })?;
         let comps = f.components()?;
         for &n in nodes {
             for &k in &comps {
@@ -81,10 +88,13 @@ pub fn run(
     };
     let (mesh, mesh_report) = mesh_component(scene, c, dir, progress)?;
     let fixed = fixed_dofs(c, &mesh)?;
-    let dofs = DofMap::new(mesh.nodes.len(), &fixed);
+    let dofs = DofMap::new(mesh.nodes.len(), &fixed).map_err(fe_err)?;
     let materials = vec![c.material.clone(); mesh.volumes.len()];
     let step = progress.step(format!("assembling K, M ({} DOFs)", dofs.n_free()));
-    let asm_opts = AssemblyOptions { hex8: c.hex8, ..Default::default() };
+    let asm_opts = AssemblyOptions {
+        hex8: c.hex8,
+        ..Default::default()
+    };
     let assembled = assemble(&mesh, &materials, &dofs, &asm_opts).map_err(fe_err)?;
     step.done(format!("assembled K, M ({} DOFs)", dofs.n_free()));
     let step = progress.step("shift-invert Lanczos");
@@ -95,17 +105,26 @@ pub fn run(
         modes.stats.factor_s + modes.stats.lanczos_s
     ));
 
-    let mut arrays = Vec::new();
+    let mut names = Vec::new();
+    let mut fields = Vec::new();
     for (j, f) in modes.frequencies_hz.iter().enumerate() {
-        let col: Vec<f64> = (0..modes.shapes.nrows()).map(|i| modes.shapes[(i, j)]).collect();
+        let col: Vec<f64> = (0..modes.shapes.nrows())
+            .map(|i| modes.shapes[(i, j)])
+            .collect();
         let per_node = dofs.expand(&col);
-        let flat: Vec<f64> = per_node.iter().flat_map(|v| v.iter().copied()).collect();
-        arrays.push(vtu::PointArray {
-            name: format!("mode_{:02}_{:.1}Hz", j + 1, f),
-            components: 3,
-            values: flat,
-        });
+        fields.push(
+            per_node
+                .iter()
+                .flat_map(|v| v.iter().copied())
+                .collect::<Vec<f64>>(),
+        );
+        names.push(format!("mode_{:02}_{:.1}Hz", j + 1, f));
     }
+    let arrays: Vec<vtu::PointArray> = names
+        .iter()
+        .zip(&fields)
+        .map(|(n, v)| vtu::PointArray::vector(n, v))
+        .collect();
     vtu::write_vtu(&dir.path("modes.vtu"), &mesh, &arrays, &[]).map_err(|source| {
         PipelineError::Mesh {
             component: c.name.clone(),
@@ -117,7 +136,7 @@ pub fn run(
         n_nodes: mesh.nodes.len(),
         n_dofs: dofs.n_free(),
         frequencies_hz: modes.frequencies_hz.clone(),
-        status: modes.status.clone(),
+        status: modes.status,
         modal_stats: modes.stats.clone(),
         assembly_stats: assembled.stats.clone(),
         mesh: mesh_report,

@@ -18,8 +18,8 @@ use std::fmt;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CheckOptions {
-    /// Frequencies are compared up to this, Hz (default: none = half the model's cutoff, or
-    /// half its highest fixed-interface frequency).
+    /// Frequencies are compared up to this, Hz (default: none = the model's own frequency of
+    /// interest, else half its cutoff, else half its highest fixed-interface frequency).
     pub frequency_of_interest_hz: Option<Real>,
     /// A reduced mode is rigid when its eigenvalue is below this × the largest (default: 1e-8).
     pub rigid_rel_tol: Real,
@@ -210,6 +210,7 @@ pub fn check(
     // Frequencies against the full model.
     let foi = opts
         .frequency_of_interest_hz
+        .or(model.stats.frequency_of_interest_hz)
         .or(model.stats.cutoff_hz.map(|c| 0.5 * c))
         .or(model.fixed_frequencies_hz.last().map(|f| 0.5 * f))
         .unwrap_or(Real::INFINITY);

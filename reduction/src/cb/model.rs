@@ -26,6 +26,8 @@ pub struct CbStats {
     pub n_modes: usize,
     /// Nonzeros of the interior stiffness K_ii.
     pub nnz_kii: usize,
+    /// Frequency of interest given in the options, Hz.
+    pub frequency_of_interest_hz: Option<Real>,
     /// Cutoff used, Hz (None when only a mode count was asked for).
     pub cutoff_hz: Option<Real>,
     pub eigen_method: EigenMethod,

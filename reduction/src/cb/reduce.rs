@@ -131,6 +131,7 @@ pub fn reduce_damped(
         n_interior: ni,
         n_modes: nq,
         nnz_kii: Kp.ii.val().len(),
+        frequency_of_interest_hz: opts.frequency_of_interest_hz,
         cutoff_hz,
         eigen_method: method,
         krylov_dim,

@@ -83,7 +83,8 @@ impl Builder {
     }
 
     /// Stores `numbers` (interleaved re, im for complex) down column `col` (0-based) from row
-    /// `row` (0-based). Single-precision values are rounded to `f32`.
+    /// `row` (0-based). Values are kept as read: single-precision ASCII files may hold more
+    /// digits than an `f32` (64-bit-integer NASTRAN builds write type 1 with 8-byte reals).
     pub fn put(&mut self, col: usize, row: usize, numbers: &[Real]) -> Result<(), String> {
         let per = self.header.numbers_per_entry();
         if numbers.len() % per != 0 {
@@ -109,12 +110,10 @@ impl Builder {
                 self.header.nrows
             ));
         }
-        let single = self.header.precision.is_single();
-        let round = |x: Real| if single { x as f32 as Real } else { x };
         for k in 0..count {
-            self.re[(row + k, col)] = round(numbers[k * per]);
+            self.re[(row + k, col)] = numbers[k * per];
             if let Some(im) = &mut self.im {
-                im[(row + k, col)] = round(numbers[k * per + 1]);
+                im[(row + k, col)] = numbers[k * per + 1];
             }
         }
         Ok(())

@@ -4,9 +4,9 @@
 //! order, 4- or 8-byte record markers, 32- or 64-bit integers), dense columns or sparse
 //! strings (non-BIGMAT `IS` words or BIGMAT `L+1, IROW` pairs), real or complex, single or
 //! double precision, several matrices per file. Symmetric matrices (form 6) are stored in full
-//! and read as stored; single-precision values are rounded to `f32`.
+//! and read as stored. Values are kept as read (single-precision binary values are `f32`).
 //!
-//! Writing covers ASCII (`1P,3E23.16` double, `1P,5E16.9` single: both round-trip exactly) and
+//! Writing covers ASCII (`1P,3E23.16`, 17 significant digits: round trips are exact) and
 //! binary (4-byte markers and integers, little- or big-endian), dense / non-BIGMAT / BIGMAT.
 
 mod binary_read;

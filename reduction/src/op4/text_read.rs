@@ -7,7 +7,7 @@
 //!   - `IROW = 0` (sparse): `NW` words of strings follow, each a header then its numbers:
 //!     non-BIGMAT `IS = IROW + 65536 (L + 1)`, BIGMAT `L + 1, IROW`; `L` counts words (two
 //!     per number in double precision types 2 and 4, one in types 1 and 3);
-//! - the end record `NCOL + 1, 1, 1` and one number.
+//! - the end record `NCOL + 1, 1, NW` and one number on one line.
 //!
 //! Numbers are fixed-width fields (the header's `Ew.d`), possibly with `D` exponents or
 //! Fortran's `1.0+100` form for three-digit exponents.
@@ -44,7 +44,8 @@ pub(crate) fn read_text(text: &str) -> Result<Vec<NamedMatrix>, TextError> {
         if line.trim().is_empty() {
             continue;
         }
-        let (header, fmt) = parse_header(line).map_err(|e| (ln, String::new(), e))?;
+        let (header, fmt) =
+            parse_header(line).map_err(|e| (ln, field(line, 32, 40).trim().to_string(), e))?;
         let name = header.name.clone();
         let m = read_matrix(&mut lines, header, fmt).map_err(|(l, e)| (l, name, e))?;
         out.push(m);
@@ -139,8 +140,11 @@ fn read_matrix(lines: &mut Lines, header: Header, fmt: NumFormat) -> LineResult<
             return Err((ln, format!("bad column record {icol} {irow} {nw}")));
         }
         if icol > ncols {
-            // End record: skip its numbers.
-            read_numbers(lines, nw as usize, fmt)?;
+            // End record: one number follows (its NW is 1, or 2 words for double precision
+            // with some writers); skip its line, as NASTRAN readers do.
+            if nw > 0 {
+                lines.next_line();
+            }
             return Ok(b.finish());
         }
         let col = (icol - 1) as usize;

@@ -108,11 +108,9 @@ pub(crate) fn write_text(
     let mut s = String::new();
     for a in mats {
         let p = plan(a, opts)?;
-        let (per_line, width, decimals, spec) = if p.precision.is_single() {
-            (5, 16, 9, "1P,5E16.9")
-        } else {
-            (3, 23, 16, "1P,3E23.16")
-        };
+        // 17 significant digits for both precisions (as NASTRAN writes single-precision
+        // ASCII files too): the f32 or f64 value is recovered exactly.
+        let (per_line, width, decimals, spec) = (3, 23, 16, "1P,3E23.16");
         let round = |x: Real| {
             if p.precision.is_single() {
                 x as f32 as Real

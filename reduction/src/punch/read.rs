@@ -217,20 +217,12 @@ fn assemble(name: &str, head: &Head, list: &[Entry]) -> Result<DmigMatrix, (usiz
     }
     let ri: BTreeMap<Dof, usize> = rows.iter().enumerate().map(|(k, d)| (*d, k)).collect();
     let ci: BTreeMap<Dof, usize> = cols.iter().enumerate().map(|(k, d)| (*d, k)).collect();
-    let single = head.precision.is_single();
-    let round = |z: Cplx| {
-        if single {
-            Cplx::new(z.re as f32 as f64, z.im as f32 as f64)
-        } else {
-            z
-        }
-    };
     let mut a = Mat::<Cplx>::zeros(m, n);
     // Value, line and whether it was placed as the mirror of a symmetric entry.
     let mut given: HashMap<(usize, usize), (Cplx, usize, bool)> = HashMap::new();
     for e in list {
         let (i, j) = (ri[&e.row], ci[&e.col]);
-        let v = round(e.value);
+        let v = e.value;
         let mut places = vec![(i, j)];
         if head.ifo == 6 && i != j {
             places.push((j, i));

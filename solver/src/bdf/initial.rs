@@ -17,6 +17,8 @@
 //! The matrix is re-formed every iteration (the system may be nonlinear in y', e.g. friction
 //! depending on the contact force). Converged when ‖F‖∞ ≤ tol·max(1, ‖F(t0, y0, 0)‖∞).
 
+#![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too.
+
 use serde::Serialize;
 
 use super::{DaeSystem, InitialConditionOptions};

@@ -251,6 +251,7 @@ impl Bdf {
     }
 
     /// Derivative at the last output time (or last step for `Interrupted`).
+    #[allow(clippy::misnamed_getters)]
     pub fn yp(&self) -> &[Real] {
         &self.w.yp_out
     }

@@ -86,8 +86,7 @@ impl Bdf {
                 self.st.stats.jacobian_setups += 1;
                 self.st.force_setup = false;
                 self.record_jacobian_point();
-                if let Err(e) = sys.setup_jacobian(self.st.t, &self.w.yy, &self.w.yp, self.st.cj)
-                {
+                if let Err(e) = sys.setup_jacobian(self.st.t, &self.w.yy, &self.w.yp, self.st.cj) {
                     self.st.jacobian_point = None;
                     return recoverable(e);
                 }

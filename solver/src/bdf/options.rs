@@ -1,5 +1,7 @@
 //! Options of the BDF integrator and of the initial-condition solve.
 
+#![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too.
+
 use serde::{Deserialize, Serialize};
 
 use crate::{Real, SolverError};
@@ -49,7 +51,12 @@ pub enum Tolerances {
 
 impl Tolerances {
     /// Fill `rtol`, `atol` (length `n`) from this description.
-    pub fn expand(&self, n: usize, rtol: &mut [Real], atol: &mut [Real]) -> Result<(), SolverError> {
+    pub fn expand(
+        &self,
+        n: usize,
+        rtol: &mut [Real],
+        atol: &mut [Real],
+    ) -> Result<(), SolverError> {
         match self {
             Tolerances::Scalar { rtol: r, atol: a } => {
                 rtol.fill(*r);

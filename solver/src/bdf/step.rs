@@ -21,7 +21,12 @@ impl Bdf {
             self.st.phase = 0;
             self.st.ns = 0;
         }
-        if let Some(p) = self.st.jacobian_point.as_ref().filter(|_| self.needs_restore) {
+        if let Some(p) = self
+            .st
+            .jacobian_point
+            .as_ref()
+            .filter(|_| self.needs_restore)
+        {
             sys.setup_jacobian(p.t, &p.y, &p.yp, p.cj)?;
         }
         self.needs_restore = false;

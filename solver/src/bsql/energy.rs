@@ -54,10 +54,20 @@ pub struct EnergyBalance {
     pub external_work: Real,
     /// ∫ (Gᵀ λ') · v dt.
     pub constraint_work: Real,
+    /// Estimated error of the trapezoidal quadrature, Σ h³/12·|f''| over steps, with f'' of
+    /// the net power from the second divided difference of the last three records.
+    pub quadrature_error: Real,
     /// Records so far.
     pub records: u64,
     #[serde(skip)]
     last: Option<PowerTerms>,
+    #[serde(skip)]
+    prev: Option<(Real, Real)>,
+}
+
+/// Net power into the structure: P·v + F_f·v − (Gᵀλ')·v − vᵀBv.
+fn net_power(p: &PowerTerms) -> Real {
+    p.external + p.friction - p.constraint - p.damping
 }
 
 impl EnergyBalance {
@@ -74,7 +84,18 @@ impl EnergyBalance {
                 self.initial_energy = p.kinetic + p.strain;
             }
             Some(q) => {
-                let dt = 0.5 * (p.t - q.t);
+                let h = p.t - q.t;
+                let f1 = net_power(&q);
+                let f2 = net_power(p);
+                if let Some((t0, f0)) = self.prev {
+                    let h0 = q.t - t0;
+                    if h0 > 0.0 && h > 0.0 {
+                        let dd2 = ((f2 - f1) / h - (f1 - f0) / h0) / (h + h0);
+                        self.quadrature_error += h * h * h / 12.0 * (2.0 * dd2).abs();
+                    }
+                }
+                self.prev = Some((q.t, f1));
+                let dt = 0.5 * h;
                 self.damping_dissipated += dt * (p.damping + q.damping);
                 self.friction_work += dt * (p.friction + q.friction);
                 self.external_work += dt * (p.external + q.external);

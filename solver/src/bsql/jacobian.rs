@@ -71,7 +71,11 @@ impl<F: FrictionForces> BsqlSystem<F> {
             }
             a_scale = a_scale.max(a[(j, j)].abs());
         }
-        let s = if a_scale > 0.0 { a_scale / self.g_scale } else { 1.0 };
+        let s = if a_scale > 0.0 {
+            a_scale / self.g_scale
+        } else {
+            1.0
+        };
         // Multiplier blocks.
         for k in 0..ng {
             for i in 0..n {

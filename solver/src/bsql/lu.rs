@@ -93,14 +93,7 @@ impl DenseLu {
         let perm = PermRef::new_checked(&self.perm, &self.perm_inv, n);
         let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
         let stack = MemStack::new(&mut self.mem);
-        solve::solve_in_place(
-            self.a.as_ref(),
-            self.a.as_ref(),
-            perm,
-            rhs,
-            Par::Seq,
-            stack,
-        );
+        solve::solve_in_place(self.a.as_ref(), self.a.as_ref(), perm, rhs, Par::Seq, stack);
         Ok(())
     }
 }

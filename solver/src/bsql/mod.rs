@@ -54,7 +54,13 @@ pub trait FrictionForces {
 pub struct NoFriction;
 
 impl FrictionForces for NoFriction {
-    fn add_forces(&mut self, _: Real, _: &[Real], _: &[Real], _: &mut [Real]) -> Result<(), SolverError> {
+    fn add_forces(
+        &mut self,
+        _: Real,
+        _: &[Real],
+        _: &[Real],
+        _: &mut [Real],
+    ) -> Result<(), SolverError> {
         Ok(())
     }
     fn add_tangents(
@@ -79,6 +85,7 @@ pub struct BsqlOptions {
     pub include_friction_damping: bool,
 }
 
+#[allow(clippy::derivable_impls)] // Default impl is where defaults are documented.
 impl Default for BsqlOptions {
     fn default() -> Self {
         Self {
@@ -114,9 +121,14 @@ pub struct BsqlStats {
 enum Factored {
     None,
     /// J of eq. (18) at this cj, with the scaling s of the multiplier block.
-    Iteration { cj: Real, s: Real },
+    Iteration {
+        cj: Real,
+        s: Real,
+    },
     /// ∂F/∂y' alone (initial conditions), scaling s.
-    Derivative { s: Real },
+    Derivative {
+        s: Real,
+    },
 }
 
 /// The BSQL system with its workspace (allocated once in [`BsqlSystem::new`]).
@@ -268,10 +280,22 @@ impl<F: FrictionForces> DaeSystem for BsqlSystem<F> {
     fn len(&self) -> usize {
         2 * self.n + self.ng
     }
-    fn residual(&mut self, t: Real, y: &[Real], yp: &[Real], res: &mut [Real]) -> Result<(), SolverError> {
+    fn residual(
+        &mut self,
+        t: Real,
+        y: &[Real],
+        yp: &[Real],
+        res: &mut [Real],
+    ) -> Result<(), SolverError> {
         self.eval_residual(t, y, yp, res)
     }
-    fn setup_jacobian(&mut self, t: Real, y: &[Real], yp: &[Real], cj: Real) -> Result<(), SolverError> {
+    fn setup_jacobian(
+        &mut self,
+        t: Real,
+        y: &[Real],
+        yp: &[Real],
+        cj: Real,
+    ) -> Result<(), SolverError> {
         self.factored = Factored::None;
         let s = self.assemble_iteration_matrix(t, y, yp, Some(cj))?;
         self.lu.factor("BSQL iteration (eq. 18)", t)?;
@@ -289,7 +313,12 @@ impl<F: FrictionForces> DaeSystem for BsqlSystem<F> {
             }),
         }
     }
-    fn setup_derivative_jacobian(&mut self, t: Real, y: &[Real], yp: &[Real]) -> Result<bool, SolverError> {
+    fn setup_derivative_jacobian(
+        &mut self,
+        t: Real,
+        y: &[Real],
+        yp: &[Real],
+    ) -> Result<bool, SolverError> {
         self.factored = Factored::None;
         let s = self.assemble_iteration_matrix(t, y, yp, None)?;
         self.lu.factor("BSQL ∂F/∂y'", t)?;

@@ -1,5 +1,7 @@
 //! The static sliding equilibrium (initial state of the transient and base state of CEA).
 
+#![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too.
+
 use faer::Accum;
 use serde::{Deserialize, Serialize};
 
@@ -152,7 +154,11 @@ pub fn steady_state<F: FrictionForces>(
             }
             k_scale = k_scale.max(sys.K[(j, j)].abs());
         }
-        let s = if k_scale > 0.0 { k_scale / sys.g_scale } else { 1.0 };
+        let s = if k_scale > 0.0 {
+            k_scale / sys.g_scale
+        } else {
+            1.0
+        };
         for k in 0..ng {
             for i in 0..n {
                 a[(i, n + k)] = s * (sys.G[(k, i)] - sys.d_dlam[(i, k)]);

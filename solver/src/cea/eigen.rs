@@ -50,16 +50,29 @@ pub fn complex_eigen(sys: &CeaMatrices, opts: &CeaOptions) -> Result<CeaResult, 
     };
     let t1 = Instant::now();
     if m == 0 {
-        return Ok(CeaResult { modes: Vec::new(), stats });
+        return Ok(CeaResult {
+            modes: Vec::new(),
+            stats,
+        });
     }
     let llt = red.m_r.llt(Side::Lower).map_err(|e| match e {
-        faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => CeaError::NotPositiveDefinite { what: "T^T M T", n: m, pivot: index },
+        faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => {
+            CeaError::NotPositiveDefinite {
+                what: "T^T M T",
+                n: m,
+                pivot: index,
+            }
+        }
     })?;
     let l = llt.L();
     let khat = sandwich(l, &red.k_r);
     let chat = red.c_r.as_ref().map(|c| sandwich(l, c));
     let mean_k = (0..m).map(|i| khat[(i, i)].abs()).sum::<f64>() / m as f64;
-    let sigma = if mean_k > 0.0 && mean_k.is_finite() { mean_k.sqrt() } else { 1.0 };
+    let sigma = if mean_k > 0.0 && mean_k.is_finite() {
+        mean_k.sqrt()
+    } else {
+        1.0
+    };
     let a = Mat::from_fn(2 * m, 2 * m, |i, j| match (i < m, j < m) {
         (true, true) => 0.0,
         (true, false) => {
@@ -73,19 +86,30 @@ pub fn complex_eigen(sys: &CeaMatrices, opts: &CeaOptions) -> Result<CeaResult, 
         (false, false) => chat.as_ref().map_or(0.0, |c| -c[(i - m, j - m)]),
     });
     let (vals, vecs): (Vec<Cplx>, Option<Mat<Cplx>>) = if opts.compute_shapes {
-        let e = a.eigen().map_err(|_| CeaError::NoConvergence { what: "eigendecomposition", n: 2 * m })?;
+        let e = a.eigen().map_err(|_| CeaError::NoConvergence {
+            what: "eigendecomposition",
+            n: 2 * m,
+        })?;
         let s = e.S().column_vector();
         let vals = (0..2 * m).map(|i| s[i]).collect();
         (vals, Some(e.U().to_owned()))
     } else {
-        let v = a.eigenvalues().map_err(|_| CeaError::NoConvergence { what: "eigenvalues", n: 2 * m })?;
+        let v = a.eigenvalues().map_err(|_| CeaError::NoConvergence {
+            what: "eigenvalues",
+            n: 2 * m,
+        })?;
         (v, None)
     };
     let rho = vals.iter().map(|p| p.norm()).fold(0.0, f64::max);
     let keep: Vec<usize> = (0..2 * m).filter(|&j| vals[j].im >= 0.0).collect();
     for (j, p) in vals.iter().enumerate() {
         if !(p.re.is_finite() && p.im.is_finite()) {
-            return Err(CeaError::NonFinite { what: "eigenvalue", row: j, col: 0, value: if p.re.is_finite() { p.im } else { p.re } });
+            return Err(CeaError::NonFinite {
+                what: "eigenvalue",
+                row: j,
+                col: 0,
+                value: if p.re.is_finite() { p.im } else { p.re },
+            });
         }
     }
     let shapes = match &vecs {
@@ -102,17 +126,28 @@ pub fn complex_eigen(sys: &CeaMatrices, opts: &CeaOptions) -> Result<CeaResult, 
                 eigenvalue: p,
                 frequency_hz: p.im.abs() / (2.0 * std::f64::consts::PI),
                 real_part: p.re,
-                damping_ratio: if p.im == 0.0 { None } else { Some(-2.0 * p.re / p.im.abs()) },
+                damping_ratio: if p.im == 0.0 {
+                    None
+                } else {
+                    Some(-2.0 * p.re / p.im.abs())
+                },
                 unstable: p.re > tol,
                 shape,
             }
         })
         .collect();
-    modes.sort_by(|x, y| x.frequency_hz.total_cmp(&y.frequency_hz).then(x.real_part.total_cmp(&y.real_part)));
+    modes.sort_by(|x, y| {
+        x.frequency_hz
+            .total_cmp(&y.frequency_hz)
+            .then(x.real_part.total_cmp(&y.real_part))
+    });
     stats.n_modes = modes.len();
     stats.n_real_roots = modes.iter().filter(|x| x.eigenvalue.im == 0.0).count();
     stats.n_unstable = modes.iter().filter(|x| x.unstable).count();
-    stats.max_real_part = modes.iter().map(|x| x.real_part).fold(f64::NEG_INFINITY, f64::max);
+    stats.max_real_part = modes
+        .iter()
+        .map(|x| x.real_part)
+        .fold(f64::NEG_INFINITY, f64::max);
     stats.spectral_radius = rho;
     stats.time_eigen_s = t1.elapsed().as_secs_f64();
     Ok(CeaResult { modes, stats })
@@ -120,10 +155,22 @@ pub fn complex_eigen(sys: &CeaMatrices, opts: &CeaOptions) -> Result<CeaResult, 
 
 /// u = T L⁻ᵀ w for the kept eigenvectors (w = top half of the state vector), normalised to
 /// unit 2-norm with the largest entry real positive.
-fn recover_shapes(u: &Mat<Cplx>, keep: &[usize], m: usize, l: faer::MatRef<'_, f64>, t: Option<&Mat<f64>>) -> Vec<Vec<Cplx>> {
+fn recover_shapes(
+    u: &Mat<Cplx>,
+    keep: &[usize],
+    m: usize,
+    l: faer::MatRef<'_, f64>,
+    t: Option<&Mat<f64>>,
+) -> Vec<Vec<Cplx>> {
     let k = keep.len();
     // [Re W | Im W] (m × 2k), solve Lᵀ Q = W.
-    let mut w = Mat::from_fn(m, 2 * k, |i, c| if c < k { u[(i, keep[c])].re } else { u[(i, keep[c - k])].im });
+    let mut w = Mat::from_fn(m, 2 * k, |i, c| {
+        if c < k {
+            u[(i, keep[c])].re
+        } else {
+            u[(i, keep[c - k])].im
+        }
+    });
     l.transpose().solve_upper_triangular_in_place(&mut w);
     let q = match t {
         Some(t) => t * &w,
@@ -132,9 +179,13 @@ fn recover_shapes(u: &Mat<Cplx>, keep: &[usize], m: usize, l: faer::MatRef<'_, f
     let n = q.nrows();
     (0..k)
         .map(|c| {
-            let mut v: Vec<Cplx> = (0..n).map(|i| Cplx::new(q[(i, c)], q[(i, c + k)])).collect();
+            let mut v: Vec<Cplx> = (0..n)
+                .map(|i| Cplx::new(q[(i, c)], q[(i, c + k)]))
+                .collect();
             let norm = v.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt();
-            let imax = (0..n).max_by(|&a, &b| v[a].norm_sqr().total_cmp(&v[b].norm_sqr())).unwrap_or(0);
+            let imax = (0..n)
+                .max_by(|&a, &b| v[a].norm_sqr().total_cmp(&v[b].norm_sqr()))
+                .unwrap_or(0);
             if norm > 0.0 && n > 0 {
                 let phase = v[imax].conj() / v[imax].norm();
                 for z in &mut v {

@@ -65,7 +65,9 @@ pub enum CeaError {
         tol: f64,
     },
     /// G M⁻¹ (Gᵀ − D) is singular: the contact forces are not determined by the constraint.
-    #[error("contact operator G M^-1 (G^T - D) ({ng}x{ng}) is singular: min/max |pivot| = {ratio:e}")]
+    #[error(
+        "contact operator G M^-1 (G^T - D) ({ng}x{ng}) is singular: min/max |pivot| = {ratio:e}"
+    )]
     SingularContactOperator {
         /// Number of constraints.
         ng: usize,

@@ -144,7 +144,10 @@ pub struct CeaResult {
     pub stats: CeaStats,
 }
 
-pub(crate) fn check_finite(what: &'static str, a: faer::MatRef<'_, f64>) -> Result<(), error::CeaError> {
+pub(crate) fn check_finite(
+    what: &'static str,
+    a: faer::MatRef<'_, f64>,
+) -> Result<(), error::CeaError> {
     for j in 0..a.ncols() {
         for i in 0..a.nrows() {
             let x = a[(i, j)];

@@ -41,8 +41,18 @@ fn check(field: &'static str, v: f64, ok: bool, reason: &str) -> Result<(), CeaE
 impl CeaOptions {
     /// Checks the options; the error names the field.
     pub fn validate(&self) -> Result<(), CeaError> {
-        check("cea.unstable_tol", self.unstable_tol, self.unstable_tol >= 0.0, "must be >= 0")?;
-        check("cea.rank_tol", self.rank_tol, self.rank_tol >= 0.0 && self.rank_tol < 1.0, "must be in [0, 1)")
+        check(
+            "cea.unstable_tol",
+            self.unstable_tol,
+            self.unstable_tol >= 0.0,
+            "must be >= 0",
+        )?;
+        check(
+            "cea.rank_tol",
+            self.rank_tol,
+            self.rank_tol >= 0.0 && self.rank_tol < 1.0,
+            "must be in [0, 1)",
+        )
     }
 }
 
@@ -84,7 +94,17 @@ impl SweepOptions {
     /// Checks the options; the error names the field.
     pub fn validate(&self) -> Result<(), CeaError> {
         self.cea.validate()?;
-        check("sweep.mac_min", self.mac_min, (0.0..=1.0).contains(&self.mac_min), "must be in [0, 1]")?;
-        check("sweep.bisection_tol", self.bisection_tol, self.bisection_tol > 0.0, "must be > 0")
+        check(
+            "sweep.mac_min",
+            self.mac_min,
+            (0.0..=1.0).contains(&self.mac_min),
+            "must be in [0, 1]",
+        )?;
+        check(
+            "sweep.bisection_tol",
+            self.bisection_tol,
+            self.bisection_tol > 0.0,
+            "must be > 0",
+        )
     }
 }

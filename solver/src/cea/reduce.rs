@@ -110,7 +110,10 @@ pub fn reduce(sys: &CeaMatrices, opts: &CeaOptions) -> Result<Reduced, CeaError>
         });
     }
     let Gt = G.transpose().to_owned();
-    let svd = Gt.svd().map_err(|_| CeaError::NoConvergence { what: "SVD of G^T", n })?;
+    let svd = Gt.svd().map_err(|_| CeaError::NoConvergence {
+        what: "SVD of G^T",
+        n,
+    })?;
     let sv = svd.S().column_vector();
     let (mut smin, mut smax) = (f64::INFINITY, 0.0f64);
     for i in 0..ng {
@@ -135,7 +138,13 @@ pub fn reduce(sys: &CeaMatrices, opts: &CeaOptions) -> Result<Reduced, CeaError>
         None => None,
         Some(D) => {
             let llt = M.llt(Side::Lower).map_err(|e| match e {
-                faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => CeaError::NotPositiveDefinite { what: "M", n, pivot: index },
+                faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => {
+                    CeaError::NotPositiveDefinite {
+                        what: "M",
+                        n,
+                        pivot: index,
+                    }
+                }
             })?;
             let mut Y = Gt.clone();
             llt.solve_in_place(&mut Y);

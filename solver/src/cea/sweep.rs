@@ -1,7 +1,9 @@
 //! Friction sweep: CEA at a list of μ, mode tracking, critical μ.
 
 use super::track::{assign, mac_matrix};
-use super::{complex_eigen, CeaError, CeaMatrices, CeaOptions, CeaResult, CeaStats, Cplx, Mode, SweepOptions};
+use super::{
+    complex_eigen, CeaError, CeaMatrices, CeaOptions, CeaResult, CeaStats, Cplx, Mode, SweepOptions,
+};
 use serde::Serialize;
 use std::fmt::Display;
 use std::time::Instant;
@@ -117,7 +119,10 @@ where
     E: Display,
 {
     fn solve(&mut self, mu: f64) -> Result<CeaResult, CeaError> {
-        let sys = (self.build)(mu).map_err(|e| CeaError::Build { mu, message: e.to_string() })?;
+        let sys = (self.build)(mu).map_err(|e| CeaError::Build {
+            mu,
+            message: e.to_string(),
+        })?;
         let t = Instant::now();
         let r = complex_eigen(&sys, &self.cea)?;
         self.stats.n_solves += 1;
@@ -128,15 +133,31 @@ where
     /// Bisection on "a mode resembling `reference` is unstable" in (lo, hi].
     /// Candidates at a trial μ are the modes whose MAC with the reference is at least half the
     /// best MAC (near a coalescence both partners qualify, and the unstable one counts).
-    fn bisect(&mut self, mut lo: f64, mut hi: f64, mut reference: Vec<Cplx>, opts: &SweepOptions, mut freq: f64) -> Result<(f64, f64, usize), CeaError> {
+    fn bisect(
+        &mut self,
+        mut lo: f64,
+        mut hi: f64,
+        mut reference: Vec<Cplx>,
+        opts: &SweepOptions,
+        mut freq: f64,
+    ) -> Result<(f64, f64, usize), CeaError> {
         let mut count = 0;
         while hi - lo > opts.bisection_tol * hi.abs().max(1.0) && count < opts.max_bisection {
             let mid = 0.5 * (lo + hi);
             let r = self.solve(mid)?;
             count += 1;
-            let macs: Vec<f64> = r.modes.iter().map(|m| super::mac(&reference, &m.shape)).collect();
+            let macs: Vec<f64> = r
+                .modes
+                .iter()
+                .map(|m| super::mac(&reference, &m.shape))
+                .collect();
             let best = macs.iter().cloned().fold(0.0, f64::max);
-            let unstable = r.modes.iter().zip(&macs).filter(|(m, &x)| x >= 0.5 * best && m.unstable).max_by(|a, b| a.1.total_cmp(b.1));
+            let unstable = r
+                .modes
+                .iter()
+                .zip(&macs)
+                .filter(|(m, &x)| x >= 0.5 * best && m.unstable)
+                .max_by(|a, b| a.1.total_cmp(b.1));
             if let Some((m, _)) = unstable {
                 hi = mid;
                 freq = m.frequency_hz;
@@ -169,18 +190,33 @@ where
 {
     opts.validate()?;
     if mus.is_empty() {
-        return Err(CeaError::InvalidOption { field: "sweep.mus", value: "[]".into(), reason: "needs at least one value".into() });
+        return Err(CeaError::InvalidOption {
+            field: "sweep.mus",
+            value: "[]".into(),
+            reason: "needs at least one value".into(),
+        });
     }
     for (i, w) in mus.windows(2).enumerate() {
         if !(w[1] > w[0]) || !w[1].is_finite() {
-            return Err(CeaError::InvalidOption { field: "sweep.mus", value: format!("mus[{}] = {}, mus[{}] = {}", i, w[0], i + 1, w[1]), reason: "must be finite and strictly increasing".into() });
+            return Err(CeaError::InvalidOption {
+                field: "sweep.mus",
+                value: format!("mus[{}] = {}, mus[{}] = {}", i, w[0], i + 1, w[1]),
+                reason: "must be finite and strictly increasing".into(),
+            });
         }
     }
     let start = Instant::now();
-    let mut stats = SweepStats { n_steps: mus.len(), ..SweepStats::default() };
+    let mut stats = SweepStats {
+        n_steps: mus.len(),
+        ..SweepStats::default()
+    };
     let mut cea = opts.cea.clone();
     cea.compute_shapes = true;
-    let mut solver = Solver { build, cea, stats: &mut stats };
+    let mut solver = Solver {
+        build,
+        cea,
+        stats: &mut stats,
+    };
     let mut steps: Vec<SweepStep> = Vec::with_capacity(mus.len());
     let mut tracks: Vec<Track> = Vec::new();
     // (track id, mode index) of the tracks alive at the previous step, and its modes.
@@ -191,7 +227,10 @@ where
         let mut next_alive = Vec::with_capacity(res.modes.len());
         let mut taken = vec![false; res.modes.len()];
         if let Some(pr) = &prev {
-            let a: Vec<&[Cplx]> = alive.iter().map(|&(_, i)| pr.modes[i].shape.as_slice()).collect();
+            let a: Vec<&[Cplx]> = alive
+                .iter()
+                .map(|&(_, i)| pr.modes[i].shape.as_slice())
+                .collect();
             let b: Vec<&[Cplx]> = res.modes.iter().map(|m| m.shape.as_slice()).collect();
             let pa: Vec<Cplx> = alive.iter().map(|&(_, i)| pr.modes[i].eigenvalue).collect();
             let pb: Vec<Cplx> = res.modes.iter().map(|m| m.eigenvalue).collect();
@@ -217,15 +256,24 @@ where
                 let id = tracks.len();
                 let mut modes = vec![None; s];
                 modes.push(Some(j));
-                tracks.push(Track { id, modes, unstable_at_start: m.unstable, critical: None });
+                tracks.push(Track {
+                    id,
+                    modes,
+                    unstable_at_start: m.unstable,
+                    critical: None,
+                });
                 next_alive.push((id, j));
             }
         }
         // Onsets between step s−1 and s.
         if let Some(pr) = &prev {
-            let freq_now: Vec<(usize, f64)> = next_alive.iter().map(|&(t, j)| (t, res.modes[j].frequency_hz)).collect();
+            let freq_now: Vec<(usize, f64)> = next_alive
+                .iter()
+                .map(|&(t, j)| (t, res.modes[j].frequency_hz))
+                .collect();
             for &(tid, j) in &next_alive {
-                let (Some(i), true) = (tracks[tid].modes[s - 1], tracks[tid].critical.is_none()) else {
+                let (Some(i), true) = (tracks[tid].modes[s - 1], tracks[tid].critical.is_none())
+                else {
                     continue;
                 };
                 let (m0, m1) = (&pr.modes[i], &res.modes[j]);
@@ -234,15 +282,25 @@ where
                 }
                 let (mu0, mu1) = (mus[s - 1], mu);
                 let (r0, r1) = (m0.real_part, m1.real_part);
-                let frac = if r1 > r0 { (-r0 / (r1 - r0)).clamp(0.0, 1.0) } else { 0.5 };
+                let frac = if r1 > r0 {
+                    (-r0 / (r1 - r0)).clamp(0.0, 1.0)
+                } else {
+                    0.5
+                };
                 let mu_lin = mu0 + frac * (mu1 - mu0);
                 let f_lin = m0.frequency_hz + frac * (m1.frequency_hz - m0.frequency_hz);
                 let partner = freq_now
                     .iter()
                     .filter(|&&(t, _)| t != tid)
-                    .min_by(|a, b| (a.1 - m1.frequency_hz).abs().total_cmp(&(b.1 - m1.frequency_hz).abs()))
+                    .min_by(|a, b| {
+                        (a.1 - m1.frequency_hz)
+                            .abs()
+                            .total_cmp(&(b.1 - m1.frequency_hz).abs())
+                    })
                     .map(|&(t, _)| t);
-                let pf = |step_modes: &Vec<Mode>, st: usize| partner.and_then(|p| tracks[p].modes[st].map(|k| step_modes[k].frequency_hz));
+                let pf = |step_modes: &Vec<Mode>, st: usize| {
+                    partner.and_then(|p| tracks[p].modes[st].map(|k| step_modes[k].frequency_hz))
+                };
                 let partner_before = pf(&pr.modes, s - 1);
                 let partner_after = pf(&res.modes, s);
                 let (mu_c, f_c, nb) = if opts.bisection {
@@ -270,12 +328,20 @@ where
                 m.shape = Vec::new();
             }
         }
-        steps.push(SweepStep { mu, modes: modes_out, stats: res.stats.clone() });
+        steps.push(SweepStep {
+            mu,
+            modes: modes_out,
+            stats: res.stats.clone(),
+        });
         alive = next_alive;
         prev = Some(res);
     }
     stats.n_tracks = tracks.len();
     stats.n_critical = tracks.iter().filter(|t| t.critical.is_some()).count();
     stats.time_s = start.elapsed().as_secs_f64();
-    Ok(Sweep { steps, tracks, stats })
+    Ok(Sweep {
+        steps,
+        tracks,
+        stats,
+    })
 }

@@ -26,8 +26,14 @@ pub(crate) fn mac_matrix(prev: &[&[Cplx]], next: &[&[Cplx]]) -> Mat<f64> {
     let a = Mat::from_fn(n, prev.len(), |i, j| prev[j][i]);
     let b = Mat::from_fn(n, next.len(), |i, j| next[j][i]);
     let g = a.adjoint() * &b;
-    let na: Vec<f64> = prev.iter().map(|v| v.iter().map(|z| z.norm_sqr()).sum()).collect();
-    let nb: Vec<f64> = next.iter().map(|v| v.iter().map(|z| z.norm_sqr()).sum()).collect();
+    let na: Vec<f64> = prev
+        .iter()
+        .map(|v| v.iter().map(|z| z.norm_sqr()).sum())
+        .collect();
+    let nb: Vec<f64> = next
+        .iter()
+        .map(|v| v.iter().map(|z| z.norm_sqr()).sum())
+        .collect();
     Mat::from_fn(prev.len(), next.len(), |i, j| {
         let d = na[i] * nb[j];
         if d > 0.0 {
@@ -41,7 +47,12 @@ pub(crate) fn mac_matrix(prev: &[&[Cplx]], next: &[&[Cplx]]) -> Mat<f64> {
 /// Greedy assignment: repeatedly pairs the (prev, next) with the largest MAC among the
 /// unpaired ones, down to `mac_min`. Equal MACs go to the closer eigenvalue.
 /// Returns, for each prev, its next index.
-pub(crate) fn assign(macm: &Mat<f64>, prev_p: &[Cplx], next_p: &[Cplx], mac_min: f64) -> Vec<Option<usize>> {
+pub(crate) fn assign(
+    macm: &Mat<f64>,
+    prev_p: &[Cplx],
+    next_p: &[Cplx],
+    mac_min: f64,
+) -> Vec<Option<usize>> {
     let (np, nn) = (macm.nrows(), macm.ncols());
     let mut pairs: Vec<(f64, f64, usize, usize)> = Vec::new();
     for i in 0..np {
@@ -70,11 +81,19 @@ mod tests {
 
     #[test]
     fn mac_is_phase_invariant_and_bounded() {
-        let a = vec![Cplx::new(1.0, 2.0), Cplx::new(-0.5, 0.1), Cplx::new(0.0, 3.0)];
+        let a = vec![
+            Cplx::new(1.0, 2.0),
+            Cplx::new(-0.5, 0.1),
+            Cplx::new(0.0, 3.0),
+        ];
         let ph = Cplx::from_polar(2.5, 0.7);
         let b: Vec<Cplx> = a.iter().map(|z| z * ph).collect();
         assert!((mac(&a, &b) - 1.0).abs() < 1e-14);
-        let c = vec![Cplx::new(0.3, 0.0), Cplx::new(1.0, -1.0), Cplx::new(0.2, 0.2)];
+        let c = vec![
+            Cplx::new(0.3, 0.0),
+            Cplx::new(1.0, -1.0),
+            Cplx::new(0.2, 0.2),
+        ];
         let x = mac(&a, &c);
         assert!((0.0..1.0).contains(&x));
         let m = mac_matrix(&[&a], &[&b, &c]);

@@ -25,12 +25,24 @@ impl DaeSystem for Oscillator {
     fn len(&self) -> usize {
         2
     }
-    fn residual(&mut self, _t: Real, y: &[Real], yp: &[Real], res: &mut [Real]) -> Result<(), SolverError> {
+    fn residual(
+        &mut self,
+        _t: Real,
+        y: &[Real],
+        yp: &[Real],
+        res: &mut [Real],
+    ) -> Result<(), SolverError> {
         res[0] = yp[0] - y[1];
         res[1] = yp[1] + self.omega * self.omega * y[0];
         Ok(())
     }
-    fn setup_jacobian(&mut self, _t: Real, _y: &[Real], _yp: &[Real], cj: Real) -> Result<(), SolverError> {
+    fn setup_jacobian(
+        &mut self,
+        _t: Real,
+        _y: &[Real],
+        _yp: &[Real],
+        cj: Real,
+    ) -> Result<(), SolverError> {
         // J = [[cj, −1], [ω², cj]]
         self.lu = [[cj, -1.0], [self.omega * self.omega, cj]];
         Ok(())
@@ -55,7 +67,13 @@ pub struct BeltFriction {
 }
 
 impl FrictionForces for BeltFriction {
-    fn add_forces(&mut self, _t: Real, v: &[Real], lambda_dot: &[Real], f: &mut [Real]) -> Result<(), SolverError> {
+    fn add_forces(
+        &mut self,
+        _t: Real,
+        v: &[Real],
+        lambda_dot: &[Real],
+        f: &mut [Real],
+    ) -> Result<(), SolverError> {
         let v_rel = self.v_belt - v[0];
         f[0] += (self.mu0 - self.a * v_rel) * lambda_dot[0];
         Ok(())
