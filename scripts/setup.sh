@@ -5,8 +5,8 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 venv="$root/.venv"
-stamp="$venv/.squeal-setup-v1"
-pkgs=(gmsh meshio numpy scipy pyNastran)
+stamp="$venv/.squeal-setup-v2"
+pkgs=(gmsh meshio numpy scipy pyNastran pyyeti)
 if [[ -f "$stamp" ]]; then
   exit 0
 fi

@@ -25,10 +25,7 @@ impl fmt::Display for NodeReport {
 }
 
 fn list(nodes: &[NodeReport]) -> String {
-    nodes
-        .iter()
-        .map(|n| format!("\n  {n}"))
-        .collect::<String>()
+    nodes.iter().map(|n| format!("\n  {n}")).collect::<String>()
 }
 
 /// Errors of the contact crate (gap matching, friction laws, gap forces).
@@ -77,7 +74,9 @@ pub enum ContactError {
         expected_cols: usize,
     },
     /// A gap refers to a DOF index outside the vector.
-    #[error("gap {gap} (pad node {pad_node}, rotor node {rotor_node}) refers to DOF {dof}, but n = {n}")]
+    #[error(
+        "gap {gap} (pad node {pad_node}, rotor node {rotor_node}) refers to DOF {dof}, but n = {n}"
+    )]
     DofOutOfRange {
         /// Gap index.
         gap: usize,
@@ -91,7 +90,9 @@ pub enum ContactError {
         n: usize,
     },
     /// A non-finite value appeared (input or result) at a gap.
-    #[error("non-finite {what} = {value} at gap {gap} (pad node {pad_node}, rotor node {rotor_node})")]
+    #[error(
+        "non-finite {what} = {value} at gap {gap} (pad node {pad_node}, rotor node {rotor_node})"
+    )]
     NonFinite {
         /// Which quantity.
         what: &'static str,

@@ -4,13 +4,17 @@ use faer::Mat;
 use proptest::prelude::*;
 use squeal_contact::forces::regularisation;
 use squeal_contact::friction::FrictionTable;
-use squeal_contact::{match_gaps, ContactError, ContactNode, FrictionLaw, Gap, GapSet, MatchOptions};
+use squeal_contact::{
+    match_gaps, ContactError, ContactNode, FrictionLaw, Gap, GapSet, MatchOptions,
+};
 
 // ---------------------------------------------------------------- friction laws
 
 fn table3() -> FrictionLaw {
     // 3 pressures × 3 speeds × 2 temperatures, temperature fastest.
-    let values = (0..18).map(|i| 0.3 + 0.02 * ((i * 7) % 11) as f64).collect();
+    let values = (0..18)
+        .map(|i| 0.3 + 0.02 * ((i * 7) % 11) as f64)
+        .collect();
     FrictionLaw::Table(FrictionTable {
         pressures: vec![0.0, 1.0, 2.5],
         speeds: vec![0.0, 0.5, 2.0],
@@ -20,7 +24,13 @@ fn table3() -> FrictionLaw {
 }
 
 fn equation() -> FrictionLaw {
-    FrictionLaw::Equation { mu0: 0.4, a: 0.05, b: -0.1, c: 0.002, t0: 20.0 }
+    FrictionLaw::Equation {
+        mu0: 0.4,
+        a: 0.05,
+        b: -0.1,
+        c: 0.002,
+        t0: 20.0,
+    }
 }
 
 fn near_knot(x: f64, knots: &[f64]) -> bool {
@@ -66,7 +76,9 @@ proptest! {
 #[test]
 fn table_reproduces_knot_values_and_single_axis_tables() {
     let law = table3();
-    let FrictionLaw::Table(tb) = &law else { unreachable!() };
+    let FrictionLaw::Table(tb) = &law else {
+        unreachable!()
+    };
     for (ip, &p) in tb.pressures.iter().enumerate() {
         for (iv, &v) in tb.speeds.iter().enumerate() {
             for (it, &t) in tb.temperatures.iter().enumerate() {
@@ -76,45 +88,106 @@ fn table_reproduces_knot_values_and_single_axis_tables() {
         }
     }
     // μ(|V_t|) only: linear between knots, no pressure/temperature dependence.
-    let v_only = FrictionLaw::Table(FrictionTable { pressures: vec![], speeds: vec![0.0, 10.0], temperatures: vec![], values: vec![0.5, 0.4] });
+    let v_only = FrictionLaw::Table(FrictionTable {
+        pressures: vec![],
+        speeds: vec![0.0, 10.0],
+        temperatures: vec![],
+        values: vec![0.5, 0.4],
+    });
     v_only.validate().unwrap();
     let e = v_only.evaluate(123.0, 2.5, -40.0);
     assert!((e.mu - 0.475).abs() < 1e-15 && (e.dmu_dv + 0.01).abs() < 1e-15);
     assert_eq!((e.dmu_dp, e.dmu_dt), (0.0, 0.0));
-    assert!(v_only.depends_on_speed() && !v_only.depends_on_pressure() && !v_only.depends_on_temperature());
+    assert!(
+        v_only.depends_on_speed()
+            && !v_only.depends_on_pressure()
+            && !v_only.depends_on_temperature()
+    );
 }
 
 #[test]
 fn dependency_flags_and_constant_law_has_no_derivatives() {
     let c = FrictionLaw::Constant { mu: 0.3 };
     assert!(!c.depends_on_pressure() && !c.depends_on_speed() && !c.depends_on_temperature());
-    assert_eq!(c.evaluate(5.0, 3.0, 200.0), squeal_contact::FrictionEval { mu: 0.3, dmu_dp: 0.0, dmu_dv: 0.0, dmu_dt: 0.0 });
-    let l = FrictionLaw::LinearSpeed { mu0: 0.7, slope: -0.0005 };
+    assert_eq!(
+        c.evaluate(5.0, 3.0, 200.0),
+        squeal_contact::FrictionEval {
+            mu: 0.3,
+            dmu_dp: 0.0,
+            dmu_dv: 0.0,
+            dmu_dt: 0.0
+        }
+    );
+    let l = FrictionLaw::LinearSpeed {
+        mu0: 0.7,
+        slope: -0.0005,
+    };
     assert!(l.depends_on_speed() && !l.depends_on_pressure());
     // The paper's cases 1–3 law at V = 15 rad/s × 5 in = 75 in/s: 0.7 − 0.0005·75.
     assert!((l.evaluate(40.0, 75.0, 0.0).mu - 0.6625).abs() < 1e-15);
-    let e = FrictionLaw::Equation { mu0: 0.4, a: 0.0, b: 0.1, c: 0.0, t0: 0.0 };
+    let e = FrictionLaw::Equation {
+        mu0: 0.4,
+        a: 0.0,
+        b: 0.1,
+        c: 0.0,
+        t0: 0.0,
+    };
     assert!(e.depends_on_speed() && !e.depends_on_pressure() && !e.depends_on_temperature());
     assert!(table3().depends_on_temperature());
 }
 
 #[test]
 fn friction_laws_deserialize_with_snake_case_tags_and_reject_unknown_keys() {
-    let l: FrictionLaw = toml::from_str("kind = \"linear_speed\"\nmu0 = 0.7\nslope = -0.0005").unwrap();
-    assert_eq!(l, FrictionLaw::LinearSpeed { mu0: 0.7, slope: -0.0005 });
-    let t: FrictionLaw = toml::from_str("kind = \"table\"\nspeeds = [0.0, 1.0]\nvalues = [0.5, 0.4]").unwrap();
+    let l: FrictionLaw =
+        toml::from_str("kind = \"linear_speed\"\nmu0 = 0.7\nslope = -0.0005").unwrap();
+    assert_eq!(
+        l,
+        FrictionLaw::LinearSpeed {
+            mu0: 0.7,
+            slope: -0.0005
+        }
+    );
+    let t: FrictionLaw =
+        toml::from_str("kind = \"table\"\nspeeds = [0.0, 1.0]\nvalues = [0.5, 0.4]").unwrap();
     t.validate().unwrap();
     let e: FrictionLaw = toml::from_str("kind = \"equation\"\nmu0 = 0.4\nb = 0.1").unwrap();
-    assert_eq!(e, FrictionLaw::Equation { mu0: 0.4, a: 0.0, b: 0.1, c: 0.0, t0: 0.0 });
+    assert_eq!(
+        e,
+        FrictionLaw::Equation {
+            mu0: 0.4,
+            a: 0.0,
+            b: 0.1,
+            c: 0.0,
+            t0: 0.0
+        }
+    );
     let err = toml::from_str::<FrictionLaw>("kind = \"constant\"\nmu = 0.3\nmuu = 1").unwrap_err();
     assert!(err.to_string().contains("muu"), "{err}");
     let json = serde_json::to_string(&FrictionLaw::Constant { mu: 0.3 }).unwrap();
     assert_eq!(json, r#"{"kind":"constant","mu":0.3}"#);
     // Validation names the field.
-    let bad = FrictionLaw::Table(FrictionTable { pressures: vec![0.0, 0.0], speeds: vec![], temperatures: vec![], values: vec![0.1, 0.2] });
-    assert!(bad.validate().unwrap_err().to_string().contains("friction.pressures[1]"));
-    let bad = FrictionLaw::Table(FrictionTable { pressures: vec![0.0, 1.0], speeds: vec![], temperatures: vec![], values: vec![0.1] });
-    assert!(bad.validate().unwrap_err().to_string().contains("friction.values"));
+    let bad = FrictionLaw::Table(FrictionTable {
+        pressures: vec![0.0, 0.0],
+        speeds: vec![],
+        temperatures: vec![],
+        values: vec![0.1, 0.2],
+    });
+    assert!(bad
+        .validate()
+        .unwrap_err()
+        .to_string()
+        .contains("friction.pressures[1]"));
+    let bad = FrictionLaw::Table(FrictionTable {
+        pressures: vec![0.0, 1.0],
+        speeds: vec![],
+        temperatures: vec![],
+        values: vec![0.1],
+    });
+    assert!(bad
+        .validate()
+        .unwrap_err()
+        .to_string()
+        .contains("friction.values"));
 }
 
 // ---------------------------------------------------------------- gap matching
@@ -123,8 +196,16 @@ fn plate(nx: usize, jitter: f64, id0: u64) -> Vec<ContactNode> {
     (0..nx * nx)
         .map(|k| {
             let (i, j) = (k % nx, k / nx);
-            let j2 = if jitter > 0.0 { jitter * (((k * 37) % 11) as f64 / 11.0 - 0.5) } else { 0.0 };
-            ContactNode { id: id0 + k as u64, coords: [1.0 + 0.1 * i as f64 + j2, 0.1 * j as f64, 0.5], area: [0.0, 0.0, 0.01] }
+            let j2 = if jitter > 0.0 {
+                jitter * (((k * 37) % 11) as f64 / 11.0 - 0.5)
+            } else {
+                0.0
+            };
+            ContactNode {
+                id: id0 + k as u64,
+                coords: [1.0 + 0.1 * i as f64 + j2, 0.1 * j as f64, 0.5],
+                area: [0.0, 0.0, 0.01],
+            }
         })
         .collect()
 }
@@ -135,7 +216,12 @@ fn matching_pairs_coincident_nodes_with_normal_area_and_rotor_speed() {
     let mut rotor = plate(20, 1e-9, 5000);
     rotor.reverse();
     // 15 rad/s about +z (the paper's RPM 143.239), axis through the origin.
-    let opts = MatchOptions { tolerance: 1e-6, rpm: 143.239, p0: 40.0, ..MatchOptions::default() };
+    let opts = MatchOptions {
+        tolerance: 1e-6,
+        rpm: 143.239,
+        p0: 40.0,
+        ..MatchOptions::default()
+    };
     let set = match_gaps(&pad, &rotor, &opts).unwrap();
     assert_eq!(set.len(), 400);
     let w = 143.239 * 2.0 * std::f64::consts::PI / 60.0;
@@ -146,7 +232,11 @@ fn matching_pairs_coincident_nodes_with_normal_area_and_rotor_speed() {
         assert!((g.area - 0.01).abs() < 1e-15 && g.p0 == 40.0);
         // ω × r with ω = w e_z, r = (x, y, 0.5): (−w y, w x, 0).
         let [x, y, _] = g.coords;
-        assert!((g.v_slide[0] + w * y).abs() < 1e-12 && (g.v_slide[1] - w * x).abs() < 1e-12 && g.v_slide[2] == 0.0);
+        assert!(
+            (g.v_slide[0] + w * y).abs() < 1e-12
+                && (g.v_slide[1] - w * x).abs() < 1e-12
+                && g.v_slide[2] == 0.0
+        );
     }
 }
 
@@ -155,18 +245,35 @@ fn matching_errors_list_every_offending_node() {
     let pad = plate(4, 0.0, 1);
     let mut rotor = plate(4, 0.0, 100);
     rotor.remove(5); // pad node 6 unmatched
-    rotor.push(ContactNode { id: 999, coords: [1.0 + 0.1 * 2.0 + 1e-8, 0.0, 0.5], area: [0.0; 3] }); // pad 3 ambiguous
+    rotor.push(ContactNode {
+        id: 999,
+        coords: [1.0 + 0.1 * 2.0 + 1e-8, 0.0, 0.5],
+        area: [0.0; 3],
+    }); // pad 3 ambiguous
     let mut pad2 = pad.clone();
-    pad2.push(ContactNode { id: 77, coords: pad[0].coords, area: [0.0, 0.0, 0.01] }); // rotor 100 used twice
-    pad2.push(ContactNode { id: 78, coords: [5.0, 5.0, 5.0], area: [0.0; 3] }); // zero area
+    pad2.push(ContactNode {
+        id: 77,
+        coords: pad[0].coords,
+        area: [0.0, 0.0, 0.01],
+    }); // rotor 100 used twice
+    pad2.push(ContactNode {
+        id: 78,
+        coords: [5.0, 5.0, 5.0],
+        area: [0.0; 3],
+    }); // zero area
     let err = match_gaps(&pad2, &rotor, &MatchOptions::default()).unwrap_err();
-    let ContactError::Matching { nodes, .. } = &err else { panic!("{err}") };
+    let ContactError::Matching { nodes, .. } = &err else {
+        panic!("{err}")
+    };
     let ids: Vec<u64> = nodes.iter().map(|n| n.id).collect();
     for id in [6, 3, 100, 78] {
         assert!(ids.contains(&id), "{id} missing in {err}");
     }
     let msg = err.to_string();
-    assert!(msg.contains("node 6 at (1.100000e0, 1.000000e-1, 5.000000e-1)"), "{msg}");
+    assert!(
+        msg.contains("node 6 at (1.100000e0, 1.000000e-1, 5.000000e-1)"),
+        "{msg}"
+    );
     assert!(msg.contains("999") && msg.contains("1, 77"), "{msg}");
 }
 
@@ -203,9 +310,24 @@ fn three_gaps(law: FrictionLaw, vslide: f64) -> GapSet {
     };
     GapSet::new(
         vec![
-            mk(0, [0.1, 0.2, 1.0], [Some(0), Some(1), Some(2)], [Some(3), Some(4), Some(5)]),
-            mk(1, [-0.3, 0.1, 1.0], [Some(6), None, Some(7)], [Some(8), Some(9), None]),
-            mk(2, [0.0, 0.0, 1.0], [Some(10), Some(11), Some(1)], [None, None, None]),
+            mk(
+                0,
+                [0.1, 0.2, 1.0],
+                [Some(0), Some(1), Some(2)],
+                [Some(3), Some(4), Some(5)],
+            ),
+            mk(
+                1,
+                [-0.3, 0.1, 1.0],
+                [Some(6), None, Some(7)],
+                [Some(8), Some(9), None],
+            ),
+            mk(
+                2,
+                [0.0, 0.0, 1.0],
+                [Some(10), Some(11), Some(1)],
+                [None, None, None],
+            ),
         ],
         law,
         1e-3,
@@ -356,14 +478,32 @@ fn constraint_matrix_is_rotor_minus_pad_along_the_normal() {
         let gu: f64 = (0..12).map(|j| g[(ig, j)] * u[j]).sum();
         let mut expect = 0.0;
         for k in 0..3 {
-            expect += gap.normal[k] * (gap.rotor_dofs[k].map_or(0.0, |d| u[d]) - gap.pad_dofs[k].map_or(0.0, |d| u[d]));
+            expect += gap.normal[k]
+                * (gap.rotor_dofs[k].map_or(0.0, |d| u[d]) - gap.pad_dofs[k].map_or(0.0, |d| u[d]));
         }
         assert!((gu - expect).abs() < 1e-14);
     }
     // Out-of-range DOFs and wrong lengths are errors naming the gap / argument.
-    assert!(matches!(set.constraint_matrix(11), Err(ContactError::DofOutOfRange { gap: 2, dof: 11, n: 11, .. })));
+    assert!(matches!(
+        set.constraint_matrix(11),
+        Err(ContactError::DofOutOfRange {
+            gap: 2,
+            dof: 11,
+            n: 11,
+            ..
+        })
+    ));
     let mut f = vec![0.0; 12];
-    assert!(matches!(set.add_forces(&[0.0; 12], &[0.0; 2], &mut f), Err(ContactError::Length { what: "lambda_dot", .. })));
+    assert!(matches!(
+        set.add_forces(&[0.0; 12], &[0.0; 2], &mut f),
+        Err(ContactError::Length {
+            what: "lambda_dot",
+            ..
+        })
+    ));
     let mut bad = Mat::zeros(12, 2);
-    assert!(matches!(set.add_tangents(&[0.0; 12], &[0.0; 3], &mut bad, None), Err(ContactError::Shape { what: "d_dlam", .. })));
+    assert!(matches!(
+        set.add_tangents(&[0.0; 12], &[0.0; 3], &mut bad, None),
+        Err(ContactError::Shape { what: "d_dlam", .. })
+    ));
 }

@@ -64,8 +64,17 @@ fn build(mu: f64, c1: f64, c2: f64) -> Result<CeaMatrices, ContactError> {
     let mut c_f = Mat::zeros(3, 3);
     set.add_tangents(&v, &lam, &mut d, Some(&mut c_f))?;
     let k = [[K11, K12, 0.0], [K21, K22 - K3, 0.0], [0.0, 0.0, K3]];
-    let mut s = CeaMatrices::new(Mat::from_fn(3, 3, |i, j| if i == j { [1.0, 1.0, M_R][i] } else { 0.0 }), Mat::from_fn(3, 3, |i, j| k[i][j]));
-    s.b = Some(Mat::from_fn(3, 3, |i, j| if i == j { [c1, c2, 0.0][i] } else { 0.0 }));
+    let mut s = CeaMatrices::new(
+        Mat::from_fn(3, 3, |i, j| if i == j { [1.0, 1.0, M_R][i] } else { 0.0 }),
+        Mat::from_fn(3, 3, |i, j| k[i][j]),
+    );
+    s.b = Some(Mat::from_fn(3, 3, |i, j| {
+        if i == j {
+            [c1, c2, 0.0][i]
+        } else {
+            0.0
+        }
+    }));
     s.g = Some(set.constraint_matrix(3)?);
     s.d = Some(d);
     s.c_f = Some(c_f);
@@ -76,7 +85,11 @@ fn critical_mu(c1: f64, c2: f64) -> f64 {
     let mus: Vec<f64> = (0..26).map(|i| 0.2 + 0.01 * i as f64).collect();
     let s = sweep(|mu| build(mu, c1, c2), &mus, &SweepOptions::default()).unwrap();
     let (_, c) = s.lowest_critical().expect("an onset inside the sweep");
-    eprintln!("c1 = {c1}, c2 = {c2}: critical mu = {:.8}, omega = {:.8}", c.mu, 2.0 * std::f64::consts::PI * c.frequency_hz);
+    eprintln!(
+        "c1 = {c1}, c2 = {c2}: critical mu = {:.8}, omega = {:.8}",
+        c.mu,
+        2.0 * std::f64::consts::PI * c.frequency_hz
+    );
     c.mu
 }
 

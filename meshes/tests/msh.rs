@@ -399,8 +399,6 @@ fn errors_name_file_line_and_value() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
-
     /// Cutting a file anywhere before its last section ends gives an error, never a panic.
     #[test]
     fn truncated_files_are_errors(which in 0usize..4, frac in 0.0f64..1.0) {

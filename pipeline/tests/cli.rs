@@ -173,3 +173,31 @@ material = { young = 1.0, poisson = 0.3, density = 1.0 }
         "{stderr}"
     );
 }
+
+#[test]
+fn inspect_lists_op4_matrices_as_table_and_json() {
+    // A file written by pyyeti (reduction/scripts/make_interop_data.py); its ground truth is
+    // reduction/tests/data/truth.json: KSYM 7×7 symmetric, RECT 6×4, CPLX 5×5 complex.
+    let file = root().join("reduction/tests/data/op4/yeti_ascii_dense.op4");
+    let (ok, stdout, stderr) = run(squeal().arg("inspect").arg(&file));
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("KSYM") && stdout.contains("RECT") && stdout.contains("CPLX"),
+        "{stdout}"
+    );
+    let (ok, stdout, stderr) = run(squeal().arg("inspect").arg(&file).arg("--json"));
+    assert!(ok, "{stderr}");
+    let json: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let ksym = json
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|m| m["name"] == "KSYM")
+        .unwrap();
+    assert_eq!(ksym["nrows"], 7);
+    assert_eq!(ksym["symmetric"], true);
+
+    let (ok, _, stderr) = run(squeal().arg("inspect").arg(root().join("Cargo.toml")));
+    assert!(!ok);
+    assert!(stderr.contains("Cargo.toml"), "{stderr}");
+}

@@ -19,8 +19,8 @@ impl Rng {
 }
 
 /// A random model: M = I + small SPD, K = SPD with spread eigenvalues, B = 1e-4 K,
-/// G: ng rows (u_r − u_p)·e_z on disjoint DOF pairs, friction K1 (unsymmetric coupling of
-/// the contact DOFs) and D = μ D1.
+/// G: ng rows u_q − u_p on disjoint DOF pairs (p, q), a tangential DOF t per pair coupled
+/// to it, friction −μ K1 (t row) and D = μ D1 (friction ∝ contact force on t).
 struct Model {
     m: Mat<f64>,
     k0: Mat<f64>,
@@ -40,8 +40,7 @@ fn model(n: usize, ng: usize) -> Model {
         m[(i, i)] += 1.0;
         k0[(i, i)] += 1.0 + 100.0 * i as f64 / n as f64;
     }
-    let b = &k0 * 1e-4;
-    let mut g = Mat::zeros(ng, n);
+        let mut g = Mat::zeros(ng, n);
     let mut d1 = Mat::zeros(n, ng);
     let mut k1 = Mat::zeros(n, n);
     for r in 0..ng {
@@ -50,6 +49,13 @@ fn model(n: usize, ng: usize) -> Model {
         g[(r, p)] = -1.0;
         // Friction on a tangential DOF of the pad driven by the normal force.
         let t = 2 * ng + r;
+        // Bring the tangential DOF near the frequency of the constrained pair and couple
+        // them symmetrically, so that friction can merge the two modes (Hoffmann-like).
+        k0[(t, t)] = 0.5 * (k0[(p, p)] + k0[(q, q)]) + 0.5;
+        for x in [p, q] {
+            k0[(t, x)] += 0.5;
+            k0[(x, t)] += 0.5;
+        }
         d1[(t, r)] = -1.0;
         k1[(t, p)] = 5.0 * rng.next();
         k1[(t, q)] = 5.0 * rng.next();

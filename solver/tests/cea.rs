@@ -72,7 +72,7 @@ fn hoffmann_undamped_critical_mu_and_lock_in() {
     let mu = 0.25;
     let r = complex_eigen(&hoffmann(mu, 0.0, 0.0), &CeaOptions::default()).unwrap();
     assert_eq!(r.modes.len(), 2);
-    let d = (0.01 + 0.3 * (0.3 - mu) as f64).sqrt();
+    let d = (0.01f64 + 0.3 * (0.3 - mu)).sqrt();
     for (m, w2) in r.modes.iter().zip([1.1 - d, 1.1 + d]) {
         assert!(
             (m.eigenvalue.im - w2.sqrt()).abs() < 1e-12 && m.real_part.abs() < 1e-12,

@@ -72,7 +72,11 @@ pub(crate) fn evaluate_gap(set: &GapSet, gap: &Gap, v: &[Real], lambda: Real) ->
 }
 
 impl GapSet {
-    pub(crate) fn check_vectors(&self, v: &[Real], lambda_dot: &[Real]) -> Result<(), ContactError> {
+    pub(crate) fn check_vectors(
+        &self,
+        v: &[Real],
+        lambda_dot: &[Real],
+    ) -> Result<(), ContactError> {
         if lambda_dot.len() != self.gaps.len() {
             return Err(ContactError::Length {
                 what: "lambda_dot",
@@ -94,7 +98,12 @@ impl GapSet {
     }
 
     /// Eqs. (1)–(7) for gap `g`: pressure, slip, μ and forces (for outputs and checks).
-    pub fn gap_output(&self, g: usize, v: &[Real], lambda_dot: &[Real]) -> Result<GapOutput, ContactError> {
+    pub fn gap_output(
+        &self,
+        g: usize,
+        v: &[Real],
+        lambda_dot: &[Real],
+    ) -> Result<GapOutput, ContactError> {
         self.check_vectors(v, lambda_dot)?;
         if g >= self.gaps.len() {
             return Err(ContactError::Length {
@@ -119,7 +128,12 @@ impl GapSet {
     ///
     /// # Errors
     /// Wrong lengths, DOF indices out of range, or a non-finite force (names the gap).
-    pub fn add_forces(&self, v: &[Real], lambda_dot: &[Real], f: &mut [Real]) -> Result<(), ContactError> {
+    pub fn add_forces(
+        &self,
+        v: &[Real],
+        lambda_dot: &[Real],
+        f: &mut [Real],
+    ) -> Result<(), ContactError> {
         self.check_vectors(v, lambda_dot)?;
         if f.len() != v.len() {
             return Err(ContactError::Length {

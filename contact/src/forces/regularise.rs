@@ -82,7 +82,11 @@ mod tests {
             let (fm, _) = regularisation(s - e, vtol);
             let (_, psi) = regularisation(s, vtol);
             let fd = (fp - fm) / (2.0 * e);
-            assert!((fd - psi * s).abs() <= 1e-6 * (fd.abs() + 1.0 / (vtol * vtol)), "s = {s}: fd {fd} vs {}", psi * s);
+            assert!(
+                (fd - psi * s).abs() <= 1e-6 * (fd.abs() + 1.0 / (vtol * vtol)),
+                "s = {s}: fd {fd} vs {}",
+                psi * s
+            );
         }
     }
 }

@@ -166,7 +166,10 @@ impl FrictionTable {
             return Err(ContactError::InvalidOption {
                 field: "friction.values".into(),
                 value: format!("{} values", self.values.len()),
-                reason: format!("expected {np} x {nv} x {nt} = {} (pressures x speeds x temperatures)", np * nv * nt),
+                reason: format!(
+                    "expected {np} x {nv} x {nt} = {} (pressures x speeds x temperatures)",
+                    np * nv * nt
+                ),
             });
         }
         for (i, &v) in self.values.iter().enumerate() {

@@ -41,7 +41,9 @@ impl Grid {
                     if let Some(b) = self.buckets.get(&[k[0] + dx, k[1] + dy, k[2] + dz]) {
                         for &i in b {
                             let p = &points[i];
-                            let d2 = (p[0] - x[0]).powi(2) + (p[1] - x[1]).powi(2) + (p[2] - x[2]).powi(2);
+                            let d2 = (p[0] - x[0]).powi(2)
+                                + (p[1] - x[1]).powi(2)
+                                + (p[2] - x[2]).powi(2);
                             if d2 <= tol * tol {
                                 out.push(i);
                             }

@@ -55,7 +55,10 @@ pub fn match_gaps(
         }
     }
     if !bad.is_empty() {
-        return Err(ContactError::Matching { tolerance: tol, nodes: bad });
+        return Err(ContactError::Matching {
+            tolerance: tol,
+            nodes: bad,
+        });
     }
     let rotor_pts: Vec<[Real; 3]> = rotor.iter().map(|n| n.coords).collect();
     let grid = Grid::new(&rotor_pts, tol);
@@ -66,12 +69,20 @@ pub fn match_gaps(
         let s = pn.area;
         let a = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
         if !(a.is_finite() && a > 0.0) {
-            bad.push(report(pn, format!("pad node has area vector {s:?} (|S_p| = {a}); it must be non-zero and finite")));
+            bad.push(report(
+                pn,
+                format!(
+                    "pad node has area vector {s:?} (|S_p| = {a}); it must be non-zero and finite"
+                ),
+            ));
             continue;
         }
         let cand = grid.within(&rotor_pts, &pn.coords, tol);
         match cand.len() {
-            0 => bad.push(report(pn, "pad node has no rotor node within tolerance".into())),
+            0 => bad.push(report(
+                pn,
+                "pad node has no rotor node within tolerance".into(),
+            )),
             1 => {
                 let ir = cand[0];
                 used_by[ir].push(ip);
@@ -102,18 +113,34 @@ pub fn match_gaps(
                         format!("{} (distance {d:.3e})", rotor[i].id)
                     })
                     .collect();
-                bad.push(report(pn, format!("ambiguous: rotor nodes {} are all within tolerance", ids.join(", "))));
+                bad.push(report(
+                    pn,
+                    format!(
+                        "ambiguous: rotor nodes {} are all within tolerance",
+                        ids.join(", ")
+                    ),
+                ));
             }
         }
     }
     for (ir, users) in used_by.iter().enumerate() {
         if users.len() > 1 {
             let ids: Vec<String> = users.iter().map(|&i| pad[i].id.to_string()).collect();
-            bad.push(report(&rotor[ir], format!("rotor node matched by {} pad nodes: {}", users.len(), ids.join(", "))));
+            bad.push(report(
+                &rotor[ir],
+                format!(
+                    "rotor node matched by {} pad nodes: {}",
+                    users.len(),
+                    ids.join(", ")
+                ),
+            ));
         }
     }
     if !bad.is_empty() {
-        return Err(ContactError::Matching { tolerance: tol, nodes: bad });
+        return Err(ContactError::Matching {
+            tolerance: tol,
+            nodes: bad,
+        });
     }
     Ok(GapSet {
         gaps,

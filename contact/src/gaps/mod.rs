@@ -63,17 +63,33 @@ impl MatchOptions {
             reason: reason.to_string(),
         };
         if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
-            return Err(bad("tolerance", format!("{}", self.tolerance), "must be finite and > 0"));
+            return Err(bad(
+                "tolerance",
+                format!("{}", self.tolerance),
+                "must be finite and > 0",
+            ));
         }
         let a = self.rotor_axis;
         let norm = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
         if !norm.is_finite() || (norm - 1.0).abs() > 1e-6 {
-            return Err(bad("rotor_axis", format!("{a:?} (norm {norm})"), "must be a unit vector"));
+            return Err(bad(
+                "rotor_axis",
+                format!("{a:?} (norm {norm})"),
+                "must be a unit vector",
+            ));
         }
         if self.rotor_axis_origin.iter().any(|x| !x.is_finite()) {
-            return Err(bad("rotor_axis_origin", format!("{:?}", self.rotor_axis_origin), "must be finite"));
+            return Err(bad(
+                "rotor_axis_origin",
+                format!("{:?}", self.rotor_axis_origin),
+                "must be finite",
+            ));
         }
-        for (name, v) in [("rpm", self.rpm), ("p0", self.p0), ("temperature", self.temperature)] {
+        for (name, v) in [
+            ("rpm", self.rpm),
+            ("p0", self.p0),
+            ("temperature", self.temperature),
+        ] {
             if !v.is_finite() {
                 return Err(bad(name, format!("{v}"), "must be finite"));
             }
@@ -84,7 +100,11 @@ impl MatchOptions {
     /// Rotor angular velocity vector ω = (2π·rpm/60)·axis, in rad per unit time.
     pub fn omega(&self) -> [Real; 3] {
         let w = self.rpm * 2.0 * std::f64::consts::PI / 60.0;
-        [w * self.rotor_axis[0], w * self.rotor_axis[1], w * self.rotor_axis[2]]
+        [
+            w * self.rotor_axis[0],
+            w * self.rotor_axis[1],
+            w * self.rotor_axis[2],
+        ]
     }
 }
 

@@ -53,6 +53,15 @@ enum Verb {
         #[arg(long)]
         component: Option<String>,
     },
+    /// List the matrices of a NASTRAN OP4 or punch (DMIG) file: name, shape, form, precision,
+    /// nnz, Frobenius norm, sum, symmetry.
+    Inspect {
+        /// An .op4 file, or a punch file with DMIG cards.
+        file: PathBuf,
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 fn run_dir(args: &RunArgs) -> Result<RunDir> {
@@ -97,6 +106,14 @@ fn run(cli: Cli) -> Result<()> {
             let dir = run_dir(&run)?;
             let report = stages::modes::run(&scene, component.as_deref(), &dir, progress)?;
             progress.info(report.table());
+        }
+        Verb::Inspect { file, json } => {
+            let summaries = squeal_reduction::inspect::inspect(&file)?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&summaries)?);
+            } else {
+                print!("{}", squeal_reduction::inspect::SummaryTable(&summaries));
+            }
         }
     }
     Ok(())

@@ -19,6 +19,9 @@ pub struct Reduced {
     pub rank_ratio: f64,
 }
 
+/// Z ↦ P Z.
+type Projector = Box<dyn Fn(Mat<f64>) -> Mat<f64>>;
+
 fn shape(what: &'static str, a: &Mat<f64>, r: usize, c: usize) -> Result<(), CeaError> {
     if a.nrows() != r || a.ncols() != c {
         return Err(CeaError::Shape {
@@ -36,8 +39,7 @@ fn shape(what: &'static str, a: &Mat<f64>, r: usize, c: usize) -> Result<(), Cea
 ///
 /// # Reference
 /// Replaces the pencil of [Paper eqs. (19)–(24)]
-/// $$\left(p^2\begin{bmatrix}M & H^T\\ G & 0\end{bmatrix} + p\begin{bmatrix}B+C_f & 0\\0&0\end{bmatrix}
-///  + \begin{bmatrix}K&0\\0&0\end{bmatrix}\right)\begin{Bmatrix}u\\ \lambda\end{Bmatrix} = 0$$
+/// $$\left(p^2\begin{bmatrix}M & H^T\\ G & 0\end{bmatrix} + p\begin{bmatrix}B+C_f & 0\\0&0\end{bmatrix} + \begin{bmatrix}K&0\\0&0\end{bmatrix}\right)\begin{Bmatrix}u\\ \lambda\end{Bmatrix} = 0$$
 /// whose λ block gives `ng` spurious zero roots, by an equivalent problem without them. In
 /// our signs (see the [module docs](super)) `Hᵀ = Gᵀ − D` and `B + C_f` ↦ `B − C_f`.
 ///
@@ -134,7 +136,7 @@ pub fn reduce(sys: &CeaMatrices, opts: &CeaOptions) -> Result<Reduced, CeaError>
     let m_r = T.transpose() * (M * &T);
 
     // P Z = Z − A S⁻¹ (Yᵀ Z), Y = M⁻¹Gᵀ; only needed when D is present.
-    let project: Option<Box<dyn Fn(Mat<f64>) -> Mat<f64>>> = match &sys.d {
+    let project: Option<Projector> = match &sys.d {
         None => None,
         Some(D) => {
             let llt = M.llt(Side::Lower).map_err(|e| match e {
@@ -158,7 +160,7 @@ pub fn reduce(sys: &CeaMatrices, opts: &CeaOptions) -> Result<Reduced, CeaError>
                 pmax = pmax.max(U[(i, i)].abs());
             }
             let pr = if pmax > 0.0 { pmin / pmax } else { 0.0 };
-            if !(pr > 1e3 * f64::EPSILON) {
+            if pr.is_nan() || pr <= 1e3 * f64::EPSILON {
                 return Err(CeaError::SingularContactOperator { ng, ratio: pr });
             }
             Some(Box::new(move |Z: Mat<f64>| {

@@ -196,12 +196,19 @@ where
             reason: "needs at least one value".into(),
         });
     }
+    if let Some(i) = mus.iter().position(|x| !x.is_finite()) {
+        return Err(CeaError::InvalidOption {
+            field: "sweep.mus",
+            value: format!("mus[{i}] = {}", mus[i]),
+            reason: "must be finite".into(),
+        });
+    }
     for (i, w) in mus.windows(2).enumerate() {
-        if !(w[1] > w[0]) || !w[1].is_finite() {
+        if w[1] <= w[0] {
             return Err(CeaError::InvalidOption {
                 field: "sweep.mus",
                 value: format!("mus[{}] = {}, mus[{}] = {}", i, w[0], i + 1, w[1]),
-                reason: "must be finite and strictly increasing".into(),
+                reason: "must be strictly increasing".into(),
             });
         }
     }
