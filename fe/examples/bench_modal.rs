@@ -2,7 +2,7 @@
 //!
 //! Build and run (not under `cargo test`):
 //!   cargo build --release -p squeal-fe --example bench_modal
-//!   target/release/examples/bench_modal [OUT.json] [--clamped]
+//!   target/release/examples/bench_modal [OUT.json] [--clamped] [--block B] [--basis M] [--tol T]
 //! Writes n_dofs, nnz, timings, peak RSS (VmHWM) and the frequencies as JSON
 //! (default `target/bench/modal.json`).
 
@@ -23,7 +23,9 @@ fn main() -> anyhow::Result<()> {
     let clamped = args.iter().any(|a| a == "--clamped");
     let out = args
         .iter()
-        .find(|a| !a.starts_with("--"))
+        .enumerate()
+        .find(|(i, a)| !a.starts_with("--") && (*i == 0 || !args[i - 1].starts_with("--b") && !args[i - 1].starts_with("--t")))
+        .map(|(_, a)| a)
         .cloned()
         .unwrap_or_else(|| "target/bench/modal.json".to_string());
     let t0 = Instant::now();
@@ -38,10 +40,25 @@ fn main() -> anyhow::Result<()> {
     };
     let mat = Material::steel_si();
     let asm = assemble(&mesh, &[mat], &dofs, &AssemblyOptions::default())?;
-    let opts = ModalOptions {
+    let flag = |name: &str| {
+        args.iter()
+            .position(|a| a == name)
+            .and_then(|i| args.get(i + 1))
+            .and_then(|v| v.parse::<f64>().ok())
+    };
+    let mut opts = ModalOptions {
         n_modes: Some(50),
         ..Default::default()
     };
+    if let Some(b) = flag("--block") {
+        opts.block_size = b as usize;
+    }
+    if let Some(m) = flag("--basis") {
+        opts.max_basis = m as usize;
+    }
+    if let Some(t) = flag("--tol") {
+        opts.tol = t;
+    }
     let modes = solve_modes(&asm.k, &asm.m, &opts)?;
     let total_s = t0.elapsed().as_secs_f64();
     let report = serde_json::json!({

@@ -14,6 +14,8 @@ pub mod structured;
 pub mod vtu;
 
 pub use error::MeshError;
+pub use gmsh::{mesh_geo, GmshOptions, GmshRun};
 pub use mesh::{CellBlock, CellKind, Mesh, Real};
 pub use msh::{parse_msh, read_msh};
 pub use query::hex_centroid_jacobian;
+pub use vtu::{write_vtu, CellArray, PointArray};

@@ -30,4 +30,26 @@ pub enum PipelineError {
     },
     #[error("writing {path}: {message}")]
     Output { path: PathBuf, message: String },
+    #[error("reduction stage ({what}): {source}")]
+    Reduction {
+        what: String,
+        #[source]
+        source: squeal_reduction::ReductionError,
+    },
+    #[error("contact stage ({what}): {source}")]
+    Contact {
+        what: String,
+        #[source]
+        source: squeal_contact::ContactError,
+    },
+    #[error("transient stage ({what}): {source}")]
+    Solver {
+        what: String,
+        #[source]
+        source: squeal_solver::SolverError,
+    },
+    #[error("model: {0}")]
+    Model(String),
+    #[error("{path}: {message}")]
+    Input { path: PathBuf, message: String },
 }

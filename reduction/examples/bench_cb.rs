@@ -7,7 +7,7 @@
 //! Defaults: 160 × 10 × 4 hex20 cells (97 920 DOFs), 50 boundary nodes (150 DOFs) on the
 //! friction face nearest to the mean radius at angle 0 (a pad-like patch), 50 modes. Prints a
 //! JSON document with the time and peak resident memory (VmHWM) of every phase. With
-//! `--cross-check`, the fixed-interface problem is also assembled with the boundary DOFs fixed
+//! `--block=N` sets the Lanczos block size. With `--cross-check`, the fixed-interface problem is also assembled with the boundary DOFs fixed
 //! and solved by `squeal_fe::solve_modes`, and the frequencies are compared.
 
 use serde_json::json;
@@ -22,7 +22,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let cross_check = args.iter().any(|a| a == "--cross-check");
     let nums: Vec<usize> = args.iter().filter_map(|a| a.parse().ok()).collect();
     let get = |i: usize, d: usize| nums.get(i).copied().unwrap_or(d);
-    let (n_circ, n_rad, n_thick, n_bnodes, n_modes) = (get(0, 160), get(1, 10), get(2, 4), get(3, 50), get(4, 50));
+    let (n_circ, n_rad, n_thick, n_bnodes, n_modes) =
+        (get(0, 160), get(1, 10), get(2, 4), get(3, 50), get(4, 50));
     let (r_in, r_out, t) = (0.08, 0.16, 0.025);
 
     let t0 = Instant::now();
@@ -30,7 +31,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mesh_s = t0.elapsed().as_secs_f64();
 
     // Pad-like patch: friction-face nodes nearest to (r_mid, 0, t).
-    let face = mesh.node_sets.get("friction_top").ok_or("annulus mesh has no friction_top node set")?;
+    let face = mesh
+        .node_sets
+        .get("friction_top")
+        .ok_or("annulus mesh has no friction_top node set")?;
     let centre = [0.5 * (r_in + r_out), 0.0, t];
     let mut by_dist: Vec<(f64, usize)> = face
         .iter()
@@ -44,7 +48,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     let t0 = Instant::now();
     let dofs = DofMap::new(mesh.nodes.len(), &[])?;
-    let asm = assemble(&mesh, &[Material::steel_si()], &dofs, &AssemblyOptions::default())?;
+    let asm = assemble(
+        &mesh,
+        &[Material::steel_si()],
+        &dofs,
+        &AssemblyOptions::default(),
+    )?;
     let assembly_s = t0.elapsed().as_secs_f64();
     let rss_after_assembly = peak_rss_kib();
     let boundary: Vec<usize> = bnodes
@@ -53,7 +62,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|(n, c)| dofs.free(n, c).ok_or("boundary DOF is fixed"))
         .collect::<Result<_, _>>()?;
 
-    let opts = CbOptions::with_n_modes(n_modes);
+    let mut opts = CbOptions::with_n_modes(n_modes);
+    if let Some(b) = args.iter().find_map(|a| a.strip_prefix("--block=")) {
+        opts.lanczos_block = b.parse()?;
+    }
     let t0 = Instant::now();
     let model = cb::reduce(&asm.k, &asm.m, &boundary, &opts)?;
     let reduce_s = t0.elapsed().as_secs_f64();
@@ -76,11 +88,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     });
 
     if cross_check {
-        let fixed: Vec<(usize, usize)> = bnodes.iter().flat_map(|&n| (0..3).map(move |c| (n, c))).collect();
+        let fixed: Vec<(usize, usize)> = bnodes
+            .iter()
+            .flat_map(|&n| (0..3).map(move |c| (n, c)))
+            .collect();
         let dofs_i = DofMap::new(mesh.nodes.len(), &fixed)?;
-        let asm_i = assemble(&mesh, &[Material::steel_si()], &dofs_i, &AssemblyOptions::default())?;
+        let asm_i = assemble(
+            &mesh,
+            &[Material::steel_si()],
+            &dofs_i,
+            &AssemblyOptions::default(),
+        )?;
         let t0 = Instant::now();
-        let modes = solve_modes(&asm_i.k, &asm_i.m, &ModalOptions { n_modes: Some(n_modes), ..ModalOptions::default() })?;
+        let modes = solve_modes(
+            &asm_i.k,
+            &asm_i.m,
+            &ModalOptions {
+                n_modes: Some(n_modes),
+                ..ModalOptions::default()
+            },
+        )?;
         let fe_s = t0.elapsed().as_secs_f64();
         let max_rel = modes
             .frequencies_hz

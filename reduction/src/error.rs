@@ -23,7 +23,9 @@ pub enum ReductionError {
         expected_cols: usize,
     },
     /// A boundary DOF index is out of range or repeated.
-    #[error("boundary DOF {index} (position {position} in the boundary list) is {reason} (n = {n})")]
+    #[error(
+        "boundary DOF {index} (position {position} in the boundary list) is {reason} (n = {n})"
+    )]
     BadBoundary {
         index: usize,
         position: usize,
@@ -51,6 +53,15 @@ pub enum ReductionError {
         row: usize,
         col: usize,
         value: f64,
+    },
+    /// A matrix that must be symmetric is not (relative tolerance 1e-10 of its largest entry).
+    #[error("{what} is not symmetric: entry ({row}, {col}) = {value}, entry ({col}, {row}) = {transposed}")]
+    NotSymmetric {
+        what: String,
+        row: usize,
+        col: usize,
+        value: f64,
+        transposed: f64,
     },
     /// Superelement assembly: inconsistent component or key data.
     #[error("superelement `{component}`: {detail}")]

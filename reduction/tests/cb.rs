@@ -118,9 +118,17 @@ mod fem {
             let mut n = [0.0; 8];
             let mut dn = [[0.0; 3]; 8];
             for a in 0..8 {
-                let f = [1.0 + XI[a][0] * q[0], 1.0 + XI[a][1] * q[1], 1.0 + XI[a][2] * q[2]];
+                let f = [
+                    1.0 + XI[a][0] * q[0],
+                    1.0 + XI[a][1] * q[1],
+                    1.0 + XI[a][2] * q[2],
+                ];
                 n[a] = f[0] * f[1] * f[2] / 8.0;
-                dn[a] = [XI[a][0] * f[1] * f[2] / 8.0, XI[a][1] * f[0] * f[2] / 8.0, XI[a][2] * f[0] * f[1] / 8.0];
+                dn[a] = [
+                    XI[a][0] * f[1] * f[2] / 8.0,
+                    XI[a][1] * f[0] * f[2] / 8.0,
+                    XI[a][2] * f[0] * f[1] / 8.0,
+                ];
             }
             let mut j = [[0.0; 3]; 3];
             for a in 0..8 {
@@ -130,13 +138,26 @@ mod fem {
                     }
                 }
             }
-            let det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1]) - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+            let det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
+                - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
                 + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
             assert!(det > 0.0, "inverted element");
             let inv = [
-                [(j[1][1] * j[2][2] - j[1][2] * j[2][1]) / det, (j[0][2] * j[2][1] - j[0][1] * j[2][2]) / det, (j[0][1] * j[1][2] - j[0][2] * j[1][1]) / det],
-                [(j[1][2] * j[2][0] - j[1][0] * j[2][2]) / det, (j[0][0] * j[2][2] - j[0][2] * j[2][0]) / det, (j[0][2] * j[1][0] - j[0][0] * j[1][2]) / det],
-                [(j[1][0] * j[2][1] - j[1][1] * j[2][0]) / det, (j[0][1] * j[2][0] - j[0][0] * j[2][1]) / det, (j[0][0] * j[1][1] - j[0][1] * j[1][0]) / det],
+                [
+                    (j[1][1] * j[2][2] - j[1][2] * j[2][1]) / det,
+                    (j[0][2] * j[2][1] - j[0][1] * j[2][2]) / det,
+                    (j[0][1] * j[1][2] - j[0][2] * j[1][1]) / det,
+                ],
+                [
+                    (j[1][2] * j[2][0] - j[1][0] * j[2][2]) / det,
+                    (j[0][0] * j[2][2] - j[0][2] * j[2][0]) / det,
+                    (j[0][2] * j[1][0] - j[0][0] * j[1][2]) / det,
+                ],
+                [
+                    (j[1][0] * j[2][1] - j[1][1] * j[2][0]) / det,
+                    (j[0][1] * j[2][0] - j[0][0] * j[2][1]) / det,
+                    (j[0][0] * j[1][1] - j[0][1] * j[1][0]) / det,
+                ],
             ];
             // dN/dx = J⁻¹ dN/dξ
             let mut gx = [[0.0; 3]; 8];
@@ -210,7 +231,10 @@ mod fem {
 
     /// All three DOFs of the given nodes.
     pub fn dofs_of(nodes: &[usize]) -> Vec<usize> {
-        nodes.iter().flat_map(|&n| [3 * n, 3 * n + 1, 3 * n + 2]).collect()
+        nodes
+            .iter()
+            .flat_map(|&n| [3 * n, 3 * n + 1, 3 * n + 2])
+            .collect()
     }
 
     /// Dense copy.
@@ -256,28 +280,53 @@ fn chain_three_dof_by_hand() {
     let k = Sparse::try_new_from_triplets(
         3,
         3,
-        &[t(0, 0, 9000.0), t(0, 1, -9000.0), t(1, 0, -9000.0), t(1, 1, 12000.0), t(1, 2, -3000.0), t(2, 1, -3000.0), t(2, 2, 3000.0)],
+        &[
+            t(0, 0, 9000.0),
+            t(0, 1, -9000.0),
+            t(1, 0, -9000.0),
+            t(1, 1, 12000.0),
+            t(1, 2, -3000.0),
+            t(2, 1, -3000.0),
+            t(2, 2, 3000.0),
+        ],
     )
     .unwrap();
-    let m = Sparse::try_new_from_triplets(3, 3, &[t(0, 0, 4.0), t(1, 1, 5.0), t(2, 2, 7.0)]).unwrap();
+    let m =
+        Sparse::try_new_from_triplets(3, 3, &[t(0, 0, 4.0), t(1, 1, 5.0), t(2, 2, 7.0)]).unwrap();
     let model = cb::reduce(&k, &m, &[0], &CbOptions::with_n_modes(2)).unwrap();
     assert_eq!(model.n_modes, 2);
     assert_eq!(model.interior, vec![1, 2]);
     for r in 0..2 {
-        assert!((model.psi[(r, 0)] - 1.0).abs() < 1e-12, "Ψ[{r}] = {}", model.psi[(r, 0)]);
+        assert!(
+            (model.psi[(r, 0)] - 1.0).abs() < 1e-12,
+            "Ψ[{r}] = {}",
+            model.psi[(r, 0)]
+        );
     }
     assert!(model.k[(0, 0)].abs() < 1e-9, "K̂_bb = {}", model.k[(0, 0)]);
-    assert!((model.m[(0, 0)] - 16.0).abs() < 1e-12, "M̂_bb = {}", model.m[(0, 0)]);
+    assert!(
+        (model.m[(0, 0)] - 16.0).abs() < 1e-12,
+        "M̂_bb = {}",
+        model.m[(0, 0)]
+    );
     let disc = (99000.0f64.powi(2) - 4.0 * 35.0 * 27e6).sqrt();
     let lam = [(99000.0 - disc) / 70.0, (99000.0 + disc) / 70.0];
     for (j, &l) in lam.iter().enumerate() {
-        assert!((model.k[(1 + j, 1 + j)] - l).abs() < 1e-9 * l, "K_qq[{j}] = {} vs {l}", model.k[(1 + j, 1 + j)]);
+        assert!(
+            (model.k[(1 + j, 1 + j)] - l).abs() < 1e-9 * l,
+            "K_qq[{j}] = {} vs {l}",
+            model.k[(1 + j, 1 + j)]
+        );
         assert!((model.m[(1 + j, 1 + j)] - 1.0).abs() < 1e-14);
         assert!(model.k[(0, 1 + j)].abs() < 1e-12 && model.k[(1 + j, 0)].abs() < 1e-12);
         let (p1, p2) = (3000.0, 12000.0 - 5.0 * l);
         let norm = (5.0 * p1 * p1 + 7.0 * p2 * p2).sqrt();
         let mbq = (5.0 * p1 + 7.0 * p2) / norm;
-        assert!((model.m[(0, 1 + j)].abs() - mbq.abs()).abs() < 1e-12, "M_bq[{j}] = {} vs ±{mbq}", model.m[(0, 1 + j)]);
+        assert!(
+            (model.m[(0, 1 + j)].abs() - mbq.abs()).abs() < 1e-12,
+            "M_bq[{j}] = {} vs ±{mbq}",
+            model.m[(0, 1 + j)]
+        );
         assert_eq!(model.m[(0, 1 + j)], model.m[(1 + j, 0)]);
     }
     assert!((model.k[(1, 2)]).abs() < 1e-12 && model.m[(1, 2)].abs() < 1e-14);
@@ -287,7 +336,12 @@ fn chain_three_dof_by_hand() {
     let red = eig(&model.k, &model.m);
     assert!(red[0].abs() < 1e-9 * full[2], "rigid eigenvalue {}", red[0]);
     for i in 1..3 {
-        assert!((red[i] - full[i]).abs() < 1e-12 * full[i], "λ{i}: {} vs {}", red[i], full[i]);
+        assert!(
+            (red[i] - full[i]).abs() < 1e-12 * full[i],
+            "λ{i}: {} vs {}",
+            red[i],
+            full[i]
+        );
     }
     // Recovery of the rigid mode: all DOFs move together.
     let x = model.recover(&[1.0, 0.0, 0.0]).unwrap();
@@ -302,7 +356,9 @@ fn chain_three_dof_by_hand() {
 fn plate() -> (fem::Hexes, Sparse, Sparse, Vec<usize>) {
     let h = fem::box_mesh([6, 3, 1], [0.3, 0.15, 0.01], [0.0; 3]);
     let (k, m) = fem::assemble(&h, STEEL.0, STEEL.1, STEEL.2);
-    let edge: Vec<usize> = (0..h.nodes.len()).filter(|&n| h.nodes[n][0] == 0.0).collect();
+    let edge: Vec<usize> = (0..h.nodes.len())
+        .filter(|&n| h.nodes[n][0] == 0.0)
+        .collect();
     assert_eq!(edge.len(), 8);
     (h, k, m, fem::dofs_of(&edge))
 }
@@ -322,16 +378,31 @@ fn cb_frequencies_converge_from_above() {
         let red = eig(&model.k, &model.m);
         // Elastic modes only: the 6 rigid ones are round-off around zero in both.
         for i in 6..red.len() {
-            assert!(red[i] >= full[i] * (1.0 - 1e-10), "nq = {nq}, mode {i}: {} < full {}", red[i], full[i]);
+            assert!(
+                red[i] >= full[i] * (1.0 - 1e-10),
+                "nq = {nq}, mode {i}: {} < full {}",
+                red[i],
+                full[i]
+            );
             if let Some(p) = &previous {
                 if i < p.len() {
-                    assert!(red[i] <= p[i] * (1.0 + 1e-10), "nq = {nq}, mode {i}: {} rose above {}", red[i], p[i]);
+                    assert!(
+                        red[i] <= p[i] * (1.0 + 1e-10),
+                        "nq = {nq}, mode {i}: {} rose above {}",
+                        red[i],
+                        p[i]
+                    );
                 }
             }
         }
         if nq == n_interior {
             for i in 6..full.len() {
-                assert!((red[i] - full[i]).abs() <= 1e-8 * full[i], "all modes kept, mode {i}: {} vs {}", red[i], full[i]);
+                assert!(
+                    (red[i] - full[i]).abs() <= 1e-8 * full[i],
+                    "all modes kept, mode {i}: {} vs {}",
+                    red[i],
+                    full[i]
+                );
             }
         }
         previous = Some(red);
@@ -343,18 +414,45 @@ fn cb_frequencies_converge_from_above() {
 #[test]
 fn lanczos_path_matches_dense_path() {
     let (_, k, m, boundary) = plate();
-    let dense = cb::reduce(&k, &m, &boundary, &CbOptions { cutoff_hz: Some(20_000.0), ..CbOptions::default() }).unwrap();
-    let opts = CbOptions { cutoff_hz: Some(20_000.0), dense_max: 10, lanczos_block: 4, ..CbOptions::default() };
+    let dense = cb::reduce(
+        &k,
+        &m,
+        &boundary,
+        &CbOptions {
+            cutoff_hz: Some(20_000.0),
+            ..CbOptions::default()
+        },
+    )
+    .unwrap();
+    let opts = CbOptions {
+        cutoff_hz: Some(20_000.0),
+        dense_max: 10,
+        lanczos_block: 4,
+        ..CbOptions::default()
+    };
     let lanczos = cb::reduce(&k, &m, &boundary, &opts).unwrap();
     assert_eq!(lanczos.stats.eigen_method, cb::EigenMethod::BlockLanczos);
     assert!(dense.n_modes >= 10, "cutoff keeps {} modes", dense.n_modes);
-    assert_eq!(lanczos.n_modes, dense.n_modes, "{:?} vs {:?}", lanczos.fixed_frequencies_hz, dense.fixed_frequencies_hz);
-    for (a, b) in lanczos.fixed_frequencies_hz.iter().zip(&dense.fixed_frequencies_hz) {
+    assert_eq!(
+        lanczos.n_modes, dense.n_modes,
+        "{:?} vs {:?}",
+        lanczos.fixed_frequencies_hz, dense.fixed_frequencies_hz
+    );
+    for (a, b) in lanczos
+        .fixed_frequencies_hz
+        .iter()
+        .zip(&dense.fixed_frequencies_hz)
+    {
         assert!((a - b).abs() < 1e-8 * b, "{a} vs {b}");
     }
     let (ra, rb) = (eig(&lanczos.k, &lanczos.m), eig(&dense.k, &dense.m));
     for i in 6..ra.len() {
-        assert!((ra[i] - rb[i]).abs() < 1e-8 * rb[i], "mode {i}: {} vs {}", ra[i], rb[i]);
+        assert!(
+            (ra[i] - rb[i]).abs() < 1e-8 * rb[i],
+            "mode {i}: {} vs {}",
+            ra[i],
+            rb[i]
+        );
     }
     let chk = cb::check(&lanczos, Some((&k, &m)), None, &CheckOptions::default()).unwrap();
     assert!(chk.mqq_max_deviation < 1e-10, "{}", chk.mqq_max_deviation);
@@ -374,9 +472,20 @@ fn recovery_reproduces_reduced_energy() {
     let uc = Mat::from_fn(u.len(), 1, |r, _| u[r]);
     let ku = fem::dense(&k) * &uc;
     let mu = fem::dense(&m) * &uc;
-    let (uku, umu) = ((uc.transpose() * &ku)[(0, 0)], (uc.transpose() * &mu)[(0, 0)]);
-    assert!((uku / umu - vals[i]).abs() < 1e-9 * vals[i], "{} vs {}", uku / umu, vals[i]);
-    assert!((umu - 1.0).abs() < 1e-10, "recovered mode has modal mass {umu}");
+    let (uku, umu) = (
+        (uc.transpose() * &ku)[(0, 0)],
+        (uc.transpose() * &mu)[(0, 0)],
+    );
+    assert!(
+        (uku / umu - vals[i]).abs() < 1e-9 * vals[i],
+        "{} vs {}",
+        uku / umu,
+        vals[i]
+    );
+    assert!(
+        (umu - 1.0).abs() < 1e-10,
+        "recovered mode has modal mass {umu}"
+    );
     for (j, &d) in model.boundary.iter().enumerate() {
         assert_eq!(u[d], x[j]);
     }
@@ -402,7 +511,8 @@ fn damping_reduces_like_mass_and_stiffness() {
         }
         Sparse::try_new_from_triplets(n, n, &t).unwrap()
     };
-    let model = cb::reduce_damped(&k, &m, Some(&b), &boundary, &CbOptions::with_n_modes(10)).unwrap();
+    let model =
+        cb::reduce_damped(&k, &m, Some(&b), &boundary, &CbOptions::with_n_modes(10)).unwrap();
     let br = model.b.as_ref().unwrap();
     let expect = &model.m * faer::Scale(alpha) + &model.k * faer::Scale(beta);
     let scale = expect.norm_max();
@@ -414,16 +524,35 @@ fn damping_reduces_like_mass_and_stiffness() {
 fn bad_input_is_an_error() {
     let (_, k, m, boundary) = plate();
     let opts = CbOptions::with_n_modes(4);
-    assert!(cb::reduce(&k, &m, &[0, 0], &opts).is_err(), "repeated boundary DOF");
-    assert!(cb::reduce(&k, &m, &[k.nrows()], &opts).is_err(), "out-of-range boundary DOF");
+    assert!(
+        cb::reduce(&k, &m, &[0, 0], &opts).is_err(),
+        "repeated boundary DOF"
+    );
+    assert!(
+        cb::reduce(&k, &m, &[k.nrows()], &opts).is_err(),
+        "out-of-range boundary DOF"
+    );
     // Free-free with too few boundary DOFs: K_ii is singular.
     let err = cb::reduce(&k, &m, &boundary[..2], &opts).unwrap_err();
-    assert!(matches!(err, squeal_reduction::ReductionError::Factorization { .. }), "{err}");
-    assert!(cb::reduce(&k, &m, &boundary, &CbOptions::default()).is_err(), "no cutoff and no mode count");
-    assert!(cb::reduce(&k, &m, &boundary, &CbOptions { cutoff_hz: Some(-1.0), ..opts }).is_err());
+    assert!(
+        matches!(err, squeal_reduction::ReductionError::Factorization { .. }),
+        "{err}"
+    );
+    assert!(
+        cb::reduce(&k, &m, &boundary, &CbOptions::default()).is_err(),
+        "no cutoff and no mode count"
+    );
+    assert!(cb::reduce(
+        &k,
+        &m,
+        &boundary,
+        &CbOptions {
+            cutoff_hz: Some(-1.0),
+            ..opts
+        }
+    )
+    .is_err());
 }
-
-
 
 // ---------------------------------------------------------------------------------------------
 // Rotor and pad at the default cutoff; checks
@@ -435,7 +564,9 @@ fn rotor() -> (fem::Hexes, Sparse, Sparse, Vec<usize>) {
     let t = 0.025;
     let h = fem::annulus_mesh(0.06, 0.14, t, 2, 24, 2);
     let (k, m) = fem::assemble(&h, STEEL.0, STEEL.1, STEEL.2);
-    let face: Vec<usize> = (0..h.nodes.len()).filter(|&n| (h.nodes[n][2] - t).abs() < 1e-12).collect();
+    let face: Vec<usize> = (0..h.nodes.len())
+        .filter(|&n| (h.nodes[n][2] - t).abs() < 1e-12)
+        .collect();
     assert_eq!(face.len(), 3 * 24);
     (h, k, m, fem::dofs_of(&face))
 }
@@ -447,7 +578,9 @@ const PAD_SIZE: [f64; 3] = [0.08, 0.05, 0.012];
 fn pad() -> (fem::Hexes, Sparse, Sparse, Vec<usize>) {
     let h = fem::box_mesh([6, 4, 2], PAD_SIZE, PAD_ORIGIN);
     let (k, m) = fem::assemble(&h, 5e9, 0.25, 2500.0);
-    let face: Vec<usize> = (0..h.nodes.len()).filter(|&n| h.nodes[n][2] == PAD_ORIGIN[2]).collect();
+    let face: Vec<usize> = (0..h.nodes.len())
+        .filter(|&n| h.nodes[n][2] == PAD_ORIGIN[2])
+        .collect();
     assert_eq!(face.len(), 7 * 5);
     (h, k, m, fem::dofs_of(&face))
 }
@@ -462,30 +595,74 @@ fn frequency_of_interest(full_hz: &[f64], n: usize) -> f64 {
 /// `factor` × it; every full-model frequency below the frequency of interest must be reproduced
 /// within 0.5 % (from above), and the checks must pass: K_bq = 0, M_qq = I, 6 rigid modes,
 /// rigid-body mass, CG and 6×6 rigid mass matrix equal to the full model's to 1e-10.
-fn cutoff_case(name: &str, model: (fem::Hexes, Sparse, Sparse, Vec<usize>), n_elastic: usize, factor: f64) {
+fn cutoff_case(
+    name: &str,
+    model: (fem::Hexes, Sparse, Sparse, Vec<usize>),
+    n_elastic: usize,
+    factor: f64,
+) {
     let (h, k, m, boundary) = model;
-    let full_hz: Vec<f64> = eig(&fem::dense(&k), &fem::dense(&m)).into_iter().map(hz).collect();
+    let full_hz: Vec<f64> = eig(&fem::dense(&k), &fem::dense(&m))
+        .into_iter()
+        .map(hz)
+        .collect();
     let foi = frequency_of_interest(&full_hz, n_elastic);
-    let opts = CbOptions { cutoff_factor: factor, ..CbOptions::with_frequency_of_interest(foi) };
+    let opts = CbOptions {
+        cutoff_factor: factor,
+        ..CbOptions::with_frequency_of_interest(foi)
+    };
     let model = cb::reduce(&k, &m, &boundary, &opts).unwrap();
     assert_eq!(model.stats.cutoff_hz, Some(factor * foi));
-    assert!(model.fixed_frequencies_hz.iter().all(|&f| f <= factor * foi));
-    let chk = cb::check(&model, Some((&k, &m)), Some(&fem::points(&h)), &CheckOptions::default()).unwrap();
+    assert!(model
+        .fixed_frequencies_hz
+        .iter()
+        .all(|&f| f <= factor * foi));
+    let chk = cb::check(
+        &model,
+        Some((&k, &m)),
+        Some(&fem::points(&h)),
+        &CheckOptions::default(),
+    )
+    .unwrap();
     println!("{name}:\n{chk}");
     assert_eq!(chk.frequency_of_interest_hz, foi);
-    assert_eq!(chk.frequencies.len(), 6 + n_elastic, "a mode crossed the frequency of interest");
+    assert_eq!(
+        chk.frequencies.len(),
+        6 + n_elastic,
+        "a mode crossed the frequency of interest"
+    );
     for row in &chk.frequencies[6..] {
         let e = row.error_pct.unwrap();
-        assert!((0.0..0.5).contains(&e), "{name} mode {}: error {e} %", row.mode);
+        assert!(
+            (0.0..0.5).contains(&e),
+            "{name} mode {}: error {e} %",
+            row.mode
+        );
     }
     assert_eq!(chk.n_rigid_modes, 6);
     assert!(chk.kbq_rel < 1e-10, "{name} K_bq = {}", chk.kbq_rel);
-    assert!(chk.mqq_max_deviation < 1e-10, "{name} M_qq − I = {}", chk.mqq_max_deviation);
+    assert!(
+        chk.mqq_max_deviation < 1e-10,
+        "{name} M_qq − I = {}",
+        chk.mqq_max_deviation
+    );
     assert!(chk.k_asymmetry < 1e-14 && chk.m_asymmetry < 1e-14);
     let rigid = chk.rigid.as_ref().unwrap();
-    assert!(rigid.mass_rel_err.unwrap() < 1e-10, "{name}: {:?}", rigid.mass_rel_err);
-    assert!(rigid.cg_rel_err.unwrap() < 1e-10, "{name}: {:?}", rigid.cg_rel_err);
-    assert!(rigid.matrix_rel_err.unwrap() < 1e-10, "{name}: {:?}", rigid.matrix_rel_err);
+    assert!(
+        rigid.mass_rel_err.unwrap() < 1e-10,
+        "{name}: {:?}",
+        rigid.mass_rel_err
+    );
+    assert!(
+        rigid.cg_rel_err.unwrap() < 1e-10,
+        "{name}: {:?}",
+        rigid.cg_rel_err
+    );
+    assert!(
+        rigid.matrix_rel_err.unwrap() < 1e-10,
+        "{name}: {:?}",
+        rigid.matrix_rel_err
+    );
 }
 
 // Default cutoff (2 × frequency of interest, DESIGN.md). With the whole friction face as
@@ -517,21 +694,34 @@ fn pad_ten_modes_within_half_percent_at_four_times_cutoff() {
 fn pad_rigid_body_mass_is_analytic() {
     let (h, k, m, boundary) = pad();
     let model = cb::reduce(&k, &m, &boundary, &CbOptions::with_n_modes(5)).unwrap();
-    let chk = cb::check(&model, Some((&k, &m)), Some(&fem::points(&h)), &CheckOptions::default()).unwrap();
+    let chk = cb::check(
+        &model,
+        Some((&k, &m)),
+        Some(&fem::points(&h)),
+        &CheckOptions::default(),
+    )
+    .unwrap();
     let mass = 2500.0 * PAD_SIZE[0] * PAD_SIZE[1] * PAD_SIZE[2];
     let centre: [f64; 3] = std::array::from_fn(|a| PAD_ORIGIN[a] + 0.5 * PAD_SIZE[a]);
     let rigid = chk.rigid.as_ref().unwrap();
     for props in [&rigid.reduced, rigid.full.as_ref().unwrap()] {
         for a in 0..3 {
-            assert!((props.mass[a] - mass).abs() < 1e-10 * mass, "mass {:?} vs {mass}", props.mass);
-            assert!((props.cg[a] - centre[a]).abs() < 1e-10 * 0.1, "cg {:?} vs {centre:?}", props.cg);
+            assert!(
+                (props.mass[a] - mass).abs() < 1e-10 * mass,
+                "mass {:?} vs {mass}",
+                props.mass
+            );
+            assert!(
+                (props.cg[a] - centre[a]).abs() < 1e-10 * 0.1,
+                "cg {:?} vs {centre:?}",
+                props.cg
+            );
         }
     }
     // The check serialises (to be written into summary.json).
     let json = serde_json::to_string(&chk).unwrap();
     assert!(json.contains("\"n_rigid_modes\":6"), "{json}");
 }
-
 
 // ---------------------------------------------------------------------------------------------
 // Superelement assembly: a bar split in two
@@ -548,9 +738,19 @@ fn bar_grid(i: usize, j: usize, k: usize) -> u64 {
 /// `with_end`, the end face x = 0. Returns the model and its boundary keys.
 fn bar_half(side: usize, with_end: bool, foi: f64) -> (cb::CbModel, Vec<DofKey>) {
     let nx = BAR_N[0] / 2;
-    let h = fem::box_mesh([nx, BAR_N[1], BAR_N[2]], [BAR_L[0] / 2.0, BAR_L[1], BAR_L[2]], [side as f64 * BAR_L[0] / 2.0, 0.0, 0.0]);
+    let h = fem::box_mesh(
+        [nx, BAR_N[1], BAR_N[2]],
+        [BAR_L[0] / 2.0, BAR_L[1], BAR_L[2]],
+        [side as f64 * BAR_L[0] / 2.0, 0.0, 0.0],
+    );
     let (k, m) = fem::assemble(&h, STEEL.0, STEEL.1, STEEL.2);
-    let ijk = |n: usize| (n % (nx + 1), (n / (nx + 1)) % (BAR_N[1] + 1), n / ((nx + 1) * (BAR_N[1] + 1)));
+    let ijk = |n: usize| {
+        (
+            n % (nx + 1),
+            (n / (nx + 1)) % (BAR_N[1] + 1),
+            n / ((nx + 1) * (BAR_N[1] + 1)),
+        )
+    };
     let interface_i = if side == 0 { nx } else { 0 };
     let nodes: Vec<usize> = (0..h.nodes.len())
         .filter(|&n| {
@@ -566,7 +766,13 @@ fn bar_half(side: usize, with_end: bool, foi: f64) -> (cb::CbModel, Vec<DofKey>)
             DofKey::new(bar_grid(i + side * nx, j, kk), (d % 3 + 1) as u8).unwrap()
         })
         .collect();
-    let model = cb::reduce(&k, &m, &boundary, &CbOptions::with_frequency_of_interest(foi)).unwrap();
+    let model = cb::reduce(
+        &k,
+        &m,
+        &boundary,
+        &CbOptions::with_frequency_of_interest(foi),
+    )
+    .unwrap();
     (model, keys)
 }
 
@@ -577,7 +783,9 @@ fn bar_half(side: usize, with_end: bool, foi: f64) -> (cb::CbModel, Vec<DofKey>)
 fn bar_split_in_two_matches_unsplit_bar() {
     let h = fem::box_mesh(BAR_N, BAR_L, [0.0; 3]);
     let (k, m) = fem::assemble(&h, STEEL.0, STEEL.1, STEEL.2);
-    let end: Vec<usize> = (0..h.nodes.len()).filter(|&n| h.nodes[n][0] == 0.0).collect();
+    let end: Vec<usize> = (0..h.nodes.len())
+        .filter(|&n| h.nodes[n][0] == 0.0)
+        .collect();
     let end_dofs = fem::dofs_of(&end);
     let kept: Vec<usize> = (0..k.nrows()).filter(|d| !end_dofs.contains(d)).collect();
     for clamped in [false, true] {
@@ -594,9 +802,16 @@ fn bar_split_in_two_matches_unsplit_bar() {
         let foi = (full_hz[n_rigid + n_elastic - 1] * full_hz[n_rigid + n_elastic]).sqrt();
         let (ma, ka) = bar_half(0, clamped, foi);
         let (mb, kb) = bar_half(1, false, foi);
-        let fixed: Vec<DofKey> = if clamped { ka.iter().copied().filter(|k| k.grid % 17 == 1).collect() } else { Vec::new() };
+        let fixed: Vec<DofKey> = if clamped {
+            ka.iter().copied().filter(|k| k.grid % 17 == 1).collect()
+        } else {
+            Vec::new()
+        };
         assert_eq!(fixed.len(), if clamped { 27 } else { 0 });
-        let comps = [Component::from_cb("left", &ma, ka), Component::from_cb("right", &mb, kb)];
+        let comps = [
+            Component::from_cb("left", &ma, ka),
+            Component::from_cb("right", &mb, kb),
+        ];
         let asm = superelement::assemble(&comps, &fixed).unwrap();
         assert_eq!(asm.stats.n_shared_dofs, 27);
         assert_eq!(asm.stats.n_grid_dofs, 27);
@@ -605,12 +820,20 @@ fn bar_split_in_two_matches_unsplit_bar() {
         let red_hz: Vec<f64> = eig(&asm.k, &asm.m).into_iter().map(hz).collect();
         for i in n_rigid..n_rigid + n_elastic {
             let e = 100.0 * (red_hz[i] - full_hz[i]) / full_hz[i];
-            println!("clamped {clamped} mode {i}: full {:.3} Hz, assembled {:.3} Hz, {e:.4} %", full_hz[i], red_hz[i]);
-            assert!((-1e-8..0.5).contains(&e), "clamped = {clamped}, mode {i}: error {e} %");
+            println!(
+                "clamped {clamped} mode {i}: full {:.3} Hz, assembled {:.3} Hz, {e:.4} %",
+                full_hz[i], red_hz[i]
+            );
+            assert!(
+                (-1e-8..0.5).contains(&e),
+                "clamped = {clamped}, mode {i}: error {e} %"
+            );
         }
         // DOF map: grid DOFs first (sorted keys), then left's and right's modal coordinates.
         let dofs = &asm.dofs;
-        assert!(dofs.dofs[..27].iter().all(|d| matches!(d.kind, DofKind::Grid { .. }) && d.shared_with == ["right"]));
+        assert!(dofs.dofs[..27]
+            .iter()
+            .all(|d| matches!(d.kind, DofKind::Grid { .. }) && d.shared_with == ["right"]));
         assert_eq!(dofs.dofs[27].kind, DofKind::Modal { index: 0 });
         assert_eq!(dofs.dofs[27].component, "left");
         assert_eq!(dofs.dofs[27 + ma.n_modes].component, "right");
@@ -626,9 +849,70 @@ fn superelement_rejects_bad_keys() {
     let (ma, ka) = bar_half(0, false, 5000.0);
     let mut dup = ka.clone();
     dup[1] = dup[0];
-    assert!(superelement::assemble(&[Component::from_cb("a", &ma, dup)], &[]).is_err(), "repeated key");
+    assert!(
+        superelement::assemble(&[Component::from_cb("a", &ma, dup)], &[]).is_err(),
+        "repeated key"
+    );
     let stray = DofKey::new(999_999, 1).unwrap();
-    assert!(superelement::assemble(&[Component::from_cb("a", &ma, ka.clone())], &[stray]).is_err(), "fixed key in no component");
-    assert!(superelement::assemble(&[Component::from_cb("a", &ma, ka[1..].to_vec())], &[]).is_err(), "key count");
+    assert!(
+        superelement::assemble(&[Component::from_cb("a", &ma, ka.clone())], &[stray]).is_err(),
+        "fixed key in no component"
+    );
+    assert!(
+        superelement::assemble(&[Component::from_cb("a", &ma, ka[1..].to_vec())], &[]).is_err(),
+        "key count"
+    );
     assert!(DofKey::new(1, 7).is_err());
+}
+
+/// An asymmetric input is rejected with the offending entry (the products assume symmetry).
+#[test]
+fn asymmetric_matrix_is_an_error() {
+    let t = |i, j, v| Triplet::new(i, j, v);
+    let k = Sparse::try_new_from_triplets(
+        2,
+        2,
+        &[t(0, 0, 2.0), t(1, 0, -1.0), t(0, 1, -1.5), t(1, 1, 2.0)],
+    )
+    .unwrap();
+    let m = Sparse::try_new_from_triplets(2, 2, &[t(0, 0, 1.0), t(1, 1, 1.0)]).unwrap();
+    let err = cb::reduce(&k, &m, &[0], &CbOptions::with_n_modes(1)).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            squeal_reduction::ReductionError::NotSymmetric { row: 1, col: 0, .. }
+        ),
+        "{err}"
+    );
+}
+
+/// The free-free full-model frequencies of `check` agree between its dense and its block
+/// Lanczos (negative shift) paths.
+#[test]
+fn check_full_frequencies_dense_and_lanczos_agree() {
+    let (h, k, m, boundary) = pad();
+    let model = cb::reduce(
+        &k,
+        &m,
+        &boundary,
+        &CbOptions::with_frequency_of_interest(8000.0),
+    )
+    .unwrap();
+    let pts = fem::points(&h);
+    let dense = cb::check(&model, Some((&k, &m)), Some(&pts), &CheckOptions::default()).unwrap();
+    let lanczos = cb::check(
+        &model,
+        Some((&k, &m)),
+        Some(&pts),
+        &CheckOptions {
+            dense_max: 10,
+            ..CheckOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(dense.frequencies.len(), lanczos.frequencies.len());
+    for (a, b) in dense.frequencies.iter().zip(&lanczos.frequencies).skip(6) {
+        let (fa, fb) = (a.full_hz.unwrap(), b.full_hz.unwrap());
+        assert!((fa - fb).abs() < 1e-8 * fa, "mode {}: {fa} vs {fb}", a.mode);
+    }
 }

@@ -40,7 +40,7 @@ fn model(n: usize, ng: usize) -> Model {
         m[(i, i)] += 1.0;
         k0[(i, i)] += 1.0 + 100.0 * i as f64 / n as f64;
     }
-        let mut g = Mat::zeros(ng, n);
+    let mut g = Mat::zeros(ng, n);
     let mut d1 = Mat::zeros(n, ng);
     let mut k1 = Mat::zeros(n, n);
     for r in 0..ng {
@@ -60,6 +60,7 @@ fn model(n: usize, ng: usize) -> Model {
         k1[(t, p)] = 5.0 * rng.next();
         k1[(t, q)] = 5.0 * rng.next();
     }
+    let b = &k0 * 1e-4;
     Model {
         m,
         k0,

@@ -9,7 +9,7 @@ impl GapSet {
     /// `(u_rotor − u_pad)·n = 0`. Checks DOF indices against `n`.
     ///
     /// # Reference
-    /// $$(\vec u_d - \vec u_p)\cdot\vec n = 0 \;(9),\qquad [G]\{\dot v\} = 0 \;(11)$$
+    /// $$(\vec u_d - \vec u_p)\cdot\vec n = 0 \;(9),\qquad \mathbf{G}\{\dot v\} = 0 \;(11)$$
     /// [Paper eqs. (9), (11)].
     pub fn constraint_triplets(&self, n: usize) -> Result<Vec<(usize, usize, Real)>, ContactError> {
         self.check_dofs(n)?;

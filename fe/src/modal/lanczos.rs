@@ -27,6 +27,7 @@ pub(crate) struct LanczosOut {
     pub solves: usize,
     pub m_products: usize,
     pub max_basis: usize,
+    pub solve_s: Real,
 }
 
 struct Rng(u64);
@@ -48,15 +49,20 @@ fn dot(a: &[Real], b: &[Real]) -> Real {
 struct Ctx<'a> {
     op: &'a Factor,
     m: SparseColMatRef<'a, usize, Real>,
+    /// Parallelism of the dense tall-skinny products (sequential: faer's parallel split of
+    /// these shapes was erratic, up to 20× slower, on a loaded 2-core machine).
     par: Par,
+    /// Parallelism of the sparse products with M.
+    par_sparse: Par,
     rng: Rng,
     solves: usize,
     m_products: usize,
+    solve_s: Real,
 }
 
 impl Ctx<'_> {
     fn m_times(&mut self, x: MatRef<'_, Real>, mut out: MatMut<'_, Real>) {
-        sparse_dense_matmul(out.as_mut(), Accum::Replace, self.m, x, 1.0, self.par);
+        sparse_dense_matmul(out.as_mut(), Accum::Replace, self.m, x, 1.0, self.par_sparse);
         self.m_products += x.ncols();
     }
 
@@ -90,46 +96,45 @@ impl Ctx<'_> {
         let n = w.nrows();
         self.m_times(w.as_ref(), mw.as_mut());
         let mut r = Mat::<Real>::zeros(b, b);
+        let (mut wj, mut mwj) = (vec![0.0; n], vec![0.0; n]);
         for j in 0..b {
+            wj.copy_from_slice(w.col_as_slice(j));
+            mwj.copy_from_slice(mw.col_as_slice(j));
             let mut replaced = false;
             loop {
                 for _ in 0..2 {
                     for i in 0..j {
-                        let c = dot(mw.col_as_slice(i), w.col_as_slice(j));
+                        let (qi, mqi) = (w.col_as_slice(i), mw.col_as_slice(i));
+                        let c = dot(mqi, &wj);
                         if !replaced {
                             r[(i, j)] += c;
                         }
-                        for t in 0..n {
-                            w[(t, j)] -= c * w[(t, i)];
-                            mw[(t, j)] -= c * mw[(t, i)];
-                        }
+                        wj.iter_mut().zip(qi).for_each(|(a, q)| *a -= c * q);
+                        mwj.iter_mut().zip(mqi).for_each(|(a, q)| *a -= c * q);
                     }
                 }
-                let nrm2 = dot(w.col_as_slice(j), mw.col_as_slice(j));
-                let e = dot(w.col_as_slice(j), w.col_as_slice(j)).sqrt();
+                let nrm2 = dot(&wj, &mwj);
+                let e = dot(&wj, &wj).sqrt();
                 if nrm2 > 0.0 && e > 1e-10 * pre[j] && nrm2.is_finite() {
                     let s = nrm2.sqrt();
                     if !replaced {
                         r[(j, j)] = s;
                     }
-                    for t in 0..n {
-                        w[(t, j)] /= s;
-                        mw[(t, j)] /= s;
-                    }
+                    wj.iter_mut().for_each(|a| *a /= s);
+                    mwj.iter_mut().for_each(|a| *a /= s);
                     break;
                 }
                 // Breakdown: a fresh random direction, orthogonal to the basis.
                 replaced = true;
-                for t in 0..n {
-                    w[(t, j)] = self.rng.next();
-                }
-                let _ = self.project_out(v, mv, w.as_mut().subcols_mut(j, 1));
-                let mut col = Mat::<Real>::zeros(n, 1);
-                self.m_times(w.as_ref().subcols(j, 1), col.as_mut());
-                for t in 0..n {
-                    mw[(t, j)] = col[(t, 0)];
-                }
+                let mut col = Mat::<Real>::from_fn(n, 1, |_, _| self.rng.next());
+                let _ = self.project_out(v, mv, col.as_mut());
+                let mut mcol = Mat::<Real>::zeros(n, 1);
+                self.m_times(col.as_ref(), mcol.as_mut());
+                wj.copy_from_slice(col.col_as_slice(0));
+                mwj.copy_from_slice(mcol.col_as_slice(0));
             }
+            w.col_as_slice_mut(j).copy_from_slice(&wj);
+            mw.col_as_slice_mut(j).copy_from_slice(&mwj);
         }
         r
     }
@@ -152,10 +157,12 @@ pub(crate) fn lanczos(
     let mut ctx = Ctx {
         op,
         m,
-        par: Par::rayon(0),
+        par: Par::Seq,
+        par_sparse: Par::rayon(0),
         rng: Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1),
         solves: 0,
         m_products: 0,
+        solve_s: 0.0,
     };
     let mut v = Mat::<Real>::zeros(n, mmax + b);
     let mut mv = Mat::<Real>::zeros(n, mmax + b);
@@ -179,7 +186,9 @@ pub(crate) fn lanczos(
     loop {
         // Apply Op to the block cur..tot and extend the basis.
         let mut w = mv.as_ref().subcols(cur, b).to_owned();
+        let ts = std::time::Instant::now();
         ctx.op.solve_in_place(w.as_mut());
+        ctx.solve_s += ts.elapsed().as_secs_f64();
         ctx.solves += b;
         iterations += 1;
         let pre: Vec<Real> = (0..b).map(|j| dot(w.col_as_slice(j), w.col_as_slice(j)).sqrt()).collect();
@@ -245,6 +254,10 @@ pub(crate) fn lanczos(
             }
             converged += 1;
         }
+        if std::env::var("SQUEAL_PROF").is_ok() {
+            let i = converged.min(theta.len() - 1);
+            eprintln!("it {iterations} cur {cur} converged {converged} next res/theta {:.2e}", res[i] / theta[i].abs());
+        }
         if done || cur >= n.saturating_sub(b) {
             let count = match want.n_modes {
                 Some(k) => k.min(theta.len()),
@@ -265,6 +278,7 @@ pub(crate) fn lanczos(
                 solves: ctx.solves,
                 m_products: ctx.m_products,
                 max_basis: used_basis,
+                solve_s: ctx.solve_s,
             };
         }
         if tot + b <= mmax + b && tot <= mmax {
@@ -284,6 +298,7 @@ pub(crate) fn lanczos(
                 solves: ctx.solves,
                 m_products: ctx.m_products,
                 max_basis: used_basis,
+                solve_s: ctx.solve_s,
             };
         }
         restarts += 1;

@@ -131,6 +131,8 @@ pub struct ModalStats {
     pub factor_s: Real,
     /// Seconds in the Lanczos iteration (solves, orthogonalisation, Rayleigh–Ritz).
     pub lanczos_s: Real,
+    /// Seconds in the triangular solves (part of `lanczos_s`).
+    pub solve_s: Real,
     /// Total seconds.
     pub total_s: Real,
     /// Largest relative residual ‖Kφ − ω²Mφ‖ / max(‖Kφ‖, |σ|‖Mφ‖) of the returned modes.

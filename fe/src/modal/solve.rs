@@ -72,6 +72,7 @@ pub fn solve_modes(
         max_basis: 0,
         factor_s: 0.0,
         lanczos_s: 0.0,
+        solve_s: 0.0,
         total_s: 0.0,
         max_residual: 0.0,
     };
@@ -105,6 +106,7 @@ pub fn solve_modes(
         stats.matvecs = out.solves;
         stats.m_products = out.m_products;
         stats.max_basis = out.max_basis;
+        stats.solve_s = out.solve_s;
         let status = if out.done {
             ModalStatus::Converged
         } else {

@@ -6,10 +6,18 @@
 //! along +z. Physical groups name the volume, the faces and (for the block) the supported edges.
 
 mod block;
+mod brake;
+mod caliper;
+mod pad;
 mod rotor;
+mod sector;
 
 pub use block::{block, BlockGeometry};
+pub use brake::BrakeGeometry;
+pub use caliper::{caliper, CaliperDims, CaliperGeometry};
+pub use pad::{pad, PadGeometry, PadPlacement, RotorSide};
 pub use rotor::{annulus, rotor, RotorGeometry};
+pub use sector::EdgeShape;
 
 use crate::{MeshError, Real};
 use std::fmt::Write;

@@ -53,6 +53,29 @@ enum Verb {
         #[arg(long)]
         component: Option<String>,
     },
+    /// Reduce the scene's components (Craig–Bampton superelements + gaps + loads) and write
+    /// reduced.op4, reduced.pch, dofmap.json, gaps.json, checks.json.
+    Reduce(RunArgs),
+    /// Nonlinear BSQL transient: history.npy + history_map.json, energy.csv, restart.json,
+    /// summary.json with the squeal verdict.
+    Transient {
+        #[command(flatten)]
+        run: RunArgs,
+        /// Also write the assembled DAE (M, B, K, G, loads, gap table, solver options) here.
+        #[arg(long, value_name = "DIR")]
+        export_dae: Option<PathBuf>,
+    },
+    /// Extract records of a transient run's time-history database to a CSV table.
+    Plotit {
+        /// The transient run folder (holds history.npy and history_map.json).
+        run_dir: PathBuf,
+        /// Records: a column name, or KIND[:grid=G][:comp=x|y|z][:gap=N] (repeatable; default all).
+        #[arg(long, num_args = 1.., value_name = "SPEC")]
+        records: Vec<String>,
+        /// Output CSV file.
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// List the matrices of a NASTRAN OP4 or punch (DMIG) file: name, shape, form, precision,
     /// nnz, Frobenius norm, sum, symmetry.
     Inspect {
@@ -106,6 +129,28 @@ fn run(cli: Cli) -> Result<()> {
             let dir = run_dir(&run)?;
             let report = stages::modes::run(&scene, component.as_deref(), &dir, progress)?;
             progress.info(report.table());
+        }
+        Verb::Reduce(args) => {
+            let scene = Scene::load(&args.scene.scene, &args.scene.set)?;
+            let dir = run_dir(&args)?;
+            let report = stages::reduce::run(&scene, &dir, progress)?;
+            progress.info(report.table());
+        }
+        Verb::Transient { run, export_dae } => {
+            let scene = Scene::load(&run.scene.scene, &run.scene.set)?;
+            let dir = run_dir(&run)?;
+            let r = stages::transient::run(&scene, &dir, progress, export_dae.as_deref())?;
+            progress.info(format!(
+                "{} steps, {:.2} s: squeal = {}, growth rate {:?} /s, dominant frequency {:?} Hz ({})",
+                r.steps, r.cpu_s, r.squeal, r.growth_rate_per_s, r.dominant_frequency_hz, r.response
+            ));
+            if !r.status.is_success() {
+                anyhow::bail!("integration stopped early: {:?} (outputs up to there are written)", r.status);
+            }
+        }
+        Verb::Plotit { run_dir, records, out } => {
+            let (rows, cols) = stages::plotit::run(&run_dir, &records, &out)?;
+            progress.info(format!("{}: {rows} rows, {cols} columns", out.display()));
         }
         Verb::Inspect { file, json } => {
             let summaries = squeal_reduction::inspect::inspect(&file)?;

@@ -3,15 +3,23 @@
 //! Each table maps to one Options struct of the stage that owns it, with `deny_unknown_fields`,
 //! so a typo is an error naming the key. Only what the scene names is computed.
 
+mod brake;
+pub mod contact;
 mod overrides;
+pub mod reduction;
+pub mod transient;
 
+pub use contact::{ContactPair, FrictionSpec, RotorSpec};
 pub use overrides::apply_override;
+pub use reduction::{ModelSource, ModelSpec, ReductionSpec};
+pub use transient::{DampingSpec, LoadsSpec, OutputSpec, TransientSpec};
 
 use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
 use squeal_fe::modal::ModalOptions;
 use squeal_fe::{Hex8Formulation, Material};
-use squeal_meshes::geo::{BlockGeometry, RotorGeometry};
+use squeal_meshes::geo::{BlockGeometry, CaliperDims, PadPlacement, RotorGeometry};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// A whole scene.
@@ -30,6 +38,35 @@ pub struct Scene {
     /// Modal analysis options; its presence asks for `squeal modes` (default: absent).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub modes: Option<ModalOptions>,
+    /// Where the reduced model comes from and how components are joined (default: meshed
+    /// components, merge tolerance 1e-6).
+    #[serde(default)]
+    pub model: ModelSpec,
+    /// Craig–Bampton options (default: absent = the defaults of [`ReductionSpec`] when a verb
+    /// needs a reduced model).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reduction: Option<ReductionSpec>,
+    /// Pad/rotor contact surfaces (default: none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub contact: Vec<ContactPair>,
+    /// Friction law and VTOL (default: absent = no friction).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<FrictionSpec>,
+    /// Rotor speed and axis (default: absent = not turning).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotor: Option<RotorSpec>,
+    /// Brake loads, PMAX and TLOAD (default: absent = no load).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub loads: Option<LoadsSpec>,
+    /// Structural and modal damping (default: absent = undamped).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<DampingSpec>,
+    /// Transient controls; its presence asks for `squeal transient` (default: absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transient: Option<TransientSpec>,
+    /// Recorded grids and gaps, squeal verdict (default: see [`OutputSpec`]).
+    #[serde(default)]
+    pub output: OutputSpec,
     /// Folder that relative paths in the scene are resolved against (not read from the file).
     #[serde(skip)]
     pub base_dir: PathBuf,
@@ -55,6 +92,10 @@ pub struct ComponentSpec {
     pub hex8: Hex8Formulation,
     /// Isotropic linear-elastic material.
     pub material: Material,
+    /// Materials of named physical volumes, overriding `material` for them, e.g. a pad's
+    /// `{ lining = {...}, backplate = {...} }` (default: none).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub materials: BTreeMap<String, Material>,
     /// Fixed (SPC) node sets (default: none, a free-free component).
     #[serde(default)]
     pub fixed: Vec<FixedSpec>,
@@ -81,7 +122,7 @@ impl ElementChoice {
 
 /// Geometry of a component: a parametric template meshed by gmsh, or the user's own mesh.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum GeometrySpec {
     /// Annular disc (brake rotor or annular plate).
     Rotor(RotorGeometry),
@@ -89,6 +130,24 @@ pub enum GeometrySpec {
     Block(BlockGeometry),
     /// A gmsh `.msh` file (2.2 or 4.1), path relative to the scene file.
     Msh { path: PathBuf },
+    /// Brake pad on a friction face of the rotor component `rotor` (default: "rotor"), placed
+    /// in rotor elements so its friction-face nodes are the rotor's ([`PadPlacement`]).
+    Pad {
+        #[serde(default = "brake::default_rotor_name")]
+        rotor: String,
+        #[serde(flatten)]
+        placement: PadPlacement,
+    },
+    /// Caliper over the pad components `inboard` (piston side, default: "inboard_pad") and
+    /// `outboard` (fingers, default: "outboard_pad"), sharing their back nodes ([`CaliperDims`]).
+    Caliper {
+        #[serde(default = "brake::default_inboard_name")]
+        inboard: String,
+        #[serde(default = "brake::default_outboard_name")]
+        outboard: String,
+        #[serde(flatten)]
+        dims: CaliperDims,
+    },
 }
 
 /// A fixed node set: the named set's nodes have the given components held at zero.
@@ -183,11 +242,13 @@ impl Scene {
                 GeometrySpec::Rotor(g) => g.validate(),
                 GeometrySpec::Block(g) => g.validate(),
                 GeometrySpec::Msh { .. } => Ok(()),
+                GeometrySpec::Pad { .. } | GeometrySpec::Caliper { .. } => Ok(()),
             }
             .map_err(|e| PipelineError::Scene {
                 field: format!("components[{i}].geometry"),
                 message: e.to_string(),
             })?;
+            self.validate_brake_component(i, c)?;
             for f in &c.fixed {
                 f.components()?;
             }
@@ -198,6 +259,50 @@ impl Scene {
                 message: e.to_string(),
             })?;
         }
+        self.model.validate()?;
+        if let Some(r) = &self.reduction {
+            r.validate()?;
+        }
+        for (i, c) in self.contact.iter().enumerate() {
+            c.validate(i)?;
+            if self.model.from == ModelSource::Mesh {
+                for name in [&c.pad, &c.rotor] {
+                    if !names.contains(name) {
+                        return Err(PipelineError::Scene {
+                            field: format!("contact[{i}]"),
+                            message: format!(
+                                "no component named `{name}` (the scene has: {})",
+                                self.component_names()
+                            ),
+                        });
+                    }
+                }
+            }
+        }
+        if let Some(f) = &self.friction {
+            f.validate()?;
+        }
+        if let Some(r) = &self.rotor {
+            r.validate()?;
+        }
+        if let Some(l) = &self.loads {
+            l.validate()?;
+            if self.model.from != ModelSource::Mesh && !(l.pressure.is_empty() && l.force.is_empty()) {
+                return Err(PipelineError::Scene {
+                    field: "loads".into(),
+                    message: "pressure and force load sets need a meshed model; a stored model \
+                              carries its brake load as the matrix PBRAKE"
+                        .into(),
+                });
+            }
+        }
+        if let Some(d) = &self.damping {
+            d.validate()?;
+        }
+        if let Some(t) = &self.transient {
+            t.validate()?;
+        }
+        self.output.validate()?;
         Ok(())
     }
 

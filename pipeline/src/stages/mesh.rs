@@ -34,6 +34,8 @@ pub fn mesh_component(
             let text = match g {
                 GeometrySpec::Rotor(r) => geo::rotor(r),
                 GeometrySpec::Block(b) => geo::block(b),
+                GeometrySpec::Pad { .. } => geo::pad(&scene.pad_geometry(&c.name)?),
+                GeometrySpec::Caliper { .. } => geo::caliper(&scene.caliper_geometry(&c.name)?),
                 GeometrySpec::Msh { .. } => unreachable!("handled above"),
             };
             let mesh_dir = dir.subdir("mesh")?;

@@ -1,4 +1,8 @@
 //! One module per verb; each takes a typed scene and a run folder.
 
 pub mod mesh;
+pub mod model;
 pub mod modes;
+pub mod plotit;
+pub mod reduce;
+pub mod transient;

@@ -89,7 +89,7 @@ pub fn run(
     let (mesh, mesh_report) = mesh_component(scene, c, dir, progress)?;
     let fixed = fixed_dofs(c, &mesh)?;
     let dofs = DofMap::new(mesh.nodes.len(), &fixed).map_err(fe_err)?;
-    let materials = vec![c.material.clone(); mesh.volumes.len()];
+    let materials = c.block_materials(&mesh)?;
     let step = progress.step(format!("assembling K, M ({} DOFs)", dofs.n_free()));
     let asm_opts = AssemblyOptions {
         hex8: c.hex8,

@@ -3,7 +3,7 @@
 
 use super::eigen::{self, LanczosParams, Want};
 use super::model::CbModel;
-use super::partition::{add_scaled, split, spmm, to_dense, Partition, Sparse};
+use super::partition::{add_scaled, split, sym_spmm, to_dense, Partition, Sparse};
 use super::rigid::{rigid_body_mass, rigid_vectors, DofPoint, RigidBodyMass};
 use crate::error::ReductionError;
 use faer::linalg::solvers::Solve;
@@ -29,7 +29,11 @@ pub struct CheckOptions {
 
 impl Default for CheckOptions {
     fn default() -> Self {
-        Self { frequency_of_interest_hz: None, rigid_rel_tol: 1e-8, dense_max: 2000 }
+        Self {
+            frequency_of_interest_hz: None,
+            rigid_rel_tol: 1e-8,
+            dense_max: 2000,
+        }
     }
 }
 
@@ -158,9 +162,9 @@ pub fn check(
             let part = Partition::new(n, &model.boundary)?;
             let kp = split(k, &part);
             let mp = split(m, &part);
-            let mqq = model.phi.transpose() * spmm(&mp.ii, model.phi.as_ref());
+            let mqq = model.phi.transpose() * sym_spmm(&mp.ii, model.phi.as_ref());
             let kbq = if nq > 0 {
-                let r = spmm(&kp.ii, model.psi.as_ref()) + to_dense(&kp.ib);
+                let r = sym_spmm(&kp.ii, model.psi.as_ref()) + to_dense(&kp.ib);
                 r.transpose() * &model.phi
             } else {
                 Mat::zeros(nb, 0)
@@ -191,20 +195,38 @@ pub fn check(
         let reduced = rigid_body_mass((rb.transpose() * mbb * &rb).as_ref());
         let full_rb = full.map(|(_, m)| {
             let r = rigid_vectors(pts);
-            rigid_body_mass((r.transpose() * spmm(m, r.as_ref())).as_ref())
+            rigid_body_mass((r.transpose() * sym_spmm(m, r.as_ref())).as_ref())
         });
         let size = bbox_size(pts);
         let (mass_rel_err, cg_rel_err, matrix_rel_err) = match &full_rb {
             Some(f) => {
-                let me = (0..3).map(|a| ((reduced.mass[a] - f.mass[a]) / f.mass[a]).abs()).fold(0.0, Real::max);
-                let ce = (0..3).map(|a| (reduced.cg[a] - f.cg[a]).powi(2)).sum::<Real>().sqrt() / size;
-                let fs = f.matrix.iter().flatten().fold(0.0, |a: Real, v| a.max(v.abs()));
-                let de = (0..36).map(|i| (reduced.matrix[i / 6][i % 6] - f.matrix[i / 6][i % 6]).abs()).fold(0.0, Real::max);
+                let me = (0..3)
+                    .map(|a| ((reduced.mass[a] - f.mass[a]) / f.mass[a]).abs())
+                    .fold(0.0, Real::max);
+                let ce = (0..3)
+                    .map(|a| (reduced.cg[a] - f.cg[a]).powi(2))
+                    .sum::<Real>()
+                    .sqrt()
+                    / size;
+                let fs = f
+                    .matrix
+                    .iter()
+                    .flatten()
+                    .fold(0.0, |a: Real, v| a.max(v.abs()));
+                let de = (0..36)
+                    .map(|i| (reduced.matrix[i / 6][i % 6] - f.matrix[i / 6][i % 6]).abs())
+                    .fold(0.0, Real::max);
                 (Some(me), Some(ce), Some(de / fs))
             }
             None => (None, None, None),
         };
-        RigidCheck { reduced, full: full_rb, mass_rel_err, cg_rel_err, matrix_rel_err }
+        RigidCheck {
+            reduced,
+            full: full_rb,
+            mass_rel_err,
+            cg_rel_err,
+            matrix_rel_err,
+        }
     });
 
     // Frequencies against the full model.
@@ -214,7 +236,11 @@ pub fn check(
         .or(model.stats.cutoff_hz.map(|c| 0.5 * c))
         .or(model.fixed_frequencies_hz.last().map(|f| 0.5 * f))
         .unwrap_or(Real::INFINITY);
-    let red_hz: Vec<Real> = red_vals.iter().map(|&l| hz(l)).filter(|&f| f <= foi).collect();
+    let red_hz: Vec<Real> = red_vals
+        .iter()
+        .map(|&l| hz(l))
+        .filter(|&f| f <= foi)
+        .collect();
     let full_hz: Vec<Real> = match full {
         Some((k, m)) => full_frequencies(k, m, foi, opts)?,
         None => Vec::new(),
@@ -224,13 +250,24 @@ pub fn check(
         .map(|i| {
             let (f, r) = (full_hz.get(i).copied(), red_hz.get(i).copied());
             let error_pct = match (f, r) {
-                (Some(f), Some(r)) if f > rigid_threshold_hz && r > rigid_threshold_hz => Some(100.0 * (r - f) / f),
+                (Some(f), Some(r)) if f > rigid_threshold_hz && r > rigid_threshold_hz => {
+                    Some(100.0 * (r - f) / f)
+                }
                 _ => None,
             };
-            FrequencyRow { mode: i + 1, full_hz: f, reduced_hz: r, error_pct }
+            FrequencyRow {
+                mode: i + 1,
+                full_hz: f,
+                reduced_hz: r,
+                error_pct,
+            }
         })
         .collect();
-    let max_abs_error_pct = frequencies.iter().filter_map(|r| r.error_pct).map(Real::abs).reduce(Real::max);
+    let max_abs_error_pct = frequencies
+        .iter()
+        .filter_map(|r| r.error_pct)
+        .map(Real::abs)
+        .reduce(Real::max);
     Ok(CbCheck {
         n_boundary: nb,
         n_modes: nq,
@@ -266,49 +303,116 @@ fn bbox_size(pts: &[DofPoint]) -> Real {
 
 /// Free-free frequencies of the full model up to `foi` Hz (dense, or block Lanczos about a
 /// negative shift σ = −(0.1 · 2π foi)², which makes K − σM positive definite).
-fn full_frequencies(k: &Sparse, m: &Sparse, foi: Real, opts: &CheckOptions) -> Result<Vec<Real>, ReductionError> {
+fn full_frequencies(
+    k: &Sparse,
+    m: &Sparse,
+    foi: Real,
+    opts: &CheckOptions,
+) -> Result<Vec<Real>, ReductionError> {
     let n = k.nrows();
-    let lambda_max = if foi.is_finite() { Some((2.0 * PI * foi).powi(2)) } else { None };
-    let want = Want { lambda_max, n_max: None };
+    let lambda_max = if foi.is_finite() {
+        Some((2.0 * PI * foi).powi(2))
+    } else {
+        None
+    };
+    let want = Want {
+        lambda_max,
+        n_max: None,
+    };
     let pairs = if n <= opts.dense_max || lambda_max.is_none() {
-        eigen::dense(to_dense(k).as_ref(), to_dense(m).as_ref(), want, "full model")?
+        eigen::dense(
+            to_dense(k).as_ref(),
+            to_dense(m).as_ref(),
+            want,
+            "full model",
+        )?
     } else {
         let sigma = -(0.1 * 2.0 * PI * foi).powi(2);
         let shifted = add_scaled(k, m, -sigma);
-        let ferr = |e: String| ReductionError::Factorization { what: "full K − σM".into(), n, detail: e };
-        let sym = SymbolicLlt::try_new(shifted.symbolic(), Side::Lower).map_err(|e| ferr(format!("{e:?}")))?;
-        let llt = Llt::try_new_with_symbolic(sym, shifted.as_ref(), Side::Lower).map_err(|e| ferr(format!("{e:?}")))?;
+        let ferr = |e: String| ReductionError::Factorization {
+            what: "full K − σM".into(),
+            n,
+            detail: e,
+        };
+        let sym = SymbolicLlt::try_new(shifted.symbolic(), Side::Lower)
+            .map_err(|e| ferr(format!("{e:?}")))?;
+        let llt = Llt::try_new_with_symbolic(sym, shifted.as_ref(), Side::Lower)
+            .map_err(|e| ferr(format!("{e:?}")))?;
         let solve = |x: faer::MatMut<'_, Real>| llt.solve_in_place(x);
-        let params = LanczosParams { block: 6, max_dim: 900, tol: 1e-9 };
+        let params = LanczosParams {
+            block: 6,
+            max_dim: 900,
+            tol: 1e-9,
+        };
         eigen::lanczos(&solve, m, sigma, want, params, "full model")?
     };
-    Ok(pairs.values.iter().map(|&l| l.max(0.0).sqrt() / (2.0 * PI)).collect())
+    Ok(pairs
+        .values
+        .iter()
+        .map(|&l| l.max(0.0).sqrt() / (2.0 * PI))
+        .collect())
 }
 
 impl fmt::Display for CbCheck {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "Craig–Bampton check: {} boundary DOFs, {} modes", self.n_boundary, self.n_modes)?;
+        writeln!(
+            f,
+            "Craig–Bampton check: {} boundary DOFs, {} modes",
+            self.n_boundary, self.n_modes
+        )?;
         writeln!(f, "  K asymmetry (rel)        {:.3e}", self.k_asymmetry)?;
         writeln!(f, "  M asymmetry (rel)        {:.3e}", self.m_asymmetry)?;
-        writeln!(f, "  max |M_qq - I|           {:.3e}", self.mqq_max_deviation)?;
+        writeln!(
+            f,
+            "  max |M_qq - I|           {:.3e}",
+            self.mqq_max_deviation
+        )?;
         writeln!(f, "  max |K_bq| / max |K|     {:.3e}", self.kbq_rel)?;
-        writeln!(f, "  free-free rigid modes    {} (below {:.3e} Hz)", self.n_rigid_modes, self.rigid_threshold_hz)?;
+        writeln!(
+            f,
+            "  free-free rigid modes    {} (below {:.3e} Hz)",
+            self.n_rigid_modes, self.rigid_threshold_hz
+        )?;
         if let Some(r) = &self.rigid {
             let m = r.reduced.mass;
             let c = r.reduced.cg;
-            writeln!(f, "  rigid mass (reduced)     [{:.6e}, {:.6e}, {:.6e}]", m[0], m[1], m[2])?;
-            writeln!(f, "  CG (reduced)             [{:.6e}, {:.6e}, {:.6e}]", c[0], c[1], c[2])?;
+            writeln!(
+                f,
+                "  rigid mass (reduced)     [{:.6e}, {:.6e}, {:.6e}]",
+                m[0], m[1], m[2]
+            )?;
+            writeln!(
+                f,
+                "  CG (reduced)             [{:.6e}, {:.6e}, {:.6e}]",
+                c[0], c[1], c[2]
+            )?;
             if let Some(fu) = &r.full {
                 let (m, c) = (fu.mass, fu.cg);
-                writeln!(f, "  rigid mass (full)        [{:.6e}, {:.6e}, {:.6e}]", m[0], m[1], m[2])?;
-                writeln!(f, "  CG (full)                [{:.6e}, {:.6e}, {:.6e}]", c[0], c[1], c[2])?;
+                writeln!(
+                    f,
+                    "  rigid mass (full)        [{:.6e}, {:.6e}, {:.6e}]",
+                    m[0], m[1], m[2]
+                )?;
+                writeln!(
+                    f,
+                    "  CG (full)                [{:.6e}, {:.6e}, {:.6e}]",
+                    c[0], c[1], c[2]
+                )?;
             }
             if let (Some(me), Some(ce)) = (r.mass_rel_err, r.cg_rel_err) {
                 writeln!(f, "  mass rel. error {me:.3e}, CG error / size {ce:.3e}")?;
             }
         }
-        writeln!(f, "  frequencies up to {:.6} Hz:", self.frequency_of_interest_hz)?;
-        writeln!(f, "  {:>5} {:>14} {:>14} {:>10}", "mode", "full Hz", "reduced Hz", "error %")?;
+        writeln!(
+            f,
+            "  frequencies up to {:.6} Hz:",
+            self.frequency_of_interest_hz
+        )?;
+        writeln!(
+            f,
+            "  {:>5} {:>14} {:>14} {:>10}",
+            "mode", "full Hz", "reduced Hz", "error %"
+        )?;
         let opt = |v: Option<Real>, p: usize| v.map_or("-".to_string(), |x| format!("{x:.p$}"));
         for r in &self.frequencies {
             writeln!(

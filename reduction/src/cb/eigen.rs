@@ -3,7 +3,9 @@
 
 use super::partition::Sparse;
 use crate::error::ReductionError;
-use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
 use faer::{Mat, MatMut, MatRef, Par, Side};
 use squeal_meshes::Real;
 
@@ -22,10 +24,18 @@ pub(crate) struct Eigenpairs {
     pub krylov_dim: usize,
     /// Right-hand sides solved with the factorisation (0 for dense).
     pub n_solves: usize,
+    /// Seconds spent in the solves (Lanczos only).
+    pub solve_s: Real,
+    /// Seconds spent in M products and reorthogonalisation (Lanczos only).
+    pub orth_s: Real,
 }
 
 fn eig_err(what: &str, n: usize, detail: impl Into<String>) -> ReductionError {
-    ReductionError::Eigen { what: what.to_string(), n, detail: detail.into() }
+    ReductionError::Eigen {
+        what: what.to_string(),
+        n,
+        detail: detail.into(),
+    }
 }
 
 /// Number of leading entries of the ascending `values` that `want` keeps.
@@ -62,13 +72,19 @@ fn sym_eigen(a: Mat<Real>, what: &str) -> Result<(Vec<Real>, Mat<Real>), Reducti
 /// All eigenpairs of the dense symmetric pencil (k, m), ascending, vectors M-orthonormal.
 ///
 /// Reduces to a standard problem with the Cholesky factor of m: C = L⁻¹ K L⁻ᵀ, x = L⁻ᵀ y.
-pub(crate) fn dense_all(k: MatRef<'_, Real>, m: MatRef<'_, Real>, what: &str) -> Result<(Vec<Real>, Mat<Real>), ReductionError> {
+pub(crate) fn dense_all(
+    k: MatRef<'_, Real>,
+    m: MatRef<'_, Real>,
+    what: &str,
+) -> Result<(Vec<Real>, Mat<Real>), ReductionError> {
     let n = k.nrows();
-    let llt = m.llt(Side::Lower).map_err(|e| ReductionError::Factorization {
-        what: format!("mass matrix of {what}"),
-        n,
-        detail: format!("{e:?}"),
-    })?;
+    let llt = m
+        .llt(Side::Lower)
+        .map_err(|e| ReductionError::Factorization {
+            what: format!("mass matrix of {what}"),
+            n,
+            detail: format!("{e:?}"),
+        })?;
     let l = llt.L();
     let mut c = k.to_owned();
     solve_lower_triangular_in_place(l, c.as_mut(), Par::Seq);
@@ -85,7 +101,12 @@ pub(crate) fn dense_all(k: MatRef<'_, Real>, m: MatRef<'_, Real>, what: &str) ->
 }
 
 /// The wanted lowest eigenpairs of the dense pencil (k, m).
-pub(crate) fn dense(k: MatRef<'_, Real>, m: MatRef<'_, Real>, want: Want, what: &str) -> Result<Eigenpairs, ReductionError> {
+pub(crate) fn dense(
+    k: MatRef<'_, Real>,
+    m: MatRef<'_, Real>,
+    want: Want,
+    what: &str,
+) -> Result<Eigenpairs, ReductionError> {
     let (values, x) = dense_all(k, m, what)?;
     let keep = n_kept(&values, want);
     Ok(Eigenpairs {
@@ -93,6 +114,8 @@ pub(crate) fn dense(k: MatRef<'_, Real>, m: MatRef<'_, Real>, want: Want, what: 
         vectors: x.subcols(0, keep).to_owned(),
         krylov_dim: 0,
         n_solves: 0,
+        solve_s: 0.0,
+        orth_s: 0.0,
     })
 }
 
@@ -121,7 +144,7 @@ fn random_block(n: usize, p: usize, seed: u64) -> Mat<Real> {
 fn chol_qr(w: &mut Mat<Real>, m: &Sparse) -> Option<(Mat<Real>, Mat<Real>)> {
     let p = w.ncols();
     let mut r_total = Mat::<Real>::identity(p, p);
-    let mut mw = super::partition::spmm(m, w.as_ref());
+    let mut mw = super::partition::sym_spmm(m, w.as_ref());
     for _ in 0..2 {
         let g = w.transpose() * &mw;
         let g = Mat::<Real>::from_fn(p, p, |i, j| 0.5 * (g[(i, j)] + g[(j, i)]));
@@ -129,7 +152,8 @@ fn chol_qr(w: &mut Mat<Real>, m: &Sparse) -> Option<(Mat<Real>, Mat<Real>)> {
         let l = llt.L();
         let dmax = (0..p).map(|i| l[(i, i)]).fold(0.0, Real::max);
         let dmin = (0..p).map(|i| l[(i, i)]).fold(Real::INFINITY, Real::min);
-        if !(dmin > 1e-10 * dmax) {
+        // NaN-safe: also rejects a NaN diagonal.
+        if dmin.is_nan() || dmin <= 1e-10 * dmax {
             return None;
         }
         // w ← w L⁻ᵀ  ⇔  wᵀ ← L⁻¹ wᵀ
@@ -144,8 +168,72 @@ fn chol_qr(w: &mut Mat<Real>, m: &Sparse) -> Option<(Mat<Real>, Mat<Real>)> {
     Some((mw, r_total))
 }
 
+/// Krylov basis Q (M-orthonormal columns) and M Q, stored contiguously so that projections
+/// against the whole basis are single matrix products.
+struct Basis {
+    q: Mat<Real>,
+    mq: Mat<Real>,
+    len: usize,
+}
+
+impl Basis {
+    fn new(n: usize, cap: usize) -> Self {
+        Self {
+            q: Mat::zeros(n, cap),
+            mq: Mat::zeros(n, cap),
+            len: 0,
+        }
+    }
+
+    fn push(&mut self, q: MatRef<'_, Real>, mq: MatRef<'_, Real>) {
+        let (n, p) = (q.nrows(), q.ncols());
+        if self.len + p > self.q.ncols() {
+            let cap = (2 * self.q.ncols()).max(self.len + p);
+            let mut nq = Mat::<Real>::zeros(n, cap);
+            let mut nmq = Mat::<Real>::zeros(n, cap);
+            nq.subcols_mut(0, self.len)
+                .copy_from(self.q.subcols(0, self.len));
+            nmq.subcols_mut(0, self.len)
+                .copy_from(self.mq.subcols(0, self.len));
+            self.q = nq;
+            self.mq = nmq;
+        }
+        self.q.subcols_mut(self.len, p).copy_from(q);
+        self.mq.subcols_mut(self.len, p).copy_from(mq);
+        self.len += p;
+    }
+
+    /// w ← w − Q (MQ)ᵀ w; returns the coefficients (MQ)ᵀ w (len × p).
+    fn project_out(&self, w: &mut Mat<Real>) -> Mat<Real> {
+        let par = faer::get_global_parallelism();
+        let mut c = Mat::<Real>::zeros(self.len, w.ncols());
+        faer::linalg::matmul::matmul(
+            c.as_mut(),
+            faer::Accum::Replace,
+            self.mq.subcols(0, self.len).transpose(),
+            w.as_ref(),
+            1.0,
+            par,
+        );
+        faer::linalg::matmul::matmul(
+            w.as_mut(),
+            faer::Accum::Add,
+            self.q.subcols(0, self.len),
+            c.as_ref(),
+            -1.0,
+            par,
+        );
+        c
+    }
+}
+
 /// Lowest eigenpairs of K x = λ M x by block Lanczos on the operator (K − σM)⁻¹ M, whose
 /// eigenvalues θ = 1/(λ − σ) are largest for the wanted λ. `solve` applies (K − σM)⁻¹ in place.
+///
+/// Full reorthogonalisation (classical Gram–Schmidt, twice) against the whole basis; the
+/// projected matrix T = QᵀM(K − σM)⁻¹MQ is block tridiagonal, its diagonal blocks from the
+/// projection coefficients and its off-diagonal blocks from the Cholesky-QR of each new block.
+/// A Ritz pair (θ, Qs) has residual norm ‖B_j s_last‖ (B_j the last QR factor).
 pub(crate) fn lanczos(
     solve: &(dyn Fn(MatMut<'_, Real>) + Sync),
     m: &Sparse,
@@ -157,46 +245,45 @@ pub(crate) fn lanczos(
     let n = m.nrows();
     let p = params.block.min(n).max(1);
     let max_dim = params.max_dim.min(n);
-    let mut q_blocks: Vec<Mat<Real>> = Vec::new();
-    let mut mq_blocks: Vec<Mat<Real>> = Vec::new();
+    let initial_cap = (want.n_max.unwrap_or(4 * p) * 3 + 2 * p).min(max_dim + p);
+    let mut basis = Basis::new(n, initial_cap);
     let mut t = Mat::<Real>::zeros(max_dim + p, max_dim + p);
     let mut n_solves = 0;
+    let (mut solve_s, mut orth_s) = (0.0, 0.0);
     let mut w = random_block(n, p, 1);
     let (mw, _) = chol_qr(&mut w, m).ok_or_else(|| eig_err(what, n, "degenerate random start"))?;
-    q_blocks.push(w);
-    mq_blocks.push(mw);
+    basis.push(w.as_ref(), mw.as_ref());
     let theta_min = want.lambda_max.map(|l| 1.0 / (l - sigma));
+    let mut step = 0usize;
     loop {
-        let j = q_blocks.len() - 1;
-        let mut w = mq_blocks[j].clone();
+        let j = step;
+        let dim = basis.len;
+        let mut w = basis.mq.subcols(dim - p, p).to_owned();
+        let clock = std::time::Instant::now();
         solve(w.as_mut());
+        solve_s += clock.elapsed().as_secs_f64();
         n_solves += p;
-        // Full reorthogonalisation (classical Gram–Schmidt, twice); the first pass's
-        // coefficients are the projected matrix T = Qᵀ M Op Q.
-        for pass in 0..2 {
-            for i in 0..=j {
-                let c = mq_blocks[i].transpose() * &w;
-                w -= &q_blocks[i] * &c;
-                if pass == 0 || i == j {
-                    for a in 0..p {
-                        for b in 0..p {
-                            t[(i * p + a, j * p + b)] += c[(a, b)];
-                        }
-                    }
+        let clock = std::time::Instant::now();
+        let c = basis.project_out(&mut w);
+        let c2 = basis.project_out(&mut w);
+        // Diagonal block A_j (both passes); the block above it pairs with the previous B.
+        for a in 0..p {
+            for b in 0..p {
+                t[(j * p + a, j * p + b)] = c[(j * p + a, b)] + c2[(j * p + a, b)];
+                if j > 0 {
+                    t[((j - 1) * p + a, j * p + b)] = c[((j - 1) * p + a, b)];
                 }
             }
         }
-        let dim = (j + 1) * p;
-        // Symmetrise the leading block of T (only the block tridiagonal part is kept).
         for a in 0..dim {
             for b in 0..a {
-                let (ia, ib) = (a / p, b / p);
-                let v = if ia.abs_diff(ib) <= 1 { 0.5 * (t[(a, b)] + t[(b, a)]) } else { 0.0 };
+                let v = 0.5 * (t[(a, b)] + t[(b, a)]);
                 t[(a, b)] = v;
                 t[(b, a)] = v;
             }
         }
         let next = chol_qr(&mut w, m);
+        orth_s += clock.elapsed().as_secs_f64();
         let b_j = match &next {
             Some((_, r)) => r.clone(),
             None => Mat::<Real>::zeros(p, p),
@@ -204,10 +291,10 @@ pub(crate) fn lanczos(
         let exhausted = dim + p > max_dim || (next.is_none() && dim + p > n);
         // Solving the projected problem costs O(dim³): do it less often as dim grows.
         if !exhausted && j >= 8 && j % (j / 8) != 0 {
-            push_next(&mut q_blocks, &mut mq_blocks, &mut t, next, w, p, m, what)?;
+            push_next(&mut basis, &mut t, next, w, p, m, what)?;
+            step += 1;
             continue;
         }
-        // Ritz values and residual norms ‖B_j s_last‖.
         let tj = t.submatrix(0, 0, dim, dim).to_owned();
         let (s, u) = sym_eigen(tj, what)?;
         let mut order: Vec<usize> = (0..dim).collect();
@@ -241,7 +328,8 @@ pub(crate) fn lanczos(
             (None, Some(_)) => false,
         };
         if done || exhausted {
-            if !done && !(next.is_none() && n_conv == dim) {
+            let whole_space = next.is_none() && n_conv == dim;
+            if !done && !whole_space {
                 return Err(eig_err(
                     what,
                     n,
@@ -252,23 +340,28 @@ pub(crate) fn lanczos(
                 ));
             }
             let keep = want.n_max.map_or(wanted_in_run, |nm| nm.min(wanted_in_run));
-            let mut vectors = Mat::<Real>::zeros(n, keep);
             let sel = Mat::<Real>::from_fn(dim, keep, |r, c| u[(r, order[c])]);
-            for (i, qb) in q_blocks.iter().enumerate() {
-                vectors += qb * sel.subrows(i * p, p);
-            }
+            let vectors = basis.q.subcols(0, dim) * &sel;
             let values = (0..keep).map(|c| sigma + 1.0 / s[order[c]]).collect();
-            return Ok(Eigenpairs { values, vectors, krylov_dim: dim, n_solves });
+            return Ok(Eigenpairs {
+                values,
+                vectors,
+                krylov_dim: dim,
+                n_solves,
+                solve_s,
+                orth_s,
+            });
         }
-        push_next(&mut q_blocks, &mut mq_blocks, &mut t, next, w, p, m, what)?;
+        push_next(&mut basis, &mut t, next, w, p, m, what)?;
+        step += 1;
     }
 }
 
 /// Appends the next Lanczos block (or a fresh random block after an invariant subspace) and
-/// records the coupling block B_j in T.
+/// records the coupling block B_j below the diagonal of T (the block above it is filled from
+/// the next step's projection coefficients, then both are averaged).
 fn push_next(
-    q_blocks: &mut Vec<Mat<Real>>,
-    mq_blocks: &mut Vec<Mat<Real>>,
+    basis: &mut Basis,
     t: &mut Mat<Real>,
     next: Option<(Mat<Real>, Mat<Real>)>,
     w: Mat<Real>,
@@ -276,40 +369,36 @@ fn push_next(
     m: &Sparse,
     what: &str,
 ) -> Result<(), ReductionError> {
-    let j = q_blocks.len() - 1;
+    let j = basis.len / p - 1;
     let n = m.nrows();
-    let (qn, mqn) = match next {
+    match next {
         Some((mw, r)) => {
             for a in 0..p {
                 for b in 0..p {
-                    // Lower block only: the upper one is accumulated from the next step's
-                    // projection coefficients and averaged with this one.
                     t[((j + 1) * p + a, j * p + b)] = r[(a, b)];
                 }
             }
-            (w, mw)
+            basis.push(w.as_ref(), mw.as_ref());
         }
         None => {
             // Invariant subspace found: continue with a fresh block M-orthogonal to Q.
             let mut r = random_block(n, p, 7 + j as u64);
-            for _ in 0..2 {
-                for i in 0..=j {
-                    let c = mq_blocks[i].transpose() * &r;
-                    r -= &q_blocks[i] * &c;
-                }
-            }
-            let (mw, _) = chol_qr(&mut r, m).ok_or_else(|| eig_err(what, n, "restart block is degenerate"))?;
-            (r, mw)
+            basis.project_out(&mut r);
+            basis.project_out(&mut r);
+            let (mw, _) = chol_qr(&mut r, m)
+                .ok_or_else(|| eig_err(what, n, "restart block is degenerate"))?;
+            basis.push(r.as_ref(), mw.as_ref());
         }
-    };
-    q_blocks.push(qn);
-    mq_blocks.push(mqn);
+    }
     Ok(())
 }
 
 /// All eigenpairs of the dense symmetric pencil (k, m) with m positive definite: eigenvalues
 /// ascending, eigenvectors M-orthonormal (columns). Meant for reduced models (a few thousand DOFs).
-pub fn dense_generalized_eigen(k: MatRef<'_, Real>, m: MatRef<'_, Real>) -> Result<(Vec<Real>, Mat<Real>), ReductionError> {
+pub fn dense_generalized_eigen(
+    k: MatRef<'_, Real>,
+    m: MatRef<'_, Real>,
+) -> Result<(Vec<Real>, Mat<Real>), ReductionError> {
     if k.nrows() != k.ncols() || m.nrows() != k.nrows() || m.ncols() != k.nrows() {
         return Err(ReductionError::ShapeMismatch {
             what: "mass of the pencil".into(),

@@ -39,6 +39,10 @@ pub struct CbStats {
     pub factor_s: Real,
     pub constraint_modes_s: Real,
     pub eigen_s: Real,
+    /// Part of `eigen_s` spent solving with the K_ii factor (block Lanczos).
+    pub eigen_solve_s: Real,
+    /// Part of `eigen_s` spent in M products and reorthogonalisation (block Lanczos).
+    pub eigen_orth_s: Real,
     pub products_s: Real,
     pub total_s: Real,
     /// Peak resident memory (VmHWM, KiB) after each phase, when /proc/self/status is readable.

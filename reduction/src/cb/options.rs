@@ -23,9 +23,11 @@ pub struct CbOptions {
     pub n_modes: Option<usize>,
     /// Interior size up to which the fixed-interface eigenproblem is solved densely (default: 1500).
     pub dense_max: usize,
-    /// Columns per block when solving for the constraint modes in parallel (default: 32).
+    /// Columns per block when solving for the constraint modes in parallel (default: 0 =
+    /// the boundary DOFs split evenly over the rayon threads: one pass over the factor each).
     pub constraint_block: usize,
-    /// Block size of the shift-invert block Lanczos used above `dense_max` (default: 6).
+    /// Block size of the shift-invert block Lanczos used above `dense_max` (default: 16; each
+    /// block costs one pass over the factor, which dominates on large models).
     pub lanczos_block: usize,
     /// Largest Krylov dimension of the block Lanczos before it gives up (default: 600).
     pub lanczos_max_dim: usize,
@@ -41,8 +43,8 @@ impl Default for CbOptions {
             cutoff_factor: 2.0,
             n_modes: None,
             dense_max: 1500,
-            constraint_block: 32,
-            lanczos_block: 6,
+            constraint_block: 0,
+            lanczos_block: 16,
             lanczos_max_dim: 600,
             lanczos_tol: 1e-9,
         }
@@ -87,23 +89,31 @@ impl CbOptions {
             }
         }
         if !(self.cutoff_factor.is_finite() && self.cutoff_factor >= 1.0) {
-            return Err(bad("cutoff_factor", self.cutoff_factor, "must be finite and >= 1"));
+            return Err(bad(
+                "cutoff_factor",
+                self.cutoff_factor,
+                "must be finite and >= 1",
+            ));
         }
-        if self.cutoff_hz.is_none() && self.frequency_of_interest_hz.is_none() && self.n_modes.is_none() {
+        if self.cutoff_hz.is_none()
+            && self.frequency_of_interest_hz.is_none()
+            && self.n_modes.is_none()
+        {
             return Err(bad(
                 "cutoff_hz",
                 "none",
                 "give cutoff_hz, frequency_of_interest_hz or n_modes",
             ));
         }
-        if self.constraint_block == 0 {
-            return Err(bad("constraint_block", 0, "must be >= 1"));
-        }
         if self.lanczos_block == 0 {
             return Err(bad("lanczos_block", 0, "must be >= 1"));
         }
         if self.lanczos_max_dim < 2 * self.lanczos_block {
-            return Err(bad("lanczos_max_dim", self.lanczos_max_dim, "must be >= 2 × lanczos_block"));
+            return Err(bad(
+                "lanczos_max_dim",
+                self.lanczos_max_dim,
+                "must be >= 2 × lanczos_block",
+            ));
         }
         if !(self.lanczos_tol > 0.0 && self.lanczos_tol < 1e-2) {
             return Err(bad("lanczos_tol", self.lanczos_tol, "must be in (0, 1e-2)"));
@@ -113,7 +123,8 @@ impl CbOptions {
 
     /// The cutoff frequency in Hz, if any (explicit, or factor × frequency of interest).
     pub fn resolved_cutoff_hz(&self) -> Option<Real> {
-        self.cutoff_hz
-            .or(self.frequency_of_interest_hz.map(|f| f * self.cutoff_factor))
+        self.cutoff_hz.or(self
+            .frequency_of_interest_hz
+            .map(|f| f * self.cutoff_factor))
     }
 }

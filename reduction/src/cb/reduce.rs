@@ -3,7 +3,7 @@
 use super::eigen::{self, LanczosParams, Want};
 use super::model::{peak_rss_kib, CbModel, CbStats, EigenMethod, PhaseMemory};
 use super::options::CbOptions;
-use super::partition::{check_square, split, spmm, to_dense, Blocks, Partition, Sparse};
+use super::partition::{check_square, split, sym_spmm, to_dense, Blocks, Partition, Sparse};
 use crate::error::ReductionError;
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
@@ -16,11 +16,19 @@ use std::time::Instant;
 /// Craig–Bampton reduction of a component with stiffness `k` and mass `m` (sparse, full
 /// symmetric storage, over the component's free DOFs) onto the `boundary` free DOFs and the
 /// fixed-interface modes chosen by `opts`. See [`reduce_damped`].
-pub fn reduce(k: &Sparse, m: &Sparse, boundary: &[usize], opts: &CbOptions) -> Result<CbModel, ReductionError> {
+pub fn reduce(
+    k: &Sparse,
+    m: &Sparse,
+    boundary: &[usize],
+    opts: &CbOptions,
+) -> Result<CbModel, ReductionError> {
     reduce_damped(k, m, None, boundary, opts)
 }
 
 /// Craig–Bampton reduction, also reducing a viscous damping matrix `b` when given.
+///
+/// K, M and B must be symmetric with full storage (checked: an asymmetric entry is an error);
+/// the products below use that symmetry.
 ///
 /// # Derivation
 /// Partition u = [u_b, u_i]. The constraint modes Ψ = −K_ii⁻¹ K_ib (one sparse Cholesky of
@@ -53,19 +61,27 @@ pub fn reduce_damped(
     let Kp = split(k, &part);
     let Mp = split(m, &part);
     let Bp = b.map(|b| split(b, &part));
-    let mut mem = PhaseMemory { partition: peak_rss_kib(), ..Default::default() };
+    let mut mem = PhaseMemory {
+        partition: peak_rss_kib(),
+        ..Default::default()
+    };
     let partition_s = t_start.elapsed().as_secs_f64();
 
     // One sparse Cholesky of K_ii.
     let t = Instant::now();
     let fact_err = |detail: String| ReductionError::Factorization {
-        what: "interior stiffness K_ii (the boundary DOFs must restrain every rigid-body motion)".into(),
+        what: "interior stiffness K_ii (the boundary DOFs must restrain every rigid-body motion)"
+            .into(),
         n: ni,
         detail,
     };
     let llt = if ni > 0 {
-        let sym = SymbolicLlt::try_new(Kp.ii.symbolic(), Side::Lower).map_err(|e| fact_err(format!("{e:?}")))?;
-        Some(Llt::try_new_with_symbolic(sym, Kp.ii.as_ref(), Side::Lower).map_err(|e| fact_err(format!("{e:?}")))?)
+        let sym = SymbolicLlt::try_new(Kp.ii.symbolic(), Side::Lower)
+            .map_err(|e| fact_err(format!("{e:?}")))?;
+        Some(
+            Llt::try_new_with_symbolic(sym, Kp.ii.as_ref(), Side::Lower)
+                .map_err(|e| fact_err(format!("{e:?}")))?,
+        )
     } else {
         None
     };
@@ -77,7 +93,12 @@ pub fn reduce_damped(
     let mut psi = Mat::<Real>::zeros(ni, nb);
     add_sparse(psi.as_mut(), &Kp.ib, -1.0);
     if let Some(llt) = &llt {
-        psi.par_col_chunks_mut(opts.constraint_block).for_each(|block| llt.solve_in_place(block));
+        let chunk = match opts.constraint_block {
+            0 => nb.div_ceil(rayon::current_num_threads()).max(1),
+            c => c,
+        };
+        psi.par_col_chunks_mut(chunk)
+            .for_each(|block| llt.solve_in_place(block));
     }
     check_finite(psi.as_ref(), "constraint modes Ψ")?;
     mem.constraint_modes = peak_rss_kib();
@@ -86,21 +107,48 @@ pub fn reduce_damped(
     // Fixed-interface modes of (K_ii, M_ii).
     let t = Instant::now();
     let cutoff_hz = opts.resolved_cutoff_hz();
-    let want = Want { lambda_max: cutoff_hz.map(|f| (2.0 * PI * f).powi(2)), n_max: opts.n_modes };
+    let want = Want {
+        lambda_max: cutoff_hz.map(|f| (2.0 * PI * f).powi(2)),
+        n_max: opts.n_modes,
+    };
     let (pairs, method) = match &llt {
         _ if ni == 0 || opts.n_modes == Some(0) => (None, EigenMethod::None),
         Some(_) if ni <= opts.dense_max => {
-            let p = eigen::dense(to_dense(&Kp.ii).as_ref(), to_dense(&Mp.ii).as_ref(), want, "fixed-interface K_ii, M_ii")?;
+            let p = eigen::dense(
+                to_dense(&Kp.ii).as_ref(),
+                to_dense(&Mp.ii).as_ref(),
+                want,
+                "fixed-interface K_ii, M_ii",
+            )?;
             (Some(p), EigenMethod::Dense)
         }
         Some(llt) => {
-            let solve = |x: faer::MatMut<'_, Real>| llt.solve_in_place(x);
-            let params = LanczosParams { block: opts.lanczos_block, max_dim: opts.lanczos_max_dim, tol: opts.lanczos_tol };
-            let p = eigen::lanczos(&solve, &Mp.ii, 0.0, want, params, "fixed-interface K_ii, M_ii")?;
+            // One traversal of the factor per thread: split the block's columns evenly.
+            let threads = rayon::current_num_threads();
+            let solve = |x: faer::MatMut<'_, Real>| {
+                let chunk = x.ncols().div_ceil(threads).max(1);
+                x.par_col_chunks_mut(chunk)
+                    .for_each(|b| llt.solve_in_place(b));
+            };
+            let params = LanczosParams {
+                block: opts.lanczos_block,
+                max_dim: opts.lanczos_max_dim,
+                tol: opts.lanczos_tol,
+            };
+            let p = eigen::lanczos(
+                &solve,
+                &Mp.ii,
+                0.0,
+                want,
+                params,
+                "fixed-interface K_ii, M_ii",
+            )?;
             (Some(p), EigenMethod::BlockLanczos)
         }
         None => (None, EigenMethod::None),
     };
+    let (eigen_solve_s, eigen_orth_s) =
+        pairs.as_ref().map_or((0.0, 0.0), |p| (p.solve_s, p.orth_s));
     let (lambda, phi, krylov_dim, eig_solves) = match pairs {
         Some(p) => (p.values, p.vectors, p.krylov_dim, p.n_solves),
         None => (Vec::new(), Mat::<Real>::zeros(ni, 0), 0, 0),
@@ -119,7 +167,9 @@ pub fn reduce_damped(
         kr[(nb + j, nb + j)] = l;
     }
     let mr = reduced_mass_like(&Mp, psi.as_ref(), phi.as_ref(), true);
-    let br = Bp.as_ref().map(|bp| reduced_mass_like(bp, psi.as_ref(), phi.as_ref(), false));
+    let br = Bp
+        .as_ref()
+        .map(|bp| reduced_mass_like(bp, psi.as_ref(), phi.as_ref(), false));
     check_finite(kr.as_ref(), "reduced stiffness")?;
     check_finite(mr.as_ref(), "reduced mass")?;
     mem.products = peak_rss_kib();
@@ -140,6 +190,8 @@ pub fn reduce_damped(
         factor_s,
         constraint_modes_s,
         eigen_s,
+        eigen_solve_s,
+        eigen_orth_s,
         products_s,
         total_s: t_start.elapsed().as_secs_f64(),
         peak_rss_kib: mem,
@@ -151,7 +203,10 @@ pub fn reduce_damped(
         boundary: boundary.to_vec(),
         interior: part.interior,
         n_modes: nq,
-        fixed_frequencies_hz: lambda.iter().map(|&l| l.max(0.0).sqrt() / (2.0 * PI)).collect(),
+        fixed_frequencies_hz: lambda
+            .iter()
+            .map(|&l| l.max(0.0).sqrt() / (2.0 * PI))
+            .collect(),
         psi,
         phi,
         n_dofs: n,
@@ -199,7 +254,7 @@ fn sym(a: Mat<Real>) -> Mat<Real> {
 fn condensed(a: &Blocks, psi: MatRef<'_, Real>, with_ii: bool) -> Mat<Real> {
     let mut out = a.bb.clone() + sparse_t_dense(&a.ib, psi);
     if with_ii {
-        let mut w = spmm(&a.ii, psi);
+        let mut w = sym_spmm(&a.ii, psi);
         add_sparse(w.as_mut(), &a.ib, 1.0);
         out += psi.transpose() * &w;
     }
@@ -208,10 +263,15 @@ fn condensed(a: &Blocks, psi: MatRef<'_, Real>, with_ii: bool) -> Mat<Real> {
 
 /// TᵀAT for a mass-like matrix A (M or B). The modal block is I when `unit_modal` (M, with
 /// M_ii-orthonormal Φ), else ΦᵀA_iiΦ.
-fn reduced_mass_like(a: &Blocks, psi: MatRef<'_, Real>, phi: MatRef<'_, Real>, unit_modal: bool) -> Mat<Real> {
+fn reduced_mass_like(
+    a: &Blocks,
+    psi: MatRef<'_, Real>,
+    phi: MatRef<'_, Real>,
+    unit_modal: bool,
+) -> Mat<Real> {
     let (nb, nq) = (psi.ncols(), phi.ncols());
     let mut out = Mat::<Real>::zeros(nb + nq, nb + nq);
-    let mut w = spmm(&a.ii, psi);
+    let mut w = sym_spmm(&a.ii, psi);
     add_sparse(w.as_mut(), &a.ib, 1.0);
     let bb = sym(a.bb.clone() + sparse_t_dense(&a.ib, psi) + psi.transpose() * &w);
     out.submatrix_mut(0, 0, nb, nb).copy_from(&bb);
@@ -224,7 +284,7 @@ fn reduced_mass_like(a: &Blocks, psi: MatRef<'_, Real>, phi: MatRef<'_, Real>, u
                 out[(nb + j, nb + j)] = 1.0;
             }
         } else {
-            let qq = sym(phi.transpose() * spmm(&a.ii, phi));
+            let qq = sym(phi.transpose() * sym_spmm(&a.ii, phi));
             out.submatrix_mut(nb, nb, nq, nq).copy_from(&qq);
         }
     }
@@ -236,7 +296,12 @@ fn check_finite(a: MatRef<'_, Real>, what: &str) -> Result<(), ReductionError> {
         for i in 0..a.nrows() {
             let v = a[(i, j)];
             if !v.is_finite() {
-                return Err(ReductionError::NonFinite { what: what.to_string(), row: i, col: j, value: v });
+                return Err(ReductionError::NonFinite {
+                    what: what.to_string(),
+                    row: i,
+                    col: j,
+                    value: v,
+                });
             }
         }
     }

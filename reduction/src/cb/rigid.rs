@@ -14,11 +14,18 @@ pub struct DofPoint {
 
 /// DOF points of `n_free` free DOFs from node coordinates and a `dof_of(free) -> (node, comp)`
 /// map (e.g. `squeal_fe::DofMap::dof_of`).
-pub fn dof_points(nodes: &[[Real; 3]], n_free: usize, dof_of: impl Fn(usize) -> (usize, usize)) -> Vec<DofPoint> {
+pub fn dof_points(
+    nodes: &[[Real; 3]],
+    n_free: usize,
+    dof_of: impl Fn(usize) -> (usize, usize),
+) -> Vec<DofPoint> {
     (0..n_free)
         .map(|i| {
             let (node, comp) = dof_of(i);
-            DofPoint { xyz: nodes[node], comp: comp as u8 }
+            DofPoint {
+                xyz: nodes[node],
+                comp: comp as u8,
+            }
         })
         .collect()
 }
@@ -78,6 +85,46 @@ pub fn rigid_body_mass(mrb: MatRef<'_, Real>) -> RigidBodyMass {
         }
     }
     let mass = [matrix[0][0], matrix[1][1], matrix[2][2]];
-    let cg = [matrix[1][5] / mass[1], matrix[2][3] / mass[2], matrix[0][4] / mass[0]];
+    let cg = [
+        matrix[1][5] / mass[1],
+        matrix[2][3] / mass[2],
+        matrix[0][4] / mass[0],
+    ];
     RigidBodyMass { mass, cg, matrix }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Rotation columns are θ × x: for x = (1, 2, 3), about x (0, −3, 2), about y (3, 0, −1),
+    /// about z (−2, 1, 0).
+    #[test]
+    fn rotation_columns_are_cross_products() {
+        let pts: Vec<DofPoint> = (0..3).map(|c| DofPoint { xyz: [1.0, 2.0, 3.0], comp: c }).collect();
+        let r = rigid_vectors(&pts);
+        let expect = [[0.0, 3.0, -2.0], [-3.0, 0.0, 1.0], [2.0, -1.0, 0.0]]; // rows: u_x, u_y, u_z
+        for comp in 0..3 {
+            for rot in 0..3 {
+                assert_eq!(r[(comp, 3 + rot)], expect[comp][rot]);
+            }
+            assert_eq!(r[(comp, comp)], 1.0);
+        }
+    }
+
+    /// Two point masses m = 2 at (1, 0, 0) and (3, 2, 0): mass 4, CG (2, 1, 0).
+    #[test]
+    fn point_masses_give_mass_and_cg() {
+        let mut pts = Vec::new();
+        for xyz in [[1.0, 0.0, 0.0], [3.0, 2.0, 0.0]] {
+            for comp in 0..3 {
+                pts.push(DofPoint { xyz, comp });
+            }
+        }
+        let r = rigid_vectors(&pts);
+        let m = Mat::<Real>::identity(6, 6) * faer::Scale(2.0);
+        let props = rigid_body_mass((r.transpose() * &m * &r).as_ref());
+        assert_eq!(props.mass, [4.0, 4.0, 4.0]);
+        assert_eq!(props.cg, [2.0, 1.0, 0.0]);
+    }
 }

@@ -23,7 +23,11 @@ pub struct Component<'a> {
 
 impl<'a> Component<'a> {
     /// A component from a Craig–Bampton model; `boundary_keys[j]` is the key of `model.boundary[j]`.
-    pub fn from_cb(name: impl Into<String>, model: &'a CbModel, boundary_keys: Vec<DofKey>) -> Self {
+    pub fn from_cb(
+        name: impl Into<String>,
+        model: &'a CbModel,
+        boundary_keys: Vec<DofKey>,
+    ) -> Self {
         Self {
             name: name.into(),
             k: model.k.as_ref(),
@@ -58,7 +62,10 @@ pub struct Assembly {
 }
 
 fn se_err(component: &str, detail: String) -> ReductionError {
-    ReductionError::Superelement { component: component.to_string(), detail }
+    ReductionError::Superelement {
+        component: component.to_string(),
+        detail,
+    }
 }
 
 /// Assembles reduced components: boundary DOFs with equal keys are one global DOF, modal
@@ -66,7 +73,10 @@ fn se_err(component: &str, detail: String) -> ReductionError {
 ///
 /// Global order: grid DOFs sorted by (grid, comp), then each component's modal coordinates in
 /// component order.
-pub fn assemble(components: &[Component<'_>], fixed: &[DofKey]) -> Result<Assembly, ReductionError> {
+pub fn assemble(
+    components: &[Component<'_>],
+    fixed: &[DofKey],
+) -> Result<Assembly, ReductionError> {
     let fixed_set: BTreeSet<DofKey> = fixed.iter().copied().collect();
     let mut owners: BTreeMap<DofKey, Vec<usize>> = BTreeMap::new();
     for (c, comp) in components.iter().enumerate() {
@@ -90,10 +100,19 @@ pub fn assemble(components: &[Component<'_>], fixed: &[DofKey]) -> Result<Assemb
         let mut seen = BTreeSet::new();
         for key in &comp.boundary_keys {
             if !(1..=6).contains(&key.comp) {
-                return Err(se_err(&comp.name, format!("grid {} has DOF component {} (not 1..6)", key.grid, key.comp)));
+                return Err(se_err(
+                    &comp.name,
+                    format!(
+                        "grid {} has DOF component {} (not 1..6)",
+                        key.grid, key.comp
+                    ),
+                ));
             }
             if !seen.insert(*key) {
-                return Err(se_err(&comp.name, format!("boundary DOF grid {} comp {} repeated", key.grid, key.comp)));
+                return Err(se_err(
+                    &comp.name,
+                    format!("boundary DOF grid {} comp {} repeated", key.grid, key.comp),
+                ));
             }
             owners.entry(*key).or_default().push(c);
         }
@@ -103,7 +122,13 @@ pub fn assemble(components: &[Component<'_>], fixed: &[DofKey]) -> Result<Assemb
     }
     for key in &fixed_set {
         if !owners.contains_key(key) {
-            return Err(se_err("(fixed)", format!("fixed DOF grid {} comp {} is in no component", key.grid, key.comp)));
+            return Err(se_err(
+                "(fixed)",
+                format!(
+                    "fixed DOF grid {} comp {} is in no component",
+                    key.grid, key.comp
+                ),
+            ));
         }
     }
     let mut dofs = Vec::new();
@@ -115,19 +140,36 @@ pub fn assemble(components: &[Component<'_>], fixed: &[DofKey]) -> Result<Assemb
         grid_index.insert(*key, dofs.len());
         dofs.push(ReducedDof {
             component: components[own[0]].name.clone(),
-            shared_with: own[1..].iter().map(|&c| components[c].name.clone()).collect(),
-            kind: DofKind::Grid { grid: key.grid, comp: key.comp },
+            shared_with: own[1..]
+                .iter()
+                .map(|&c| components[c].name.clone())
+                .collect(),
+            kind: DofKind::Grid {
+                grid: key.grid,
+                comp: key.comp,
+            },
         });
     }
     let n_grid = dofs.len();
-    let n_shared = owners.iter().filter(|(k, o)| o.len() > 1 && !fixed_set.contains(k)).count();
+    let n_shared = owners
+        .iter()
+        .filter(|(k, o)| o.len() > 1 && !fixed_set.contains(k))
+        .count();
     // Local-to-global maps (None = fixed).
     let mut maps: Vec<Vec<Option<usize>>> = Vec::with_capacity(components.len());
     for comp in components {
-        let mut map: Vec<Option<usize>> = comp.boundary_keys.iter().map(|k| grid_index.get(k).copied()).collect();
+        let mut map: Vec<Option<usize>> = comp
+            .boundary_keys
+            .iter()
+            .map(|k| grid_index.get(k).copied())
+            .collect();
         for q in 0..comp.n_modes {
             map.push(Some(dofs.len()));
-            dofs.push(ReducedDof { component: comp.name.clone(), shared_with: Vec::new(), kind: DofKind::Modal { index: q } });
+            dofs.push(ReducedDof {
+                component: comp.name.clone(),
+                shared_with: Vec::new(),
+                kind: DofKind::Modal { index: q },
+            });
         }
         maps.push(map);
     }

@@ -62,9 +62,13 @@ impl ReducedDofMap {
     }
     /// Index of the grid DOF `key`, if it is in the assembly.
     pub fn index_of_grid(&self, key: DofKey) -> Option<usize> {
-        self.dofs
-            .iter()
-            .position(|d| d.kind == DofKind::Grid { grid: key.grid, comp: key.comp })
+        self.dofs.iter().position(|d| {
+            d.kind
+                == DofKind::Grid {
+                    grid: key.grid,
+                    comp: key.comp,
+                }
+        })
     }
     /// JSON text of the map (to be written next to OP4 files).
     pub fn to_json(&self) -> Result<String, serde_json::Error> {

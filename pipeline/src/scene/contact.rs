@@ -1,0 +1,141 @@
+//! `[[contact]]` pad/rotor pairs, `[friction]` and `[rotor]`.
+
+use crate::error::PipelineError;
+use serde::{Deserialize, Serialize};
+use squeal_contact::FrictionLaw;
+
+type Real = f64;
+
+/// One pad/rotor contact surface (PREBSQL's input): the pad face's nodes are matched to the
+/// coincident rotor face nodes, one gap element per pad node.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactPair {
+    /// Pad component name (required).
+    pub pad: String,
+    /// Face set (physical surface) of the pad in contact (required).
+    pub pad_faces: String,
+    /// Rotor component name (required).
+    pub rotor: String,
+    /// Face set of the rotor in contact (its nodes are the candidates) (required).
+    pub rotor_faces: String,
+    /// Distance within which a pad node and a rotor node coincide (default: 1e-6, model units).
+    #[serde(default = "default_tolerance")]
+    pub tolerance: Real,
+    /// Preload pressure P_0 of every gap of this pair (default: 0). [Paper eq. (1)]
+    #[serde(default)]
+    pub p0: Real,
+    /// Temperature of every gap of this pair (default: 0; read only when the friction law
+    /// depends on temperature).
+    #[serde(default)]
+    pub temperature: Real,
+    /// Grid temperatures `[[grid, T], ...]` overriding `temperature` for the gaps whose pad grid
+    /// is listed (default: none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub grid_temperatures: Vec<(u64, Real)>,
+}
+
+fn default_tolerance() -> Real {
+    1e-6
+}
+
+impl ContactPair {
+    /// Checks tolerance and values; errors name `contact[i].field`.
+    pub fn validate(&self, i: usize) -> Result<(), PipelineError> {
+        let bad = |field: &str, message: String| PipelineError::Scene {
+            field: format!("contact[{i}].{field}"),
+            message,
+        };
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return Err(bad("tolerance", format!("{} must be finite and > 0", self.tolerance)));
+        }
+        if !self.p0.is_finite() {
+            return Err(bad("p0", format!("{} must be finite", self.p0)));
+        }
+        if self.pad == self.rotor {
+            return Err(bad("rotor", format!("`{}` is also the pad", self.rotor)));
+        }
+        Ok(())
+    }
+}
+
+/// `[friction]`: the friction law of every gap and the regularisation speed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FrictionSpec {
+    /// μ(p, |V_t|, T), e.g. `{ kind = "linear_speed", mu0 = 0.7, slope = -0.0005 }` (default:
+    /// `{ kind = "constant", mu = 0.0 }`, no friction). [Paper eq. (4)]
+    pub law: FrictionLaw,
+    /// VTOL: below 10·VTOL the friction force is regularised by an arctangent (default: 1e-3,
+    /// the paper's sample brake). [Paper eq. (5)]
+    pub vtol: Real,
+}
+
+impl Default for FrictionSpec {
+    fn default() -> Self {
+        Self {
+            law: FrictionLaw::default(),
+            vtol: 1e-3,
+        }
+    }
+}
+
+impl FrictionSpec {
+    /// Validates the law and VTOL.
+    pub fn validate(&self) -> Result<(), PipelineError> {
+        self.law.validate().map_err(|e| PipelineError::Scene {
+            field: "friction.law".into(),
+            message: e.to_string(),
+        })?;
+        if !(self.vtol.is_finite() && self.vtol > 0.0) {
+            return Err(PipelineError::Scene {
+                field: "friction.vtol".into(),
+                message: format!("{} must be finite and > 0", self.vtol),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// `[rotor]`: the rotor's steady rotation (sliding velocity ω × r at each gap).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RotorSpec {
+    /// Speed in revolutions per unit time × 60, i.e. RPM when time is in seconds (default: 0;
+    /// the paper's sample brake: 143.239 = 15 rad/s).
+    pub rpm: Real,
+    /// Unit vector of the rotor axis, positive rotation by the right hand (default: [0, 0, 1]).
+    pub axis: [Real; 3],
+    /// A point on the axis (default: [0, 0, 0]).
+    pub origin: [Real; 3],
+}
+
+impl Default for RotorSpec {
+    fn default() -> Self {
+        Self {
+            rpm: 0.0,
+            axis: [0.0, 0.0, 1.0],
+            origin: [0.0; 3],
+        }
+    }
+}
+
+impl RotorSpec {
+    /// Checks rpm and that the axis is a unit vector.
+    pub fn validate(&self) -> Result<(), PipelineError> {
+        let n = self.axis.iter().map(|a| a * a).sum::<Real>().sqrt();
+        if !self.rpm.is_finite() {
+            return Err(PipelineError::Scene {
+                field: "rotor.rpm".into(),
+                message: format!("{} must be finite", self.rpm),
+            });
+        }
+        if !(n.is_finite() && (n - 1.0).abs() < 1e-6) {
+            return Err(PipelineError::Scene {
+                field: "rotor.axis".into(),
+                message: format!("{:?} must be a unit vector (norm {n})", self.axis),
+            });
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,321 @@
+//! `[loads]`, `[damping]`, `[transient]` and `[output]`: the BSQL input's parameters.
+
+use crate::error::PipelineError;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+type Real = f64;
+
+fn scene_err(field: &str, message: String) -> PipelineError {
+    PipelineError::Scene {
+        field: field.to_string(),
+        message,
+    }
+}
+
+/// A uniform pressure on a face set of a component (the paper's "unit pressure on the inner
+/// contact surfaces of the pads" load set), acting into the body.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PressureLoad {
+    /// Component name (required).
+    pub component: String,
+    /// Face set (physical surface) name (required).
+    pub faces: String,
+    /// Pressure (default: 1.0, a unit pressure scaled by PMAX).
+    #[serde(default = "one")]
+    pub pressure: Real,
+}
+
+/// A force on a node set (the paper's piston force), shared equally by the set's nodes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NodeForce {
+    /// Component name (required).
+    pub component: String,
+    /// Node set (physical group) name (required).
+    pub nodes: String,
+    /// Total force vector over the set (required).
+    pub force: [Real; 3],
+}
+
+fn one() -> Real {
+    1.0
+}
+
+/// `[loads]`: P(t) = ramp(t)·PMAX·(Σ pressures + Σ node forces), ramp = min(t/TLOAD, 1).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LoadsSpec {
+    /// PMAX, the scale of the brake load at the end of the ramp (default: 1.0).
+    pub pmax: Real,
+    /// TLOAD, the ramp time (default: 0 = a step at t = 0).
+    pub tload: Real,
+    /// Pressure load sets (default: none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub pressure: Vec<PressureLoad>,
+    /// Node-set force load sets (default: none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub force: Vec<NodeForce>,
+}
+
+impl Default for LoadsSpec {
+    fn default() -> Self {
+        Self {
+            pmax: 1.0,
+            tload: 0.0,
+            pressure: Vec::new(),
+            force: Vec::new(),
+        }
+    }
+}
+
+impl LoadsSpec {
+    /// Checks PMAX, TLOAD and the load values.
+    pub fn validate(&self) -> Result<(), PipelineError> {
+        if !self.pmax.is_finite() {
+            return Err(scene_err("loads.pmax", format!("{} must be finite", self.pmax)));
+        }
+        if !(self.tload.is_finite() && self.tload >= 0.0) {
+            return Err(scene_err("loads.tload", format!("{} must be finite and >= 0", self.tload)));
+        }
+        for (i, p) in self.pressure.iter().enumerate() {
+            if !p.pressure.is_finite() {
+                return Err(scene_err(&format!("loads.pressure[{i}].pressure"), format!("{} must be finite", p.pressure)));
+            }
+        }
+        for (i, f) in self.force.iter().enumerate() {
+            if f.force.iter().any(|x| !x.is_finite()) {
+                return Err(scene_err(&format!("loads.force[{i}].force"), format!("{:?} must be finite", f.force)));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `[damping]`, as NASTRAN defines it for transient response:
+/// B = (G/W3)·K + Σ_c (GE_c/W4)·K_c + B_modal.
+///
+/// What is implemented: GE is given per component (every element of a component has the
+/// same material damping GE_c), so Σ_e (GE_e/W4)·K_e = Σ_c (GE_c/W4)·K_c, reduced with the
+/// component (Tᵀ K_c T = its reduced stiffness). A term whose W is 0 is off (NASTRAN's
+/// default W3 = W4 = 0 means no structural damping in transient). `modal_ratio` ζ adds
+/// B_modal = M Φ diag(2ζω_i) Φᵀ M over all modes Φ (M-orthonormal) of the assembled reduced
+/// (K, M), so each unconstrained mode gets damping ratio ζ (rigid modes get none).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct DampingSpec {
+    /// Overall structural damping G (default: 0).
+    pub g: Real,
+    /// W3, the frequency (rad per unit time) converting G to viscous damping (default: 0 = G off).
+    pub w3: Real,
+    /// W4, the frequency converting element damping GE to viscous damping (default: 0 = GE off).
+    pub w4: Real,
+    /// Element damping GE per component name (default: none).
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub ge: BTreeMap<String, Real>,
+    /// Modal damping ratio ζ of every mode of the reduced model (default: 0 = off).
+    pub modal_ratio: Real,
+}
+
+impl Default for DampingSpec {
+    fn default() -> Self {
+        Self {
+            g: 0.0,
+            w3: 0.0,
+            w4: 0.0,
+            ge: BTreeMap::new(),
+            modal_ratio: 0.0,
+        }
+    }
+}
+
+impl DampingSpec {
+    /// Checks all values are finite, W3, W4 ≥ 0, 0 ≤ ζ < 1.
+    pub fn validate(&self) -> Result<(), PipelineError> {
+        for (f, v) in [("g", self.g), ("w3", self.w3), ("w4", self.w4)] {
+            if !v.is_finite() || (f != "g" && v < 0.0) {
+                return Err(scene_err(&format!("damping.{f}"), format!("{v} must be finite (and >= 0 for W3, W4)")));
+            }
+        }
+        for (c, v) in &self.ge {
+            if !v.is_finite() {
+                return Err(scene_err(&format!("damping.ge.{c}"), format!("{v} must be finite")));
+            }
+        }
+        if !(0.0..1.0).contains(&self.modal_ratio) {
+            return Err(scene_err("damping.modal_ratio", format!("{} must be in [0, 1)", self.modal_ratio)));
+        }
+        Ok(())
+    }
+
+    /// Viscous factor G/W3 (0 when W3 = 0).
+    pub fn overall_factor(&self) -> Real {
+        if self.w3 > 0.0 {
+            self.g / self.w3
+        } else {
+            0.0
+        }
+    }
+
+    /// Viscous factor GE_c/W4 of component `name` (0 when W4 = 0 or no GE).
+    pub fn element_factor(&self, name: &str) -> Real {
+        match (self.w4 > 0.0, self.ge.get(name)) {
+            (true, Some(ge)) => ge / self.w4,
+            _ => 0.0,
+        }
+    }
+
+    /// True when any damping term is on.
+    pub fn is_active(&self) -> bool {
+        self.overall_factor() != 0.0
+            || (self.w4 > 0.0 && self.ge.values().any(|&v| v != 0.0))
+            || self.modal_ratio > 0.0
+    }
+}
+
+/// `[transient]`: BSQL's solution controls.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TransientSpec {
+    /// TFINAL, end time of the integration (default: 0.006, the paper's sample brake).
+    pub tfinal: Real,
+    /// ATOL1, absolute tolerance on displacements and velocities (default: 1e-4).
+    pub atol1: Real,
+    /// RTOL1, relative tolerance on displacements and velocities (default: 1e-4, the paper's choice).
+    pub rtol1: Real,
+    /// ATOL2, absolute tolerance on the multipliers; ≥ 1e20 leaves them out of the error test (default: 1e20).
+    pub atol2: Real,
+    /// RTOL2, relative tolerance on the multipliers (default: 0).
+    pub rtol2: Real,
+    /// MAXORD, highest BDF order (default: 2; orders 3–5 add energy to lightly damped modes).
+    pub maxord: usize,
+    /// TOLINT, tolerance of the steady state and consistent initial conditions (default: 1e-10).
+    pub tolint: Real,
+    /// First step size (default: none = the integrator's choice).
+    pub h0: Option<Real>,
+    /// Largest step size (default: none = unlimited).
+    pub h_max: Option<Real>,
+    /// NRSTRT, write the restart file every this many steps (default: 1000; 0 = only at the end).
+    pub nrstrt: usize,
+    /// NOUTPT, record every this many accepted steps in the history (default: 1).
+    pub noutpt: usize,
+    /// RESTART, a restart file to continue from (default: none = start from the steady state).
+    pub restart: Option<PathBuf>,
+    /// Include the friction damping C_f = ∂F_f/∂v in the iteration matrix (default: false, as
+    /// the paper).
+    pub friction_damping_in_jacobian: bool,
+    /// Maximum number of steps (default: 500000).
+    pub max_steps: usize,
+}
+
+impl Default for TransientSpec {
+    fn default() -> Self {
+        Self {
+            tfinal: 0.006,
+            atol1: 1e-4,
+            rtol1: 1e-4,
+            atol2: 1e20,
+            rtol2: 0.0,
+            maxord: 2,
+            tolint: 1e-10,
+            h0: None,
+            h_max: None,
+            nrstrt: 1000,
+            noutpt: 1,
+            restart: None,
+            friction_damping_in_jacobian: false,
+            max_steps: 500_000,
+        }
+    }
+}
+
+impl TransientSpec {
+    /// Checks ranges; errors name `transient.field`.
+    pub fn validate(&self) -> Result<(), PipelineError> {
+        let pos = |f: &str, v: Real| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(scene_err(&format!("transient.{f}"), format!("{v} must be finite and > 0")))
+            }
+        };
+        pos("tfinal", self.tfinal)?;
+        pos("atol1", self.atol1)?;
+        pos("rtol1", self.rtol1)?;
+        pos("atol2", self.atol2)?;
+        pos("tolint", self.tolint)?;
+        if !(self.rtol2 >= 0.0 && self.rtol2.is_finite()) {
+            return Err(scene_err("transient.rtol2", format!("{} must be finite and >= 0", self.rtol2)));
+        }
+        if !(1..=5).contains(&self.maxord) {
+            return Err(scene_err("transient.maxord", format!("{} must be in 1..=5", self.maxord)));
+        }
+        if self.noutpt == 0 {
+            return Err(scene_err("transient.noutpt", "0 must be >= 1".into()));
+        }
+        if let Some(h) = self.h0 {
+            pos("h0", h)?;
+        }
+        if let Some(h) = self.h_max {
+            pos("h_max", h)?;
+        }
+        Ok(())
+    }
+}
+
+/// A response DOF for the squeal verdict.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ResponseSpec {
+    /// Grid id (required).
+    pub grid: u64,
+    /// Direction, one of "x", "y", "z" (required).
+    pub dof: String,
+}
+
+/// `[output]`: what goes into the time-history database.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Grid ids whose displacement, velocity and acceleration are recorded (default: none = the
+    /// first, middle and last pad grid of the gap table).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub grids: Vec<u64>,
+    /// Gap indices (0-based, gap-table order) whose contact force, pressure, friction force,
+    /// slip speed and friction coefficient are recorded (default: none = all gaps).
+    pub gaps: Option<Vec<usize>>,
+    /// Response of the squeal verdict: the velocity of this grid DOF (default: none = the
+    /// recorded grid velocity with the largest peak after the load ramp).
+    pub response: Option<ResponseSpec>,
+    /// Growth rate of the response envelope above which the run counts as squeal, per unit
+    /// time (default: 0).
+    pub squeal_growth_threshold: Real,
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        Self {
+            grids: Vec::new(),
+            gaps: None,
+            response: None,
+            squeal_growth_threshold: 0.0,
+        }
+    }
+}
+
+impl OutputSpec {
+    /// Checks the response direction.
+    pub fn validate(&self) -> Result<(), PipelineError> {
+        if let Some(r) = &self.response {
+            if !matches!(r.dof.as_str(), "x" | "y" | "z") {
+                return Err(scene_err("output.response.dof", format!("`{}` must be x, y or z", r.dof)));
+            }
+        }
+        if !self.squeal_growth_threshold.is_finite() {
+            return Err(scene_err("output.squeal_growth_threshold", "must be finite".into()));
+        }
+        Ok(())
+    }
+}

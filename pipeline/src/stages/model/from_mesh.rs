@@ -1,0 +1,369 @@
+//! The reduced model from the scene's meshes.
+//!
+//! Loads are projected with the Craig–Bampton transformation, f_r = Tᵀ f =
+//! [f_b + Ψᵀ f_i; Φᵀ f_i], so loaded faces need not be boundary nodes.
+
+use super::areas::pad_areas;
+use super::grids::{merge, Grids};
+use super::{symmetrise, ComponentReport, ReducedModel};
+use crate::error::PipelineError;
+use crate::output::RunDir;
+use crate::progress::Progress;
+use crate::scene::{ModelSource, Scene};
+use crate::stages::mesh::mesh_component;
+use crate::stages::modes::fixed_dofs;
+use faer::Mat;
+use rayon::prelude::*;
+use squeal_contact::{match_gaps, ContactNode, FrictionLaw, GapSet, MatchOptions};
+use squeal_fe::{assemble, pressure_load, AssemblyOptions, DofMap};
+use squeal_meshes::Mesh;
+use squeal_reduction::cb::{self, CbCheck, CheckOptions};
+use squeal_reduction::superelement::{self, Component, DofKey, DofKind};
+use squeal_reduction::CbModel;
+use std::collections::{BTreeSet, HashMap};
+
+type Real = f64;
+
+/// One reduced component before assembly.
+struct Reduced {
+    cb: CbModel,
+    keys: Vec<DofKey>,
+    load: Vec<Real>,
+    check: Option<CbCheck>,
+    n_nodes: usize,
+}
+
+fn fe_err(component: &str) -> impl Fn(squeal_fe::FeError) -> PipelineError + '_ {
+    move |source| PipelineError::Fe {
+        component: component.to_string(),
+        source,
+    }
+}
+
+/// Gaps of every `[[contact]]` pair (PREBSQL), DOFs unassigned.
+fn match_pairs(scene: &Scene, meshes: &[Mesh], grids: &Grids) -> Result<GapSet, PipelineError> {
+    let pos = |name: &str| scene.components.iter().position(|c| c.name == name);
+    let rotor = scene.rotor.clone().unwrap_or_default();
+    let mut all: Option<GapSet> = None;
+    for (i, pair) in scene.contact.iter().enumerate() {
+        let (cp, cr) = match (pos(&pair.pad), pos(&pair.rotor)) {
+            (Some(a), Some(b)) => (a, b),
+            _ => {
+                return Err(PipelineError::Scene {
+                    field: format!("contact[{i}]"),
+                    message: format!("unknown component `{}` or `{}`", pair.pad, pair.rotor),
+                })
+            }
+        };
+        let pad_nodes: Vec<ContactNode> = pad_areas(&meshes[cp], &pair.pad_faces)
+            .map_err(fe_err(&pair.pad))?
+            .into_iter()
+            .map(|(n, s)| ContactNode {
+                id: grids.grid_of[cp][n],
+                coords: meshes[cp].nodes[n],
+                area: s,
+            })
+            .collect();
+        let rmesh = &meshes[cr];
+        let rset = rmesh
+            .node_sets
+            .get(&pair.rotor_faces)
+            .ok_or_else(|| PipelineError::Scene {
+                field: format!("contact[{i}].rotor_faces"),
+                message: format!(
+                    "component `{}` has no face set `{}` (it has: {})",
+                    pair.rotor,
+                    pair.rotor_faces,
+                    rmesh.faces.keys().cloned().collect::<Vec<_>>().join(", ")
+                ),
+            })?;
+        let rotor_nodes: Vec<ContactNode> = rset
+            .iter()
+            .map(|&n| ContactNode {
+                id: grids.grid_of[cr][n],
+                coords: rmesh.nodes[n],
+                area: [0.0; 3],
+            })
+            .collect();
+        let opts = MatchOptions {
+            tolerance: pair.tolerance,
+            rotor_axis_origin: rotor.origin,
+            rotor_axis: rotor.axis,
+            rpm: rotor.rpm,
+            p0: pair.p0,
+            temperature: pair.temperature,
+        };
+        let mut set = match_gaps(&pad_nodes, &rotor_nodes, &opts).map_err(|source| {
+            PipelineError::Contact {
+                what: format!(
+                    "contact[{i}]: pad `{}` faces `{}` against rotor `{}` faces `{}`",
+                    pair.pad, pair.pad_faces, pair.rotor, pair.rotor_faces
+                ),
+                source,
+            }
+        })?;
+        let temps: HashMap<u64, Real> = pair.grid_temperatures.iter().copied().collect();
+        for g in &mut set.gaps {
+            if let Some(&t) = temps.get(&g.pad_node) {
+                g.temperature = t;
+            }
+        }
+        match &mut all {
+            None => all = Some(set),
+            Some(a) => a.append(set),
+        }
+    }
+    let friction = scene.friction.clone().unwrap_or_default();
+    let set = all.unwrap_or(GapSet {
+        gaps: Vec::new(),
+        law: FrictionLaw::default(),
+        vtol: friction.vtol,
+    });
+    set.with_friction(friction.law, friction.vtol)
+        .map_err(|source| PipelineError::Contact {
+            what: "friction".into(),
+            source,
+        })
+}
+
+/// Mesh, assemble and reduce every component, assemble the superelements, match the gaps.
+pub fn build_from_mesh(scene: &Scene, dir: &RunDir, progress: Progress) -> Result<ReducedModel, PipelineError> {
+    if scene.components.is_empty() {
+        return Err(PipelineError::Scene {
+            field: "components".into(),
+            message: "a meshed model needs at least one component".into(),
+        });
+    }
+    let meshed: Vec<_> = scene
+        .components
+        .par_iter()
+        .map(|c| mesh_component(scene, c, dir, progress))
+        .collect::<Result<_, _>>()?;
+    let meshes: Vec<Mesh> = meshed.into_iter().map(|(m, _)| m).collect();
+    let grids = merge(scene, &meshes, scene.model.merge_tolerance);
+    let mut gaps = match_pairs(scene, &meshes, &grids)?;
+
+    // Fixed grid DOFs of any component hold for every component sharing the grid.
+    let mut global_fixed: BTreeSet<(u64, usize)> = BTreeSet::new();
+    for (c, spec) in scene.components.iter().enumerate() {
+        for (node, k) in fixed_dofs(spec, &meshes[c])? {
+            global_fixed.insert((grids.grid_of[c][node], k));
+        }
+    }
+    let opts = scene.reduction.clone().unwrap_or_default();
+    let cb_opts = opts.cb_options();
+    let damping = scene.damping.clone().unwrap_or_default();
+    let step = progress.step(format!(
+        "assembling and reducing {} component(s)",
+        scene.components.len()
+    ));
+    let reduced: Vec<Reduced> = (0..scene.components.len())
+        .into_par_iter()
+        .map(|c| reduce_component(scene, c, &meshes[c], &grids, &global_fixed, &cb_opts, opts.checks))
+        .collect::<Result<_, _>>()?;
+    step.done("reduced every component");
+
+    // Superelement assembly; element damping B_c = (GE_c/W4)·K_r,c.
+    let factors: Vec<Real> = scene.components.iter().map(|c| damping.element_factor(&c.name)).collect();
+    let b_mats: Vec<Mat<Real>> = reduced
+        .iter()
+        .zip(&factors)
+        .map(|(r, &a)| Mat::from_fn(r.cb.k.nrows(), r.cb.k.ncols(), |i, j| a * r.cb.k[(i, j)]))
+        .collect();
+    let any_b = factors.iter().any(|&a| a != 0.0);
+    let comps: Vec<Component<'_>> = scene
+        .components
+        .iter()
+        .zip(&reduced)
+        .zip(&b_mats)
+        .map(|((spec, r), b)| {
+            let mut comp = Component::from_cb(spec.name.clone(), &r.cb, r.keys.clone());
+            comp.b = any_b.then(|| b.as_ref());
+            comp
+        })
+        .collect();
+    let asm = superelement::assemble(&comps, &[]).map_err(|source| PipelineError::Reduction {
+        what: "superelement assembly".into(),
+        source,
+    })?;
+
+    // Loads scattered onto the assembled DOFs.
+    let n = asm.dofs.len();
+    let mut grid_index: HashMap<DofKey, usize> = HashMap::new();
+    let mut modal_index: HashMap<(&str, usize), usize> = HashMap::new();
+    for (i, d) in asm.dofs.dofs.iter().enumerate() {
+        match d.kind {
+            DofKind::Grid { grid, comp } => {
+                grid_index.insert(DofKey { grid, comp }, i);
+            }
+            DofKind::Modal { index } => {
+                modal_index.insert((d.component.as_str(), index), i);
+            }
+        }
+    }
+    let mut p_brake = vec![0.0; n];
+    for (spec, r) in scene.components.iter().zip(&reduced) {
+        let nb = r.keys.len();
+        for (j, &v) in r.load.iter().enumerate() {
+            let idx = if j < nb {
+                grid_index.get(&r.keys[j]).copied()
+            } else {
+                modal_index.get(&(spec.name.as_str(), j - nb)).copied()
+            };
+            if let Some(i) = idx {
+                p_brake[i] += v;
+            }
+        }
+    }
+    let components = scene
+        .components
+        .iter()
+        .zip(&reduced)
+        .zip(&factors)
+        .map(|((spec, r), &f)| ComponentReport {
+            name: spec.name.clone(),
+            n_nodes: r.n_nodes,
+            n_free_dofs: r.cb.n_dofs,
+            n_boundary_dofs: r.cb.boundary.len(),
+            n_modes: r.cb.n_modes,
+            fixed_interface_hz: r.cb.fixed_frequencies_hz.clone(),
+            cb_stats: r.cb.stats.clone(),
+            element_damping_factor: f,
+        })
+        .collect();
+    let checks = scene
+        .components
+        .iter()
+        .zip(reduced.iter())
+        .filter_map(|(spec, r)| r.check.clone().map(|c| (spec.name.clone(), c)))
+        .collect();
+    gaps.gaps.iter_mut().for_each(|g| {
+        g.pad_dofs = [None; 3];
+        g.rotor_dofs = [None; 3];
+    });
+    let mut model = ReducedModel {
+        k: symmetrise(&asm.k),
+        m: symmetrise(&asm.m),
+        b: asm.b.as_ref().map(symmetrise),
+        p_brake,
+        dofs: asm.dofs,
+        gaps,
+        grids: grids.grids.clone(),
+        checks,
+        components,
+        source: ModelSource::Mesh,
+    };
+    model.assign_gap_dofs()?;
+    Ok(model)
+}
+
+/// Assembles and reduces component `c`: boundary = contact-face nodes + shared nodes.
+fn reduce_component(
+    scene: &Scene,
+    c: usize,
+    mesh: &Mesh,
+    grids: &Grids,
+    global_fixed: &BTreeSet<(u64, usize)>,
+    cb_opts: &squeal_reduction::CbOptions,
+    run_checks: bool,
+) -> Result<Reduced, PipelineError> {
+    let spec = &scene.components[c];
+    let name = spec.name.as_str();
+    let gid = &grids.grid_of[c];
+    let fixed: Vec<(usize, usize)> = (0..mesh.nodes.len())
+        .flat_map(|n| (0..3).map(move |k| (n, k)))
+        .filter(|&(n, k)| global_fixed.contains(&(gid[n], k)))
+        .collect();
+    let dofs = DofMap::new(mesh.nodes.len(), &fixed).map_err(fe_err(name))?;
+    let materials = vec![spec.material; mesh.volumes.len()];
+    let asm = assemble(mesh, &materials, &dofs, &AssemblyOptions { hex8: spec.hex8 }).map_err(fe_err(name))?;
+
+    let mut is_boundary = grids.shared[c].clone();
+    for pair in &scene.contact {
+        for (comp, set) in [(&pair.pad, &pair.pad_faces), (&pair.rotor, &pair.rotor_faces)] {
+            if comp == name {
+                if let Some(nodes) = mesh.node_sets.get(set.as_str()) {
+                    nodes.iter().for_each(|&n| is_boundary[n] = true);
+                }
+            }
+        }
+    }
+    let mut boundary = Vec::new();
+    let mut keys = Vec::new();
+    for (node, &b) in is_boundary.iter().enumerate() {
+        if !b {
+            continue;
+        }
+        for k in 0..3 {
+            if let Some(i) = dofs.free(node, k) {
+                boundary.push(i);
+                keys.push(DofKey { grid: gid[node], comp: k as u8 + 1 });
+            }
+        }
+    }
+    let red_err = |what: &str| {
+        let what = format!("component `{name}`: {what}");
+        move |source| PipelineError::Reduction { what, source }
+    };
+    let model = cb::reduce(&asm.k, &asm.m, &boundary, cb_opts).map_err(red_err("Craig–Bampton"))?;
+    let check = if run_checks {
+        let points = cb::dof_points(&mesh.nodes, dofs.n_free(), |i| dofs.dof_of(i));
+        Some(
+            cb::check(&model, Some((&asm.k, &asm.m)), Some(&points), &CheckOptions::default())
+                .map_err(red_err("checks"))?,
+        )
+    } else {
+        None
+    };
+
+    // Brake loads on this component, projected: f_r = Tᵀ f.
+    let mut f = vec![0.0; dofs.n_free()];
+    if let Some(loads) = &scene.loads {
+        for p in loads.pressure.iter().filter(|p| p.component == name) {
+            let v = pressure_load(mesh, &p.faces, p.pressure, &dofs).map_err(fe_err(name))?;
+            f.iter_mut().zip(&v).for_each(|(a, b)| *a += b);
+        }
+        for fs in loads.force.iter().filter(|f| f.component == name) {
+            let nodes = mesh.node_sets.get(&fs.nodes).ok_or_else(|| PipelineError::Scene {
+                field: "loads.force.nodes".into(),
+                message: format!(
+                    "component `{name}` has no node set `{}` (it has: {})",
+                    fs.nodes,
+                    mesh.node_sets.keys().cloned().collect::<Vec<_>>().join(", ")
+                ),
+            })?;
+            let share = 1.0 / nodes.len().max(1) as Real;
+            for &node in nodes {
+                for k in 0..3 {
+                    if let Some(i) = dofs.free(node, k) {
+                        f[i] += share * fs.force[k];
+                    }
+                }
+            }
+        }
+    }
+    let nb = model.boundary.len();
+    let mut load = vec![0.0; model.n_reduced()];
+    for (j, &d) in model.boundary.iter().enumerate() {
+        load[j] = f[d];
+    }
+    for (r, &d) in model.interior.iter().enumerate() {
+        let fi = f[d];
+        if fi == 0.0 {
+            continue;
+        }
+        for j in 0..nb {
+            load[j] += model.psi[(r, j)] * fi;
+        }
+        for q in 0..model.n_modes {
+            load[nb + q] += model.phi[(r, q)] * fi;
+        }
+    }
+    Ok(Reduced {
+        cb: model,
+        keys,
+        load,
+        check,
+        n_nodes: mesh.nodes.len(),
+    })
+}

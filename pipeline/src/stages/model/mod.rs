@@ -1,0 +1,135 @@
+//! The reduced brake model shared by `squeal reduce` and `squeal transient`: built from the
+//! scene's meshes (mesh → assemble → Craig–Bampton → superelement assembly → gaps → loads) or
+//! read from stored reduced matrices (OP4 or punch DMIG + DOF map + gap table).
+
+mod areas;
+mod from_mesh;
+pub mod grids;
+mod stored;
+
+pub use from_mesh::build_from_mesh;
+pub use grids::GridInfo;
+pub use stored::{load_stored, write_stored, StoredFiles};
+
+use crate::error::PipelineError;
+use crate::output::RunDir;
+use crate::progress::Progress;
+use crate::scene::{ModelSource, Scene};
+use faer::Mat;
+use serde::Serialize;
+use squeal_contact::GapSet;
+use squeal_reduction::cb::CbCheck;
+use squeal_reduction::superelement::{DofKey, DofKind, ReducedDofMap};
+use std::collections::HashMap;
+
+type Real = f64;
+
+/// What reducing one component gave.
+#[derive(Debug, Clone, Serialize)]
+pub struct ComponentReport {
+    pub name: String,
+    pub n_nodes: usize,
+    pub n_free_dofs: usize,
+    pub n_boundary_dofs: usize,
+    pub n_modes: usize,
+    pub fixed_interface_hz: Vec<Real>,
+    pub cb_stats: squeal_reduction::cb::CbStats,
+    /// Viscous factor of this component's reduced stiffness in B (GE/W4).
+    pub element_damping_factor: Real,
+}
+
+/// The assembled reduced model with its contact and loads.
+#[derive(Debug, Clone)]
+pub struct ReducedModel {
+    /// Reduced stiffness (symmetrised).
+    pub k: Mat<Real>,
+    /// Reduced mass (symmetrised).
+    pub m: Mat<Real>,
+    /// Element damping Σ_c (GE_c/W4)·K_c, reduced (None when no component has GE).
+    pub b: Option<Mat<Real>>,
+    /// Brake load before PMAX (Σ load sets projected on the reduced DOFs).
+    pub p_brake: Vec<Real>,
+    /// Row/column i of the matrices is `dofs.dofs[i]`.
+    pub dofs: ReducedDofMap,
+    /// Gap elements with DOF indices into the reduced vector.
+    pub gaps: GapSet,
+    /// Grid table (meshed models only).
+    pub grids: Vec<GridInfo>,
+    /// Craig–Bampton checks per component (meshed models with `reduction.checks`).
+    pub checks: Vec<(String, CbCheck)>,
+    pub components: Vec<ComponentReport>,
+    pub source: ModelSource,
+}
+
+impl ReducedModel {
+    /// Number of reduced DOFs.
+    pub fn n(&self) -> usize {
+        self.k.nrows()
+    }
+
+    /// Index of a grid DOF (comp 1..6) in the reduced vector.
+    pub fn grid_index(&self) -> HashMap<DofKey, usize> {
+        self.dofs
+            .dofs
+            .iter()
+            .enumerate()
+            .filter_map(|(i, d)| match d.kind {
+                DofKind::Grid { grid, comp } => Some((DofKey { grid, comp }, i)),
+                DofKind::Modal { .. } => None,
+            })
+            .collect()
+    }
+
+    /// Sets every gap's pad and rotor DOFs from the DOF map; a gap node absent from the map is
+    /// an error naming it.
+    pub fn assign_gap_dofs(&mut self) -> Result<(), PipelineError> {
+        let index = self.grid_index();
+        let mut missing = Vec::new();
+        for g in &self.gaps.gaps {
+            for node in [g.pad_node, g.rotor_node] {
+                if (1..=3).all(|c| !index.contains_key(&DofKey { grid: node, comp: c })) {
+                    missing.push(node);
+                }
+            }
+        }
+        if !missing.is_empty() {
+            missing.sort_unstable();
+            missing.dedup();
+            return Err(PipelineError::Model(format!(
+                "gap grids with no DOF in the reduced model: {missing:?}"
+            )));
+        }
+        self.gaps.assign_dofs(|grid| {
+            [1u8, 2, 3].map(|comp| index.get(&DofKey { grid, comp }).copied())
+        });
+        Ok(())
+    }
+
+    /// Lowest `count` natural frequencies (Hz) of the reduced (K, M), without contact.
+    pub fn frequencies_hz(&self, count: usize) -> Result<Vec<Real>, PipelineError> {
+        let (vals, _) =
+            squeal_reduction::cb::dense_generalized_eigen(self.k.as_ref(), self.m.as_ref())
+                .map_err(|source| PipelineError::Reduction {
+                    what: "modes of the reduced model".into(),
+                    source,
+                })?;
+        Ok(vals
+            .iter()
+            .take(count)
+            .map(|&l| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+            .collect())
+    }
+}
+
+/// Symmetric part (A + Aᵀ)/2.
+pub(crate) fn symmetrise(a: &Mat<Real>) -> Mat<Real> {
+    Mat::from_fn(a.nrows(), a.ncols(), |i, j| 0.5 * (a[(i, j)] + a[(j, i)]))
+}
+
+/// Builds or reads the reduced model the scene describes.
+pub fn build(scene: &Scene, dir: &RunDir, progress: Progress) -> Result<ReducedModel, PipelineError> {
+    match scene.model.from {
+        ModelSource::Mesh => build_from_mesh(scene, dir, progress),
+        ModelSource::Op4 | ModelSource::Punch => load_stored(scene),
+    }
+}

@@ -1,0 +1,280 @@
+//! Stored reduced models: `reduced.op4` (KR, MR, BR, PBRAKE), `reduced.pch` (DMIG, rows and
+//! columns = grid/component of the map; modal coordinates are scalar points numbered above
+//! every grid, in map order), `dofmap.json` and `gaps.json`.
+
+use super::{symmetrise, ReducedModel};
+use crate::error::PipelineError;
+use crate::output::RunDir;
+use crate::scene::{ModelSource, Scene};
+use faer::Mat;
+use squeal_contact::{Gap, GapSet};
+use squeal_reduction::matrix::{MatrixForm, NamedMatrix};
+use squeal_reduction::punch::{self, DmigMatrix, PunchWriteOptions};
+use squeal_reduction::superelement::{DofKind, ReducedDofMap};
+use squeal_reduction::{op4, op4::Op4WriteOptions};
+use std::collections::HashMap;
+use std::path::Path;
+
+type Real = f64;
+
+/// Paths written by [`write_stored`].
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct StoredFiles {
+    pub op4: String,
+    pub punch: String,
+    pub dofmap: String,
+    pub gaps: String,
+}
+
+fn red_err(what: String) -> impl FnOnce(squeal_reduction::ReductionError) -> PipelineError {
+    move |source| PipelineError::Reduction { what, source }
+}
+
+/// Punch DOFs of the map: grids as (grid, comp), modal coordinates as scalar points
+/// `base + 1 + k` (k = order among modal DOFs, base = 10^digits above the largest grid).
+fn punch_dofs(dofs: &ReducedDofMap) -> Vec<(u64, u8)> {
+    let max_grid = dofs
+        .dofs
+        .iter()
+        .filter_map(|d| match d.kind {
+            DofKind::Grid { grid, .. } => Some(grid),
+            DofKind::Modal { .. } => None,
+        })
+        .max()
+        .unwrap_or(0);
+    let mut base = 10u64;
+    while base <= max_grid {
+        base *= 10;
+    }
+    let mut k = 0;
+    dofs.dofs
+        .iter()
+        .map(|d| match d.kind {
+            DofKind::Grid { grid, comp } => (grid, comp),
+            DofKind::Modal { .. } => {
+                k += 1;
+                (base + k, 0)
+            }
+        })
+        .collect()
+}
+
+/// Writes `reduced.op4`, `reduced.pch`, `dofmap.json`, `gaps.json` into the run folder.
+pub fn write_stored(model: &ReducedModel, dir: &RunDir) -> Result<StoredFiles, PipelineError> {
+    let n = model.n();
+    let mut mats = vec![
+        NamedMatrix::real("KR", model.k.clone()),
+        NamedMatrix::real("MR", model.m.clone()),
+    ];
+    if let Some(b) = &model.b {
+        mats.push(NamedMatrix::real("BR", b.clone()));
+    }
+    mats.push(
+        NamedMatrix::real("PBRAKE", Mat::from_fn(n, 1, |i, _| model.p_brake[i]))
+            .with_form(MatrixForm::Rectangular),
+    );
+    let refs: Vec<&NamedMatrix> = mats.iter().collect();
+    let op4_bytes = op4::write_bytes(&refs, &Op4WriteOptions::default()).map_err(red_err("writing reduced.op4".into()))?;
+    let op4_path = dir.write_bytes("reduced.op4", &op4_bytes)?;
+
+    let rows = punch_dofs(&model.dofs);
+    let dmig: Vec<DmigMatrix> = mats
+        .iter()
+        .map(|m| {
+            let vector = m.ncols == 1;
+            DmigMatrix {
+                matrix: if vector { m.clone().with_form(MatrixForm::PseudoIdentity) } else { m.clone() },
+                rows: rows.clone(),
+                cols: if vector { vec![(1, 0)] } else { rows.clone() },
+            }
+        })
+        .collect();
+    let drefs: Vec<&DmigMatrix> = dmig.iter().collect();
+    let text = punch::write_string(&drefs, &PunchWriteOptions::default()).map_err(red_err("writing reduced.pch".into()))?;
+    let pch_path = dir.write_bytes("reduced.pch", text.as_bytes())?;
+    let map_path = dir.write_json("dofmap.json", &model.dofs)?;
+    let gaps_path = dir.write_json("gaps.json", &model.gaps)?;
+    Ok(StoredFiles {
+        op4: op4_path.display().to_string(),
+        punch: pch_path.display().to_string(),
+        dofmap: map_path.display().to_string(),
+        gaps: gaps_path.display().to_string(),
+    })
+}
+
+fn read_text(path: &Path) -> Result<String, PipelineError> {
+    std::fs::read_to_string(path).map_err(|source| PipelineError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// Reads a gap table: JSON (a `GapSet` as `squeal reduce` writes, or a list of gaps) or CSV
+/// with header `pad_grid,rotor_grid,x,y,z,nx,ny,nz,area,p0,temperature`.
+fn read_gaps(path: &Path) -> Result<Vec<Gap>, PipelineError> {
+    let text = read_text(path)?;
+    let bad = |message: String| PipelineError::Input { path: path.to_path_buf(), message };
+    if path.extension().and_then(|e| e.to_str()) == Some("csv") {
+        let mut gaps = Vec::new();
+        for (ln, line) in text.lines().enumerate().skip(1) {
+            if line.trim().is_empty() {
+                continue;
+            }
+            let f: Vec<&str> = line.split(',').map(str::trim).collect();
+            if f.len() != 11 {
+                return Err(bad(format!("line {}: {} fields, expected 11", ln + 1, f.len())));
+            }
+            let num = |i: usize| -> Result<Real, PipelineError> {
+                f[i].parse().map_err(|_| bad(format!("line {}: field {} = `{}` is not a number", ln + 1, i + 1, f[i])))
+            };
+            let id = |i: usize| -> Result<u64, PipelineError> {
+                f[i].parse().map_err(|_| bad(format!("line {}: field {} = `{}` is not a grid id", ln + 1, i + 1, f[i])))
+            };
+            let nrm = [num(5)?, num(6)?, num(7)?];
+            let len = nrm.iter().map(|x| x * x).sum::<Real>().sqrt();
+            if !(len > 0.0 && len.is_finite()) {
+                return Err(bad(format!("line {}: normal {nrm:?} is zero or not finite", ln + 1)));
+            }
+            gaps.push(Gap {
+                pad_node: id(0)?,
+                rotor_node: id(1)?,
+                coords: [num(2)?, num(3)?, num(4)?],
+                pad_dofs: [None; 3],
+                rotor_dofs: [None; 3],
+                normal: nrm.map(|x| x / len),
+                area: num(8)?,
+                v_slide: [0.0; 3],
+                p0: num(9)?,
+                temperature: num(10)?,
+            });
+        }
+        return Ok(gaps);
+    }
+    if let Ok(set) = serde_json::from_str::<GapSet>(&text) {
+        return Ok(set.gaps);
+    }
+    serde_json::from_str::<Vec<Gap>>(&text).map_err(|e| bad(format!("not a gap table (GapSet or list of gaps): {e}")))
+}
+
+/// Reads a stored reduced model as the scene's `[model]` says; the scene's `[rotor]` sets the
+/// sliding velocities, `[friction]` the law, `model.p0`/`model.temperature` override the table.
+pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
+    let spec = &scene.model;
+    let need = |p: &Option<std::path::PathBuf>, f: &str| {
+        p.as_ref().map(|p| scene.resolve(p)).ok_or_else(|| PipelineError::Scene {
+            field: format!("model.{f}"),
+            message: "required for a stored model".into(),
+        })
+    };
+    let mpath = need(&spec.matrices, "matrices")?;
+    let dpath = need(&spec.dofmap, "dofmap")?;
+    let dofs = ReducedDofMap::from_json(&read_text(&dpath)?).map_err(|e| PipelineError::Input {
+        path: dpath.clone(),
+        message: e.to_string(),
+    })?;
+    let n = dofs.len();
+    let mut named: HashMap<String, Mat<Real>> = HashMap::new();
+    let shape_err = |name: &str, r: usize, c: usize| PipelineError::Input {
+        path: mpath.clone(),
+        message: format!("matrix {name} is {r}x{c}; the DOF map has {n} DOFs"),
+    };
+    match spec.from {
+        ModelSource::Op4 => {
+            for m in op4::read(&mpath).map_err(red_err("reading the stored model".into()))? {
+                let a = m.as_real().cloned().ok_or_else(|| PipelineError::Input {
+                    path: mpath.clone(),
+                    message: format!("matrix {} is complex", m.name),
+                })?;
+                named.insert(m.name.to_ascii_uppercase(), a);
+            }
+        }
+        _ => {
+            let expected = punch_dofs(&dofs);
+            // Rows are sorted by (id, comp) in the file; map them back to map order.
+            let pos: HashMap<(u64, u8), usize> = expected.iter().enumerate().map(|(i, &d)| (d, i)).collect();
+            for d in punch::read(&mpath).map_err(red_err("reading the stored model".into()))? {
+                let a = d.matrix.as_real().cloned().ok_or_else(|| PipelineError::Input {
+                    path: mpath.clone(),
+                    message: format!("DMIG {} is complex", d.matrix.name),
+                })?;
+                let map_idx = |dof: &(u64, u8)| {
+                    pos.get(dof).copied().ok_or_else(|| PipelineError::Input {
+                        path: mpath.clone(),
+                        message: format!("DMIG {}: DOF ({}, {}) is not in the DOF map", d.matrix.name, dof.0, dof.1),
+                    })
+                };
+                let ri: Vec<usize> = d.rows.iter().map(map_idx).collect::<Result<_, _>>()?;
+                let vector = d.cols.len() == 1 && d.cols[0].1 == 0 && !pos.contains_key(&d.cols[0]);
+                let ci: Vec<usize> = if vector { vec![0] } else { d.cols.iter().map(map_idx).collect::<Result<_, _>>()? };
+                let mut full = Mat::zeros(n, if vector { 1 } else { n });
+                for (i, &r) in ri.iter().enumerate() {
+                    for (j, &c) in ci.iter().enumerate() {
+                        full[(r, c)] = a[(i, j)];
+                    }
+                }
+                named.insert(d.matrix.name.to_ascii_uppercase(), full);
+            }
+        }
+    }
+    let mut take = |name: &str, required: bool| -> Result<Option<Mat<Real>>, PipelineError> {
+        match named.remove(name) {
+            Some(a) => {
+                let cols = if name == "PBRAKE" { 1 } else { n };
+                if a.nrows() != n || a.ncols() != cols {
+                    return Err(shape_err(name, a.nrows(), a.ncols()));
+                }
+                Ok(Some(a))
+            }
+            None if required => Err(PipelineError::Input {
+                path: mpath.clone(),
+                message: format!("no matrix named {name}"),
+            }),
+            None => Ok(None),
+        }
+    };
+    let k = take("KR", true)?.unwrap_or_else(|| Mat::zeros(n, n));
+    let m = take("MR", true)?.unwrap_or_else(|| Mat::zeros(n, n));
+    let b = take("BR", false)?;
+    let p_brake = take("PBRAKE", false)?.map(|p| (0..n).map(|i| p[(i, 0)]).collect()).unwrap_or_else(|| vec![0.0; n]);
+
+    let mut gaps = match &spec.gaps {
+        Some(p) => read_gaps(&scene.resolve(p))?,
+        None => Vec::new(),
+    };
+    let rotor = scene.rotor.clone().unwrap_or_default();
+    let w = rotor.rpm * 2.0 * std::f64::consts::PI / 60.0;
+    let omega = rotor.axis.map(|a| w * a);
+    for g in &mut gaps {
+        let r = [0, 1, 2].map(|i| g.coords[i] - rotor.origin[i]);
+        g.v_slide = [
+            omega[1] * r[2] - omega[2] * r[1],
+            omega[2] * r[0] - omega[0] * r[2],
+            omega[0] * r[1] - omega[1] * r[0],
+        ];
+        if let Some(p0) = spec.p0 {
+            g.p0 = p0;
+        }
+        if let Some(t) = spec.temperature {
+            g.temperature = t;
+        }
+    }
+    let friction = scene.friction.clone().unwrap_or_default();
+    let gaps = GapSet::new(gaps, friction.law, friction.vtol).map_err(|source| PipelineError::Contact {
+        what: "friction".into(),
+        source,
+    })?;
+    let mut model = ReducedModel {
+        k: symmetrise(&k),
+        m: symmetrise(&m),
+        b: b.as_ref().map(symmetrise),
+        p_brake,
+        dofs,
+        gaps,
+        grids: Vec::new(),
+        checks: Vec::new(),
+        components: Vec::new(),
+        source: spec.from,
+    };
+    model.assign_gap_dofs()?;
+    Ok(model)
+}

@@ -1,0 +1,98 @@
+//! `--export-dae DIR`: exactly what the solver integrates, as numpy-readable files.
+
+use super::system::Problem;
+use crate::error::PipelineError;
+use crate::history::npy::write_npy;
+use crate::output::RunDir;
+use faer::Mat;
+use serde::Serialize;
+use squeal_contact::GapSet;
+use squeal_solver::bdf::{BdfOptions, InitialConditionOptions};
+use squeal_solver::bsql::SteadyOptions;
+
+fn mat_npy(dir: &RunDir, name: &str, a: &Mat<f64>) -> Result<(), PipelineError> {
+    let data: Vec<f64> = (0..a.nrows()).flat_map(|i| (0..a.ncols()).map(move |j| a[(i, j)])).collect();
+    write_npy(&dir.path(name), &data, a.ncols())
+}
+
+/// `solver_options.json`.
+#[derive(Debug, Serialize)]
+struct SolverOptionsFile<'a> {
+    layout: &'static str,
+    tfinal: f64,
+    bdf: &'a BdfOptions,
+    initial_conditions: &'a InitialConditionOptions,
+    steady_state: &'a SteadyOptions,
+    t_load: f64,
+    step_load: bool,
+    include_friction_damping: bool,
+}
+
+const README: &str = r#"# The BSQL problem as data (written by `squeal transient --export-dae`)
+
+The solver integrates F(t, y, y') = 0 with y = [v (n), lambda (ng), u (n)] (paper eqs. 13-16):
+
+    F_v      = M v' + B v + K u + G^T lambda' - P(t) - F_f(lambda', v)
+    F_lambda = G v'
+    F_u      = u' - v
+
+lambda is the contact impulse: lambda' is the contact multiplier of paper eq. (12); a positive
+lambda'_g is *tensile*, the compressive normal force of gap g is A_g P0_g - lambda'_g.
+
+Files (all `.npy` are float64, C order, readable with `numpy.load`):
+
+| file | shape | what |
+|---|---|---|
+| `M.npy`, `B.npy`, `K.npy` | n x n | reduced mass, damping (everything: element GE/W4, G/W3, modal), stiffness |
+| `G.npy` | ng x n | contact constraint: row g = +n on the rotor DOFs, -n on the pad DOFs (eq. 9) |
+| `p_pre.npy` | n x 1 | constant load (zero unless stated) |
+| `p_brake.npy` | n x 1 | brake load at the end of the ramp (already multiplied by PMAX) |
+| `gaps.json` | | gap table: per gap pad/rotor node ids, pad_dofs/rotor_dofs (0-based indices into v, null = fixed), unit normal n (out of the pad), area A, sliding velocity v_slide (omega x r), P0, temperature; plus the friction law and VTOL |
+| `solver_options.json` | | BDF options (tolerances per partition, MAXORD, h0, ...), TOLINT, TFINAL, TLOAD |
+
+P(t) = p_pre + r(t) p_brake with r(t) = min(t / t_load, 1) (a step at t = 0 when `step_load`).
+
+Friction forces per gap (paper eqs. 1-7): p_n = -lambda'_g / A + P0; dv = v_r - v_p + v_slide;
+V_t = dv - (dv . n) n; F_t = mu(p_n, |V_t|, T) A p_n, times (2/pi) atan(|V_t| / VTOL) below
+10 VTOL (regularisation, see squeal-contact); the pad gets +F_t V_t/|V_t|, the rotor the opposite.
+
+Initial state: the steady sliding equilibrium before the brake load (v = 0, K u + G^T lambda' =
+F_f(lambda', 0), G u = 0), then consistent y'(0) to TOLINT.
+"#;
+
+/// Writes the problem into `dir`.
+pub fn export(
+    dir: &RunDir,
+    p: &Problem,
+    gaps: &GapSet,
+    bdf: &BdfOptions,
+    ic: &InitialConditionOptions,
+    steady: &SteadyOptions,
+    tfinal: f64,
+) -> Result<(), PipelineError> {
+    mat_npy(dir, "M.npy", &p.m)?;
+    mat_npy(dir, "B.npy", &p.b)?;
+    mat_npy(dir, "K.npy", &p.k)?;
+    mat_npy(dir, "G.npy", &p.g)?;
+    let n = p.m.nrows();
+    let pre = if p.load.p_pre.is_empty() { vec![0.0; n] } else { p.load.p_pre.clone() };
+    let brake = if p.load.p_brake.is_empty() { vec![0.0; n] } else { p.load.p_brake.clone() };
+    write_npy(&dir.path("p_pre.npy"), &pre, 1)?;
+    write_npy(&dir.path("p_brake.npy"), &brake, 1)?;
+    dir.write_json("gaps.json", gaps)?;
+    dir.write_json(
+        "solver_options.json",
+        &SolverOptionsFile {
+            layout: "y = [v (n), lambda (ng), u (n)]",
+            tfinal,
+            bdf,
+            initial_conditions: ic,
+            steady_state: steady,
+            t_load: p.load.t_load,
+            step_load: p.load.step,
+            include_friction_damping: p.bsql.include_friction_damping,
+        },
+    )?;
+    dir.write_bytes("README.md", README.as_bytes())?;
+    Ok(())
+}

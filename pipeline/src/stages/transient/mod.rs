@@ -1,0 +1,388 @@
+//! `squeal transient`: the BSQL nonlinear transient of the reduced brake model.
+//!
+//! reduced model → BSQL system (M, B, K, G, P(t), gap friction) → steady sliding state before
+//! the brake load (TOLINT) → consistent y'(0) → BDF to TFINAL. Outputs: `history.npy` +
+//! `history_map.json`, `energy.csv`, `restart.json` (every NRSTRT steps and at the end),
+//! `summary.json` with every statistic and the squeal verdict.
+
+pub mod export;
+mod records;
+pub mod restart;
+pub mod system;
+pub mod verdict;
+
+use crate::error::PipelineError;
+use crate::history::npy::NpyAppender;
+use crate::history::{HistoryMap, RecordKind};
+use crate::output::RunDir;
+use crate::progress::Progress;
+use crate::scene::Scene;
+use crate::stages::model;
+use indicatif::{ProgressBar, ProgressStyle};
+use restart::RestartFile;
+use serde::Serialize;
+use squeal_solver::bdf::{consistent_initial_conditions, Bdf, BdfOptions, BdfStats, IcStats, InitialConditionOptions, Status};
+use squeal_solver::bsql::{steady_state, BsqlStats, EnergyBalance, SteadyOptions};
+use squeal_solver::SolverError;
+use std::io::Write;
+use std::path::Path;
+use std::time::Instant;
+use verdict::Verdict;
+
+/// Steps between progress updates, history flushes and chances to write the restart file.
+const CHUNK: usize = 50;
+
+/// `summary.json` of a transient run.
+#[derive(Debug, Clone, Serialize)]
+pub struct TransientReport {
+    pub verb: &'static str,
+    pub version: &'static str,
+    /// How the integration ended.
+    pub status: Status,
+    /// Accepted steps (cumulative over restarts).
+    pub steps: u64,
+    /// Seconds inside the integrator (cumulative over restarts).
+    pub cpu_s: f64,
+    /// Whole run, wall seconds.
+    pub wall_s: f64,
+    pub squeal: bool,
+    pub growth_rate_per_s: Option<f64>,
+    pub dominant_frequency_hz: Option<f64>,
+    /// History column of the verdict's response.
+    pub response: String,
+    pub verdict: Verdict,
+    /// ‖G v‖∞ at the last step and its maximum.
+    pub constraint_drift: f64,
+    pub max_constraint_drift: f64,
+    pub bdf_stats: BdfStats,
+    pub bsql_stats: BsqlStats,
+    pub steady_state: Option<SteadySummary>,
+    pub initial_conditions: Option<IcStats>,
+    pub energy: EnergyBalance,
+    /// Energy balance residual ΔE − net work in.
+    pub energy_residual: f64,
+    pub t_start: f64,
+    pub t_end: f64,
+    pub n_dofs: usize,
+    pub n_gaps: usize,
+    pub history_rows: usize,
+    /// The effects this run computed (only what the scene names).
+    pub active_effects: Vec<String>,
+    /// Scene values given but without effect, and why.
+    pub ignored: Vec<String>,
+    pub model_hash: String,
+    pub restarted_from: Option<String>,
+}
+
+/// Steady-state solve summary.
+#[derive(Debug, Clone, Serialize)]
+pub struct SteadySummary {
+    pub iterations: usize,
+    pub residual_norm: f64,
+}
+
+fn solver_err(what: &str) -> impl FnOnce(SolverError) -> PipelineError + '_ {
+    move |source| PipelineError::Solver { what: what.to_string(), source }
+}
+
+fn effects(scene: &Scene, model: &model::ReducedModel, p: &system::Problem) -> (Vec<String>, Vec<String>) {
+    let mut on = Vec::new();
+    let mut ignored = Vec::new();
+    let law = &model.gaps.law;
+    if !model.gaps.is_empty() {
+        on.push(format!("contact ({} gaps)", model.gaps.len()));
+        on.push(format!("friction law {}", serde_json::to_string(law).unwrap_or_default()));
+        if law.depends_on_speed() {
+            on.push("friction: speed dependence dmu/dv".into());
+        }
+        if law.depends_on_pressure() {
+            on.push("friction: pressure dependence dmu/dp".into());
+        }
+        if law.depends_on_temperature() {
+            on.push("friction: temperature lookups".into());
+        } else if model.gaps.gaps.iter().any(|g| g.temperature != 0.0) {
+            ignored.push("gap temperatures: the friction law does not depend on temperature".into());
+        }
+        if model.gaps.gaps.iter().any(|g| g.p0 != 0.0) {
+            on.push("preload P0".into());
+        }
+        if model.gaps.gaps.iter().any(|g| g.v_slide.iter().any(|&v| v != 0.0)) {
+            on.push("rotor sliding velocity".into());
+        }
+    } else if scene.friction.is_some() {
+        ignored.push("[friction]: the model has no gaps".into());
+    }
+    if p.load.p_brake.iter().any(|&x| x != 0.0) {
+        on.push(if p.load.step { "brake load (step)".into() } else { format!("brake load (ramp over {})", p.load.t_load) });
+    }
+    if let Some(d) = &scene.damping {
+        if d.overall_factor() != 0.0 {
+            on.push("damping G/W3".into());
+        } else if d.g != 0.0 {
+            ignored.push("damping.g: W3 = 0 turns it off".into());
+        }
+        if model.b.is_some() {
+            on.push("element damping GE/W4".into());
+        }
+        if d.modal_ratio > 0.0 {
+            on.push("modal damping".into());
+        }
+    }
+    if p.bsql.include_friction_damping {
+        on.push("friction damping C_f in the iteration matrix".into());
+    }
+    (on, ignored)
+}
+
+/// Runs the transient; `export_dae` also writes the problem as data into that folder.
+pub fn run(scene: &Scene, dir: &RunDir, progress: Progress, export_dae: Option<&Path>) -> Result<TransientReport, PipelineError> {
+    let wall = Instant::now();
+    let spec = scene.transient.clone().unwrap_or_default();
+    dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
+    let model = model::build(scene, dir, progress)?;
+    let problem = system::problem(scene, &model)?;
+    let mut sys = problem.system(model.gaps.clone())?;
+    let (n, ng) = (model.n(), model.gaps.len());
+    let model_hash = problem.model_hash();
+    let bdf_opts = BdfOptions {
+        max_order: spec.maxord,
+        tolerances: sys.tolerances(spec.rtol1, spec.atol1, spec.rtol2, spec.atol2),
+        h0: spec.h0,
+        h_max: spec.h_max,
+        max_steps: spec.max_steps,
+        ..BdfOptions::default()
+    };
+    let ic_opts = InitialConditionOptions { tol: spec.tolint, ..Default::default() };
+    let steady_opts = SteadyOptions { tol: spec.tolint, ..Default::default() };
+    if let Some(d) = export_dae {
+        let edir = RunDir::create(d)?;
+        export::export(&edir, &problem, &model.gaps, &bdf_opts, &ic_opts, &steady_opts, spec.tfinal)?;
+        progress.info(format!("exported the DAE to {}", d.display()));
+    }
+
+    // Initial state: restart file, or steady sliding before the brake load + consistent y'(0).
+    let (mut bdf, steady, ic, restarted_from) = match &spec.restart {
+        Some(p) => {
+            let path = scene.resolve(p);
+            let r = RestartFile::read(&path, &model_hash, n, ng)?;
+            let bdf = Bdf::from_state(bdf_opts.clone(), r.state).map_err(solver_err("restart state"))?;
+            (bdf, None, None, Some(path.display().to_string()))
+        }
+        None => {
+            // t = −1 < 0: the ramp is 0, so the state is the sliding equilibrium under P0 alone.
+            let ss = steady_state(&mut sys, -1.0, &steady_opts).map_err(solver_err("steady state"))?;
+            let (mut y0, mut yp0) = ss.initial_values();
+            let ic = consistent_initial_conditions(&mut sys, 0.0, &mut y0, &mut yp0, None, &ic_opts)
+                .map_err(solver_err("consistent initial conditions"))?;
+            let bdf = Bdf::new(bdf_opts.clone(), 0.0, &y0, &yp0).map_err(solver_err("integrator"))?;
+            (
+                bdf,
+                Some(SteadySummary { iterations: ss.iterations, residual_norm: ss.residual_norm }),
+                Some(ic),
+                None,
+            )
+        }
+    };
+    let t_start = bdf.t();
+    if spec.tfinal <= t_start {
+        return Err(PipelineError::Scene {
+            field: "transient.tfinal".into(),
+            message: format!("{} is not after the start time {t_start}", spec.tfinal),
+        });
+    }
+
+    // Outputs.
+    let cols = records::columns(scene, &model)?;
+    dir.write_json("history_map.json", &HistoryMap { n_columns: cols.len(), noutpt: spec.noutpt, columns: cols.clone() })?;
+    let mut history = NpyAppender::create(&dir.path("history.npy"), cols.len())?;
+    let energy_path = dir.path("energy.csv");
+    let mut energy = std::io::BufWriter::new(std::fs::File::create(&energy_path).map_err(|source| PipelineError::Io { path: energy_path.clone(), source })?);
+    let eio = |source| PipelineError::Io { path: energy_path.clone(), source };
+    writeln!(energy, "t,kinetic,strain,damping_dissipation,friction_work,external_work,constraint_work,balance").map_err(eio)?;
+    let vel_cols: Vec<(usize, usize)> = cols
+        .iter()
+        .filter(|c| c.kind == RecordKind::Velocity)
+        .map(|c| (c.column, c.dof.unwrap_or(0)))
+        .collect();
+    let resp_dof: Option<usize> = match &scene.output.response {
+        Some(r) => {
+            let comp = match r.dof.as_str() { "x" => 1, "y" => 2, _ => 3 };
+            Some(*model.grid_index().get(&squeal_reduction::superelement::DofKey { grid: r.grid, comp }).ok_or_else(|| PipelineError::Scene {
+                field: "output.response".into(),
+                message: format!("grid {} {} is not a DOF of the reduced model", r.grid, r.dof),
+            })?)
+        }
+        None => None,
+    };
+    let resp_dofs: Vec<usize> = match resp_dof { Some(d) => vec![d], None => vel_cols.iter().map(|c| c.1).collect() };
+    let mut resp_t: Vec<f64> = Vec::new();
+    let mut resp_v: Vec<Vec<f64>> = vec![Vec::new(); resp_dofs.len()];
+
+    let mut balance = EnergyBalance::new();
+    let mut row = Vec::with_capacity(cols.len());
+    let gaps = model.gaps.clone();
+    let mut out_err: Option<String> = None;
+    let mut steps_done = bdf.stats().steps as usize;
+    // The initial point.
+    {
+        let (y, yp) = (bdf.y().to_vec(), bdf.yp().to_vec());
+        let p = sys.observe(t_start, &y, &yp).map_err(solver_err("energy"))?;
+        balance.push(&p);
+        records::fill_row(&cols, &gaps, n, t_start, &y, &yp, &mut row).map_err(PipelineError::Model)?;
+        history.push(&row)?;
+        resp_t.push(t_start);
+        for (k, &d) in resp_dofs.iter().enumerate() {
+            resp_v[k].push(y[d]);
+        }
+    }
+    let bar = (!progress.quiet).then(|| {
+        let b = ProgressBar::new(1000);
+        b.set_style(ProgressStyle::with_template("{bar:40} {msg} [{elapsed}]").unwrap_or_else(|_| ProgressStyle::default_bar()));
+        b
+    });
+    let restart_path = dir.path("restart.json");
+    let write_restart = |bdf: &Bdf| -> Result<(), PipelineError> {
+        RestartFile {
+            version: crate::VERSION.into(),
+            model_hash: model_hash.clone(),
+            n,
+            ng,
+            t: bdf.t(),
+            max_order: spec.maxord,
+            state: bdf.state().clone(),
+        }
+        .write(&restart_path)
+    };
+    let status = loop {
+        let mut in_chunk = 0usize;
+        let nrstrt = spec.nrstrt;
+        let st = bdf
+            .step_to(&mut sys, spec.tfinal, |s, t, y, yp| {
+                steps_done += 1;
+                in_chunk += 1;
+                let p = s.observe(t, y, yp)?;
+                balance.push(&p);
+                resp_t.push(t);
+                for (k, &d) in resp_dofs.iter().enumerate() {
+                    resp_v[k].push(y[d]);
+                }
+                if steps_done % spec.noutpt == 0 {
+                    let res = records::fill_row(&cols, &gaps, n, t, y, yp, &mut row)
+                        .and_then(|_| history.push(&row).map_err(|e| e.to_string()))
+                        .and_then(|_| {
+                            writeln!(
+                                energy,
+                                "{t:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
+                                p.kinetic,
+                                p.strain,
+                                balance.damping_dissipated,
+                                balance.friction_work,
+                                balance.external_work,
+                                balance.constraint_work,
+                                balance.residual()
+                            )
+                            .map_err(|e| e.to_string())
+                        });
+                    if let Err(e) = res {
+                        out_err = Some(e.clone());
+                        return Err(SolverError::Callback { t, message: e });
+                    }
+                }
+                let restart_due = nrstrt > 0 && steps_done % nrstrt == 0;
+                Ok(in_chunk < CHUNK && !restart_due)
+            })
+            .map_err(|source| match out_err.take() {
+                Some(m) => PipelineError::Output { path: dir.path("history.npy"), message: m },
+                None => PipelineError::Solver { what: "integration".into(), source },
+            });
+        let st = match st {
+            Ok(st) => st,
+            Err(e) => {
+                let _ = history.flush();
+                let _ = energy.flush();
+                return Err(e);
+            }
+        };
+        history.flush()?;
+        energy.flush().map_err(eio)?;
+        if let Some(b) = &bar {
+            b.set_position((1000.0 * (bdf.t() - t_start) / (spec.tfinal - t_start)).clamp(0.0, 1000.0) as u64);
+            b.set_message(format!("t = {:.4e}, h = {:.2e}, order {}, steps {}", bdf.t(), bdf.state().h, bdf.state().order, steps_done));
+        }
+        match st {
+            Status::Interrupted { .. } => {
+                if spec.nrstrt > 0 && steps_done % spec.nrstrt == 0 {
+                    write_restart(&bdf)?;
+                }
+            }
+            other => break other,
+        }
+    };
+    if let Some(b) = &bar {
+        b.finish();
+    }
+    write_restart(&bdf)?;
+    if status.is_success() {
+        let (y, yp) = (bdf.y().to_vec(), bdf.yp().to_vec());
+        records::fill_row(&cols, &gaps, n, spec.tfinal, &y, &yp, &mut row).map_err(PipelineError::Model)?;
+        history.push(&row)?;
+        history.flush()?;
+    } else {
+        progress.info(format!("integration stopped: {status:?}"));
+    }
+
+    // Verdict on the response after the ramp.
+    let t_after = problem.load.t_load.max(t_start);
+    let (pick, verdict) = resp_v
+        .iter()
+        .enumerate()
+        .map(|(k, v)| {
+            let peak = resp_t.iter().zip(v).filter(|(t, _)| **t > t_after).fold(0.0f64, |m, (_, x)| m.max(x.abs()));
+            (k, peak)
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(k, _)| (Some(k), verdict::analyse(&resp_t, &resp_v[k], t_after)))
+        .unwrap_or((None, verdict::analyse(&[], &[], 0.0)));
+    let response = match pick {
+        Some(k) => {
+            let d = resp_dofs[k];
+            cols.iter().find(|c| c.kind == RecordKind::Velocity && c.dof == Some(d)).map(|c| c.name.clone()).unwrap_or_else(|| format!("v_dof{d}"))
+        }
+        None => "none".into(),
+    };
+    let (active_effects, ignored) = effects(scene, &model, &problem);
+    let bs = sys.stats().clone();
+    let stats = bdf.stats().clone();
+    let report = TransientReport {
+        verb: "transient",
+        version: crate::VERSION,
+        status,
+        steps: stats.steps,
+        cpu_s: stats.cpu_s,
+        wall_s: wall.elapsed().as_secs_f64(),
+        squeal: verdict.growth_rate_per_s.is_some_and(|g| g > scene.output.squeal_growth_threshold),
+        growth_rate_per_s: verdict.growth_rate_per_s,
+        dominant_frequency_hz: verdict.dominant_frequency_hz,
+        response,
+        verdict,
+        constraint_drift: bs.constraint_drift,
+        max_constraint_drift: bs.max_constraint_drift,
+        bdf_stats: stats,
+        bsql_stats: bs,
+        steady_state: steady,
+        initial_conditions: ic,
+        energy_residual: balance.residual(),
+        energy: balance,
+        t_start,
+        t_end: bdf.t(),
+        n_dofs: n,
+        n_gaps: ng,
+        history_rows: history.rows(),
+        active_effects,
+        ignored,
+        model_hash,
+        restarted_from,
+    };
+    dir.write_json("summary.json", &report)?;
+    Ok(report)
+}

@@ -1,0 +1,60 @@
+//! The restart file: the integrator's complete state, the model hash and the time, written
+//! atomically every NRSTRT steps and at the end of a run.
+
+use crate::error::PipelineError;
+use crate::output::write_atomic;
+use serde::{Deserialize, Serialize};
+use squeal_solver::bdf::BdfState;
+use std::path::Path;
+
+/// `restart.json`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RestartFile {
+    /// squeal version that wrote it.
+    pub version: String,
+    /// Hash of n, ng, M, K, G: a restart continues only the same model (see `Problem::model_hash`).
+    pub model_hash: String,
+    /// Reduced DOFs n.
+    pub n: usize,
+    /// Gaps ng.
+    pub ng: usize,
+    /// Time of the state (the last accepted step).
+    pub t: f64,
+    /// MAXORD of the run (the state holds MAXORD + 2 difference arrays).
+    pub max_order: usize,
+    /// The BDF state.
+    pub state: BdfState,
+}
+
+impl RestartFile {
+    /// Writes it atomically.
+    pub fn write(&self, path: &Path) -> Result<(), PipelineError> {
+        let text = serde_json::to_string(self).map_err(|e| PipelineError::Output {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        write_atomic(path, text.as_bytes())
+    }
+
+    /// Reads one and checks it belongs to this model.
+    pub fn read(path: &Path, model_hash: &str, n: usize, ng: usize) -> Result<Self, PipelineError> {
+        let text = std::fs::read_to_string(path).map_err(|source| PipelineError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let r: RestartFile = serde_json::from_str(&text).map_err(|e| PipelineError::Input {
+            path: path.to_path_buf(),
+            message: format!("not a squeal restart file: {e}"),
+        })?;
+        if r.n != n || r.ng != ng || r.model_hash != model_hash {
+            return Err(PipelineError::Input {
+                path: path.to_path_buf(),
+                message: format!(
+                    "written for another model (n = {}, ng = {}, hash {}); this scene's model has n = {n}, ng = {ng}, hash {model_hash}",
+                    r.n, r.ng, r.model_hash
+                ),
+            });
+        }
+        Ok(r)
+    }
+}

@@ -1,0 +1,151 @@
+//! The BSQL system from the reduced model: M, B, K, G, P(t), friction adapter.
+
+use crate::error::PipelineError;
+use crate::scene::Scene;
+use crate::stages::model::ReducedModel;
+use faer::Mat;
+use squeal_contact::GapSet;
+use squeal_solver::bsql::{BsqlOptions, BsqlSystem, FrictionForces, LoadHistory};
+use squeal_solver::{Real, SolverError};
+
+/// The contact crate's gap elements as the solver's friction callback.
+pub struct GapFriction {
+    pub set: GapSet,
+}
+
+impl FrictionForces for GapFriction {
+    fn add_forces(&mut self, t: Real, v: &[Real], lambda_dot: &[Real], f: &mut [Real]) -> Result<(), SolverError> {
+        self.set
+            .add_forces(v, lambda_dot, f)
+            .map_err(|e| SolverError::Callback { t, message: e.to_string() })
+    }
+    fn add_tangents(
+        &mut self,
+        t: Real,
+        v: &[Real],
+        lambda_dot: &[Real],
+        d_dlam: &mut Mat<Real>,
+        d_dv: Option<&mut Mat<Real>>,
+    ) -> Result<(), SolverError> {
+        self.set
+            .add_tangents(v, lambda_dot, d_dlam, d_dv)
+            .map_err(|e| SolverError::Callback { t, message: e.to_string() })
+    }
+}
+
+/// The matrices and loads the solver integrates.
+pub struct Problem {
+    pub m: Mat<Real>,
+    pub b: Mat<Real>,
+    pub k: Mat<Real>,
+    pub g: Mat<Real>,
+    pub load: LoadHistory,
+    pub bsql: BsqlOptions,
+}
+
+/// B = B_element (stored/reduced) + (G/W3)·K + M Φ diag(2ζω) Φᵀ M.
+///
+/// # Reference
+/// NASTRAN's transient damping: structural damping G converted with W3, element damping GE
+/// with W4 (both viscous equivalents at one frequency); the modal term gives every mode of
+/// the reduced (K, M) the ratio ζ.
+pub fn damping_matrix(scene: &Scene, model: &ReducedModel) -> Result<Mat<Real>, PipelineError> {
+    let n = model.n();
+    let d = scene.damping.clone().unwrap_or_default();
+    let mut b = model.b.clone().unwrap_or_else(|| Mat::zeros(n, n));
+    let a = d.overall_factor();
+    if a != 0.0 {
+        for j in 0..n {
+            for i in 0..n {
+                b[(i, j)] += a * model.k[(i, j)];
+            }
+        }
+    }
+    if d.modal_ratio > 0.0 {
+        let (vals, phi) = squeal_reduction::cb::dense_generalized_eigen(model.k.as_ref(), model.m.as_ref())
+            .map_err(|source| PipelineError::Reduction { what: "modal damping: modes of the reduced model".into(), source })?;
+        let lmax = vals.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let mphi = &model.m * &phi;
+        for (q, &l) in vals.iter().enumerate() {
+            if l <= 1e-10 * lmax {
+                continue; // rigid modes get no damping
+            }
+            let c = 2.0 * d.modal_ratio * l.sqrt();
+            for j in 0..n {
+                let x = c * mphi[(j, q)];
+                for i in 0..n {
+                    b[(i, j)] += mphi[(i, q)] * x;
+                }
+            }
+        }
+    }
+    Ok(b)
+}
+
+/// Assembles the problem from the model and the scene's loads, damping and options.
+pub fn problem(scene: &Scene, model: &ReducedModel) -> Result<Problem, PipelineError> {
+    let n = model.n();
+    let g = model.gaps.constraint_matrix(n).map_err(|source| PipelineError::Contact {
+        what: "constraint matrix G".into(),
+        source,
+    })?;
+    let loads = scene.loads.clone().unwrap_or_default();
+    let t = scene.transient.clone().unwrap_or_default();
+    let load = LoadHistory {
+        p_pre: Vec::new(),
+        p_brake: model.p_brake.iter().map(|p| loads.pmax * p).collect(),
+        t_load: loads.tload,
+        step: loads.tload == 0.0,
+    };
+    Ok(Problem {
+        m: model.m.clone(),
+        b: damping_matrix(scene, model)?,
+        k: model.k.clone(),
+        g,
+        load,
+        bsql: BsqlOptions {
+            include_friction_damping: t.friction_damping_in_jacobian,
+        },
+    })
+}
+
+impl Problem {
+    /// The solver's system (matrices copied).
+    pub fn system(&self, gaps: GapSet) -> Result<BsqlSystem<GapFriction>, PipelineError> {
+        BsqlSystem::new(
+            self.m.clone(),
+            self.b.clone(),
+            self.k.clone(),
+            self.g.clone(),
+            self.load.clone(),
+            GapFriction { set: gaps },
+            self.bsql.clone(),
+        )
+        .map_err(|source| PipelineError::Solver { what: "building the BSQL system".into(), source })
+    }
+
+    /// FNV-1a hash of n, ng and M, K, G (values rounded to 12 significant digits): a restart
+    /// file only continues the model it was written for.
+    pub fn model_hash(&self) -> String {
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        let mut eat = |bytes: &[u8]| {
+            for &b in bytes {
+                h ^= b as u64;
+                h = h.wrapping_mul(0x0100_0000_01b3);
+            }
+        };
+        eat(&(self.m.nrows() as u64).to_le_bytes());
+        eat(&(self.g.nrows() as u64).to_le_bytes());
+        for a in [&self.m, &self.k, &self.g] {
+            for j in 0..a.ncols() {
+                for i in 0..a.nrows() {
+                    let v = a[(i, j)];
+                    if v != 0.0 {
+                        eat(format!("{i},{j}:{v:.11e};").as_bytes());
+                    }
+                }
+            }
+        }
+        format!("{h:016x}")
+    }
+}
