@@ -24,7 +24,10 @@ fn main() -> anyhow::Result<()> {
     let out = args
         .iter()
         .enumerate()
-        .find(|(i, a)| !a.starts_with("--") && (*i == 0 || !args[i - 1].starts_with("--b") && !args[i - 1].starts_with("--t")))
+        .find(|(i, a)| {
+            !a.starts_with("--")
+                && (*i == 0 || !args[i - 1].starts_with("--b") && !args[i - 1].starts_with("--t"))
+        })
         .map(|(_, a)| a)
         .cloned()
         .unwrap_or_else(|| "target/bench/modal.json".to_string());

@@ -52,11 +52,19 @@ impl DofMap {
     pub fn from_node_sets(mesh: &Mesh, fixed: &[(&str, [bool; 3])]) -> Result<Self, FeError> {
         let mut list = Vec::new();
         for (name, comps) in fixed {
-            let set = mesh.node_sets.get(*name).ok_or_else(|| FeError::UnknownSet {
-                what: "node set",
-                name: name.to_string(),
-                available: mesh.node_sets.keys().cloned().collect::<Vec<_>>().join(", "),
-            })?;
+            let set = mesh
+                .node_sets
+                .get(*name)
+                .ok_or_else(|| FeError::UnknownSet {
+                    what: "node set",
+                    name: name.to_string(),
+                    available: mesh
+                        .node_sets
+                        .keys()
+                        .cloned()
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                })?;
             for &n in set {
                 for c in 0..3 {
                     if comps[c] {

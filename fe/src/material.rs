@@ -38,7 +38,11 @@ impl Material {
             return bad("material.young", self.young, "must be finite and > 0");
         }
         if !(self.poisson > -1.0 && self.poisson < 0.5) {
-            return bad("material.poisson", self.poisson, "must satisfy -1 < nu < 0.5");
+            return bad(
+                "material.poisson",
+                self.poisson,
+                "must satisfy -1 < nu < 0.5",
+            );
         }
         if !(self.density > 0.0 && self.density.is_finite()) {
             return bad("material.density", self.density, "must be finite and > 0");

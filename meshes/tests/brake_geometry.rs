@@ -46,24 +46,19 @@ const XI: [[f64; 3]; 8] = [
 fn trilinear_det(c: &[[f64; 3]; 8], p: [f64; 3]) -> f64 {
     let mut j = [[0.0; 3]; 3];
     for (x, xi) in c.iter().zip(&XI) {
-        let n = [
-            (1.0 + xi[0] * p[0]) / 8.0,
-            (1.0 + xi[1] * p[1]) / 8.0,
-            (1.0 + xi[2] * p[2]) / 8.0,
-        ];
         let dn = [
             xi[0] * (1.0 + xi[1] * p[1]) * (1.0 + xi[2] * p[2]) / 8.0,
             xi[1] * (1.0 + xi[0] * p[0]) * (1.0 + xi[2] * p[2]) / 8.0,
             xi[2] * (1.0 + xi[0] * p[0]) * (1.0 + xi[1] * p[1]) / 8.0,
         ];
-        let _ = n;
         for i in 0..3 {
             for a in 0..3 {
                 j[i][a] += x[i] * dn[a];
             }
         }
     }
-    j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1]) - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+    j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
+        - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
         + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0])
 }
 
@@ -93,7 +88,11 @@ fn check_cells(m: &Mesh, name: &str) -> f64 {
             let c: [[f64; 3]; 8] = std::array::from_fn(|k| m.nodes[cell[k]]);
             for xi in XI {
                 let d = trilinear_det(&c, xi);
-                assert!(d > 0.0, "{name}: cell {} has det J = {d} at corner {xi:?}", b.tags[i]);
+                assert!(
+                    d > 0.0,
+                    "{name}: cell {} has det J = {d} at corner {xi:?}",
+                    b.tags[i]
+                );
             }
             for xi in XI {
                 volume += trilinear_det(&c, [g * xi[0], g * xi[1], g * xi[2]]);
@@ -102,8 +101,19 @@ fn check_cells(m: &Mesh, name: &str) -> f64 {
                 for (e, (p, q)) in EDGES.iter().enumerate() {
                     let (p, q, mid) = (c[*p], c[*q], m.nodes[cell[8 + e]]);
                     let len = dist(p, q);
-                    let off = dist(mid, [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0, (p[2] + q[2]) / 2.0]);
-                    assert!(off < 0.1 * len, "{name}: cell {} edge {e} mid node {off} off", b.tags[i]);
+                    let off = dist(
+                        mid,
+                        [
+                            (p[0] + q[0]) / 2.0,
+                            (p[1] + q[1]) / 2.0,
+                            (p[2] + q[2]) / 2.0,
+                        ],
+                    );
+                    assert!(
+                        off < 0.1 * len,
+                        "{name}: cell {} edge {e} mid node {off} off",
+                        b.tags[i]
+                    );
                 }
             }
         }
@@ -123,14 +133,30 @@ fn coincide(a: &Mesh, set_a: &str, b: &Mesh, set_b: &str, tol: f64) -> usize {
     let mut worst: f64 = 0.0;
     for &i in na {
         let p = a.nodes[i];
-        let near = nb.iter().map(|&k| dist(p, b.nodes[k])).fold(f64::INFINITY, f64::min);
+        let near = nb
+            .iter()
+            .map(|&k| dist(p, b.nodes[k]))
+            .fold(f64::INFINITY, f64::min);
         worst = worst.max(near);
-        let hits: Vec<usize> = (0..nb.len()).filter(|&k| dist(p, b.nodes[nb[k]]) <= tol).collect();
-        assert_eq!(hits.len(), 1, "{set_a} node {p:?}: {} nodes of {set_b} within {tol}", hits.len());
-        assert!(!used[hits[0]], "{set_a} node {p:?} matches a {set_b} node twice");
+        let hits: Vec<usize> = (0..nb.len())
+            .filter(|&k| dist(p, b.nodes[nb[k]]) <= tol)
+            .collect();
+        assert_eq!(
+            hits.len(),
+            1,
+            "{set_a} node {p:?}: {} nodes of {set_b} within {tol}",
+            hits.len()
+        );
+        assert!(
+            !used[hits[0]],
+            "{set_a} node {p:?} matches a {set_b} node twice"
+        );
         used[hits[0]] = true;
     }
-    eprintln!("{set_a} -> {set_b}: {} nodes, largest distance {worst:.3e}", na.len());
+    eprintln!(
+        "{set_a} -> {set_b}: {} nodes, largest distance {worst:.3e}",
+        na.len()
+    );
     na.len()
 }
 
@@ -169,8 +195,14 @@ fn check_brake(b: &BrakeGeometry, order: u8, tag: &str) -> [Mesh; 4] {
         assert!(close(v_rotor, vr, 1e-12), "rotor volume {v_rotor} vs {vr}");
         let h = inb.lining + inb.backplate;
         let vp = polygon_sector_volume(inb.r_in, inb.r_out, inb.n_circ, dth_rotor, h);
-        assert!(close(v_pin, vp, 1e-12), "inboard pad volume {v_pin} vs {vp}");
-        assert!(close(v_pout, vp, 1e-12), "outboard pad volume {v_pout} vs {vp}");
+        assert!(
+            close(v_pin, vp, 1e-12),
+            "inboard pad volume {v_pin} vs {vp}"
+        );
+        assert!(
+            close(v_pout, vp, 1e-12),
+            "outboard pad volume {v_pout} vs {vp}"
+        );
         // Caliper: full section over finger + piston + housing, the bridge over the middle.
         let dth = cal.theta_span_deg.to_radians() / cal.n_circ as f64;
         let full = cal.finger_thickness + cal.piston_length + cal.housing_thickness;
@@ -187,26 +219,45 @@ fn check_brake(b: &BrakeGeometry, order: u8, tag: &str) -> [Mesh; 4] {
 
     // Cell and node counts; the pad's blocks are [lining, backplate], the caliper's
     // [caliper, piston].
-    let kind = if order == 1 { CellKind::Hex8 } else { CellKind::Hex20 };
+    let kind = if order == 1 {
+        CellKind::Hex8
+    } else {
+        CellKind::Hex20
+    };
     for (m, g) in [(&pin, &inb), (&pout, &outb)] {
         assert_eq!(m.n_volume_cells(), g.n_cells());
         assert_eq!(m.nodes.len(), g.n_nodes(order));
-        let names: Vec<_> = m.volumes.iter().map(|v| v.name.as_deref().unwrap()).collect();
+        let names: Vec<_> = m
+            .volumes
+            .iter()
+            .map(|v| v.name.as_deref().unwrap())
+            .collect();
         assert_eq!(names, ["lining", "backplate"]);
         assert!(m.volumes.iter().all(|v| v.kind == kind));
         assert_eq!(m.volumes[0].len(), g.n_circ * g.n_rad * g.n_lining);
     }
     assert_eq!(calm.n_volume_cells(), cal.n_cells());
-    let names: Vec<_> = calm.volumes.iter().map(|v| v.name.as_deref().unwrap()).collect();
+    let names: Vec<_> = calm
+        .volumes
+        .iter()
+        .map(|v| v.name.as_deref().unwrap())
+        .collect();
     assert_eq!(names, ["caliper", "piston"]);
     assert_eq!(calm.volumes[1].len(), cal.n_circ * cal.n_rad * cal.n_piston);
 
     // Faces at the right heights.
     let z_of = |m: &Mesh, set: &str| -> Vec<f64> {
-        m.node_set(set).unwrap().iter().map(|&i| m.nodes[i][2]).collect()
+        m.node_set(set)
+            .unwrap()
+            .iter()
+            .map(|&i| m.nodes[i][2])
+            .collect()
     };
     let all_at = |zs: Vec<f64>, z: f64, what: &str| {
-        assert!(zs.iter().all(|v| (v - z).abs() < 1e-12), "{what} not at z = {z}: {zs:?}");
+        assert!(
+            zs.iter().all(|v| (v - z).abs() < 1e-12),
+            "{what} not at z = {z}: {zs:?}"
+        );
     };
     all_at(z_of(&pin, "friction"), inb.z_face, "inboard friction");
     all_at(z_of(&pout, "friction"), outb.z_face, "outboard friction");
@@ -222,21 +273,25 @@ fn check_brake(b: &BrakeGeometry, order: u8, tag: &str) -> [Mesh; 4] {
     for &i in calm.node_set("mount").unwrap() {
         let p = calm.nodes[i];
         let t = p[1].atan2(p[0]);
-        let on_end = [t0, t1].iter().any(|e| ((t - e + PI).rem_euclid(2.0 * PI) - PI).abs() < 1e-9);
+        let on_end = [t0, t1]
+            .iter()
+            .any(|e| ((t - e + PI).rem_euclid(2.0 * PI) - PI).abs() < 1e-9);
         assert!(on_end, "mount node {p:?} is not on a sector end");
         // Along the piston's direction, the housing starts behind the piston.
         let s = cal.piston_side().sign();
         let behind = s * (p[2] - (cal.z_piston + s * cal.piston_length));
         assert!(behind >= -1e-12, "mount node {p:?} is not in the housing");
     }
-    for (m, g, name) in [(&pin, &inb, "inboard"), (&pout, &outb, "outboard")] {
+    for (m, name) in [(&pin, "inboard"), (&pout, "outboard")] {
         for set in ["abutment_start", "abutment_end"] {
             let t_end = if set == "abutment_start" { t0 } else { t1 };
             for &i in m.node_set(set).unwrap() {
                 let p = m.nodes[i];
                 let t = p[1].atan2(p[0]);
-                assert!(((t - t_end + PI).rem_euclid(2.0 * PI) - PI).abs() < 1e-9, "{name} {set} node {p:?}");
-                let _ = g;
+                assert!(
+                    ((t - t_end + PI).rem_euclid(2.0 * PI) - PI).abs() < 1e-9,
+                    "{name} {set} node {p:?}"
+                );
             }
         }
     }
@@ -261,13 +316,35 @@ fn check_brake(b: &BrakeGeometry, order: u8, tag: &str) -> [Mesh; 4] {
         RotorSide::Top => "friction_top",
         RotorSide::Bottom => "friction_bottom",
     };
-    let bottom = if top == "friction_top" { "friction_bottom" } else { "friction_top" };
-    assert_eq!(coincide(&pin, "friction", &rotor, top, tol_rotor), face_nodes(&inb));
-    assert_eq!(coincide(&pout, "friction", &rotor, bottom, tol_rotor), face_nodes(&outb));
-    assert_eq!(coincide(&pin, "back", &calm, "piston_face", tol), face_nodes(&inb));
-    assert_eq!(coincide(&calm, "piston_face", &pin, "back", tol), face_nodes(&inb));
-    assert_eq!(coincide(&pout, "back", &calm, "finger_face", tol), face_nodes(&outb));
-    assert_eq!(coincide(&calm, "finger_face", &pout, "back", tol), face_nodes(&outb));
+    let bottom = if top == "friction_top" {
+        "friction_bottom"
+    } else {
+        "friction_top"
+    };
+    assert_eq!(
+        coincide(&pin, "friction", &rotor, top, tol_rotor),
+        face_nodes(&inb)
+    );
+    assert_eq!(
+        coincide(&pout, "friction", &rotor, bottom, tol_rotor),
+        face_nodes(&outb)
+    );
+    assert_eq!(
+        coincide(&pin, "back", &calm, "piston_face", tol),
+        face_nodes(&inb)
+    );
+    assert_eq!(
+        coincide(&calm, "piston_face", &pin, "back", tol),
+        face_nodes(&inb)
+    );
+    assert_eq!(
+        coincide(&pout, "back", &calm, "finger_face", tol),
+        face_nodes(&outb)
+    );
+    assert_eq!(
+        coincide(&calm, "finger_face", &pout, "back", tol),
+        face_nodes(&outb)
+    );
     eprintln!(
         "{tag} order {order}: nodes rotor {}, pads {} + {}, caliper {}: {} DOFs",
         rotor.nodes.len(),

@@ -11,6 +11,7 @@ pub mod bdf;
 pub mod bsql;
 pub mod cea;
 pub mod error;
+pub mod galpha;
 
 pub use error::SolverError;
 

@@ -129,7 +129,10 @@ fn check_inputs(mesh: &Mesh, materials: &[Material], dofs: &DofMap) -> Result<()
 }
 
 pub(crate) fn block_name(block: &CellBlock) -> String {
-    block.name.clone().unwrap_or_else(|| "<unnamed>".to_string())
+    block
+        .name
+        .clone()
+        .unwrap_or_else(|| "<unnamed>".to_string())
 }
 
 /// Element matrices of cell `c`; Jacobian failures are named by block and tag.

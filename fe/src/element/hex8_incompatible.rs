@@ -15,12 +15,39 @@ pub use super::hex8::Mat24;
 
 /// Stiffness of the incompatible-mode hex8 (2×2×2 Gauss), condensed to the 24 nodal DOFs.
 pub fn stiffness(x: &[[Real; 3]; 8], mat: &Material) -> Result<Mat24, FeError> {
+    condense(&full_stiffness(x, mat, true)?)
+}
+
+/// Static condensation K = K_uu − K_uα K_αα⁻¹ K_αu of the 9 incompatible DOFs.
+fn condense(k: &SMatrix<Real, 33, 33>) -> Result<Mat24, FeError> {
+    let kuu: SMatrix<Real, 24, 24> = k.fixed_view::<24, 24>(0, 0).into_owned();
+    let kua: SMatrix<Real, 24, 9> = k.fixed_view::<24, 9>(0, 24).into_owned();
+    let kaa: SMatrix<Real, 9, 9> = k.fixed_view::<9, 9>(24, 24).into_owned();
+    // A positive-Jacobian element has a positive definite K_αα; failure is reported with a
+    // positive det so that assembly names it as a singular incompatible block.
+    let chol = kaa.cholesky().ok_or(FeError::ElementJacobian {
+        det: 1.0,
+        xi: [0.0; 3],
+    })?;
+    let kc = kuu - kua * chol.solve(&kua.transpose());
+    // Restore exact symmetry lost to rounding in the condensation.
+    Ok((kc + kc.transpose()) * 0.5)
+}
+
+/// Uncondensed 33×33 stiffness (24 nodal + 9 incompatible DOFs); `taylor = false` drops
+/// Taylor's correction (Wilson's original element, which fails the patch test when distorted).
+pub(crate) fn full_stiffness(
+    x: &[[Real; 3]; 8],
+    mat: &Material,
+    taylor: bool,
+) -> Result<SMatrix<Real, 33, 33>, FeError> {
     let (lambda, mu) = mat.lame();
     let (_, dn0) = shape::hex8([0.0; 3]);
     let (j0, det0) = jacobian(x, &dn0, [0.0; 3])?;
-    let j0_inv = j0
-        .try_inverse()
-        .ok_or(FeError::ElementJacobian { det: det0, xi: [0.0; 3] })?;
+    let j0_inv = j0.try_inverse().ok_or(FeError::ElementJacobian {
+        det: det0,
+        xi: [0.0; 3],
+    })?;
     // 8 nodal functions + 3 bubble functions → 33 DOFs.
     let mut k = SMatrix::<Real, 33, 33>::zeros();
     for (xi, w) in hex_rule(2) {
@@ -29,27 +56,22 @@ pub fn stiffness(x: &[[Real; 3]; 8], mat: &Material) -> Result<Mat24, FeError> {
         let gn = gradients(&j, det, &dn);
         let mut g = [[0.0; 3]; 11];
         g[..8].copy_from_slice(&gn);
-        let scale = det0 / det;
+        // Taylor: J0 and det(J0)/det(J); Wilson's original: the local J.
+        let (jinv, scale) = if taylor {
+            (j0_inv, det0 / det)
+        } else {
+            (j.try_inverse().unwrap_or(j0_inv), 1.0)
+        };
         for kk in 0..3 {
             // ∂P_k/∂ξ_k = −2 ξ_k, other derivatives zero.
             let dp = -2.0 * xi[kk];
             for i in 0..3 {
-                g[8 + kk][i] = scale * j0_inv[(kk, i)] * dp;
+                g[8 + kk][i] = scale * jinv[(kk, i)] * dp;
             }
         }
         add_stiffness(&mut k, &g, w * det, lambda, mu);
     }
-    let kuu: SMatrix<Real, 24, 24> = k.fixed_view::<24, 24>(0, 0).into_owned();
-    let kua: SMatrix<Real, 24, 9> = k.fixed_view::<24, 9>(0, 24).into_owned();
-    let kaa: SMatrix<Real, 9, 9> = k.fixed_view::<9, 9>(24, 24).into_owned();
-    let chol = kaa
-        .cholesky()
-        .ok_or(FeError::ElementJacobian { det: det0, xi: [0.0; 3] })?;
-    let x_ = chol.solve(&kua.transpose());
-    let mut kc = kuu - kua * x_;
-    // Restore exact symmetry lost to rounding in the condensation.
-    kc = (kc + kc.transpose()) * 0.5;
-    Ok(kc)
+    Ok(k)
 }
 
 /// Consistent mass (the incompatible modes carry no mass): the hex8 2×2×2 mass.

@@ -33,8 +33,8 @@ pub(crate) fn jacobian<const N: usize>(
             }
         }
     }
-    let det = j.determinant();
-    if !(det > 0.0) {
+    let det: Real = j.determinant();
+    if det.is_nan() || det <= 0.0 {
         return Err(FeError::ElementJacobian { det, xi });
     }
     Ok((j, det))

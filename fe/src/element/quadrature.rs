@@ -4,7 +4,10 @@ use crate::Real;
 
 /// 1-D Gauss–Legendre points and weights for 2 or 3 points (exact to degree 3 / 5).
 pub fn gauss_1d(n: usize) -> &'static [(Real, Real)] {
-    const G2: [(Real, Real); 2] = [(-0.577_350_269_189_625_8, 1.0), (0.577_350_269_189_625_8, 1.0)];
+    const G2: [(Real, Real); 2] = [
+        (-0.577_350_269_189_625_8, 1.0),
+        (0.577_350_269_189_625_8, 1.0),
+    ];
     const G3: [(Real, Real); 3] = [
         (-0.774_596_669_241_483_4, 5.0 / 9.0),
         (0.0, 8.0 / 9.0),

@@ -121,7 +121,10 @@ pub fn quad8(xi: [Real; 2]) -> ([Real; 8], [[Real; 2]; 8]) {
             let f = [1.0 + p[0] * xi[0], 1.0 + p[1] * xi[1]];
             let s = p[0] * xi[0] + p[1] * xi[1] - 1.0;
             n[a] = 0.25 * f[0] * f[1] * s;
-            d[a] = [0.25 * p[0] * f[1] * (s + f[0]), 0.25 * p[1] * f[0] * (s + f[1])];
+            d[a] = [
+                0.25 * p[0] * f[1] * (s + f[0]),
+                0.25 * p[1] * f[0] * (s + f[1]),
+            ];
         } else {
             let e = if p[0] == 0.0 { 0 } else { 1 };
             let o = 1 - e;
@@ -170,7 +173,10 @@ mod tests {
             xm[j] -= h;
             let (np, nm) = (hex20(xp).0, hex20(xm).0);
             for a in 0..20 {
-                assert!((d[a][j] - (np[a] - nm[a]) / (2.0 * h)).abs() < 1e-8, "a {a} j {j}");
+                assert!(
+                    (d[a][j] - (np[a] - nm[a]) / (2.0 * h)).abs() < 1e-8,
+                    "a {a} j {j}"
+                );
             }
         }
         let x2 = [0.21, -0.63];

@@ -48,38 +48,60 @@ fn hex20_coords(size: [Real; 3], d: &[Real], mid: &[Real]) -> [[Real; 3]; 20] {
 fn rigid_modes(x: &[[Real; 3]]) -> Vec<Vec<Real>> {
     let mut out = Vec::new();
     for t in 0..3 {
-        out.push(x.iter().flat_map(|_| (0..3).map(move |i| if i == t { 1.0 } else { 0.0 })).collect());
+        out.push(
+            x.iter()
+                .flat_map(|_| (0..3).map(move |i| if i == t { 1.0 } else { 0.0 }))
+                .collect(),
+        );
     }
     for axis in 0..3 {
         let mut v = Vec::new();
         for p in x {
             // ω × p with ω = e_axis.
             let w = [0, 1, 2].map(|i| if i == axis { 1.0 } else { 0.0 });
-            v.extend([w[1] * p[2] - w[2] * p[1], w[2] * p[0] - w[0] * p[2], w[0] * p[1] - w[1] * p[0]]);
+            v.extend([
+                w[1] * p[2] - w[2] * p[1],
+                w[2] * p[0] - w[0] * p[2],
+                w[0] * p[1] - w[1] * p[0],
+            ]);
         }
         out.push(v);
     }
     out
 }
 
-fn check_k<const D: usize>(k: &nalgebra::SMatrix<Real, D, D>, x: &[[Real; 3]]) -> Result<(), TestCaseError> {
+fn check_k<const D: usize>(
+    k: &nalgebra::SMatrix<Real, D, D>,
+    x: &[[Real; 3]],
+) -> Result<(), TestCaseError> {
     let kmax = k.amax();
     let asym = (k - k.transpose()).amax();
     prop_assert!(asym <= 1e-12 * kmax, "asymmetry {asym:e} of max {kmax:e}");
     for r in rigid_modes(x) {
         let v = nalgebra::SVector::<Real, D>::from_column_slice(&r);
         let kv = k * v;
-        prop_assert!(kv.amax() <= 1e-9 * kmax * v.amax(), "rigid residual {:e}", kv.amax() / (kmax * v.amax()));
+        prop_assert!(
+            kv.amax() <= 1e-9 * kmax * v.amax(),
+            "rigid residual {:e}",
+            kv.amax() / (kmax * v.amax())
+        );
     }
     // Exactly six zero eigenvalues: the seventh smallest is well away from zero.
     let ev = nalgebra::DMatrix::from_column_slice(D, D, k.as_slice()).symmetric_eigenvalues();
     let mut e: Vec<Real> = ev.iter().copied().collect();
     e.sort_by(|a, b| a.total_cmp(b));
-    prop_assert!(e[6] > 1e-6 * kmax, "spurious zero-energy mode: {:e}", e[6] / kmax);
+    prop_assert!(
+        e[6] > 1e-6 * kmax,
+        "spurious zero-energy mode: {:e}",
+        e[6] / kmax
+    );
     Ok(())
 }
 
-fn volume<const N: usize>(x: &[[Real; 3]; N], sh: fn([Real; 3]) -> ([Real; N], [[Real; 3]; N]), order: usize) -> Real {
+/// Shape-function evaluator: (N_a, ∂N_a/∂ξ).
+type ShapeFn<const N: usize> = fn([Real; 3]) -> ([Real; N], [[Real; 3]; N]);
+
+fn volume<const N: usize>(x: &[[Real; 3]; N], sh: ShapeFn<N>, order: usize) -> Real {
     hex_rule(order)
         .iter()
         .map(|(xi, w)| {
@@ -170,4 +192,35 @@ fn inverted_element_is_an_error() {
     x.swap(6, 7);
     let e = hex8::stiffness(&x, &steel()).unwrap_err();
     assert!(matches!(e, crate::FeError::ElementJacobian { det, .. } if det < 0.0));
+}
+
+#[test]
+fn taylor_correction_decouples_constant_strain_from_incompatible_modes() {
+    // Element-level patch condition: for a linear displacement field the incompatible DOFs
+    // feel no force, K_αu u_lin = 0, on a distorted element — only with Taylor's correction.
+    let d: Vec<Real> = (0..24)
+        .map(|i| 0.1 * ((i * 7 % 11) as Real / 11.0 - 0.5))
+        .collect();
+    let x = hex8_coords([1.0, 0.8, 0.6], &d);
+    let u: Vec<Real> = x
+        .iter()
+        .flat_map(|p| {
+            [
+                0.3 * p[0] + 0.1 * p[1],
+                -0.2 * p[1] + 0.4 * p[2],
+                0.5 * p[0] - 0.3 * p[2],
+            ]
+        })
+        .collect();
+    let u = nalgebra::SVector::<Real, 24>::from_column_slice(&u);
+    for (taylor, expect_zero) in [(true, true), (false, false)] {
+        let k = hex8_incompatible::full_stiffness(&x, &steel(), taylor).unwrap();
+        let kau = k.fixed_view::<9, 24>(24, 0).into_owned();
+        let f = (kau * u).amax() / (k.amax() * u.amax());
+        assert_eq!(
+            f < 1e-12,
+            expect_zero,
+            "taylor {taylor}: relative force {f:e}"
+        );
+    }
 }

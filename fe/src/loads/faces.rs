@@ -28,7 +28,12 @@ fn centroid(mesh: &Mesh, nodes: &[usize]) -> [Real; 3] {
 }
 
 /// Parametric surface tangents' cross product x_ξ × x_η and the shape values at `xi`.
-fn area_density(mesh: &Mesh, nodes: &[usize], kind: CellKind, xi: [Real; 2]) -> (Vec<Real>, [Real; 3]) {
+fn area_density(
+    mesh: &Mesh,
+    nodes: &[usize],
+    kind: CellKind,
+    xi: [Real; 2],
+) -> (Vec<Real>, [Real; 3]) {
     let (n, d): (Vec<Real>, Vec<[Real; 2]>) = match kind {
         CellKind::Quad8 => {
             let (n, d) = shape::quad8(xi);
@@ -56,11 +61,14 @@ fn area_density(mesh: &Mesh, nodes: &[usize], kind: CellKind, xi: [Real; 2]) -> 
 /// For quad8 faces the consistent corner values point inward (∫ N_corner dA = −A/12 on a flat
 /// face) — this is the exact consistent integral; the sum over a face is its area vector.
 pub fn face_areas(mesh: &Mesh, face_set: &str) -> Result<Vec<(usize, [Real; 3])>, FeError> {
-    let block = mesh.faces.get(face_set).ok_or_else(|| FeError::UnknownSet {
-        what: "face set",
-        name: face_set.to_string(),
-        available: mesh.faces.keys().cloned().collect::<Vec<_>>().join(", "),
-    })?;
+    let block = mesh
+        .faces
+        .get(face_set)
+        .ok_or_else(|| FeError::UnknownSet {
+            what: "face set",
+            name: face_set.to_string(),
+            available: mesh.faces.keys().cloned().collect::<Vec<_>>().join(", "),
+        })?;
     let (kind, order) = match block.kind {
         CellKind::Quad4 => (CellKind::Quad4, 2),
         CellKind::Quad8 => (CellKind::Quad8, 3),
@@ -119,7 +127,7 @@ pub fn face_areas(mesh: &Mesh, face_set: &str) -> Result<Vec<(usize, [Real; 3])>
         let fc = centroid(mesh, nodes);
         let (_, n0) = area_density(mesh, nodes, kind, [0.0, 0.0]);
         let len0 = (n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]).sqrt();
-        if !(len0 > 0.0) {
+        if len0.is_nan() || len0 <= 0.0 {
             return Err(FeError::DegenerateFace {
                 set: face_set.to_string(),
                 tag: block.tags[f],

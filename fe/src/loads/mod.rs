@@ -58,7 +58,7 @@ pub fn nodal_force(
         });
     }
     let len = (direction[0].powi(2) + direction[1].powi(2) + direction[2].powi(2)).sqrt();
-    if !(len > 0.0 && len.is_finite()) || !magnitude.is_finite() {
+    if len.is_nan() || len <= 0.0 || !len.is_finite() || !magnitude.is_finite() {
         return Err(FeError::InvalidValue {
             field: "nodal_force.direction length".to_string(),
             value: len,

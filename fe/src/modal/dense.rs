@@ -28,9 +28,11 @@ pub(crate) fn dense_eigen(
         reason: "M is not positive definite".to_string(),
     })?;
     let l = chol.l();
-    let z = l.solve_lower_triangular(&kd).ok_or_else(|| FeError::NonFinite {
-        what: "L^-1 K".to_string(),
-    })?;
+    let z = l
+        .solve_lower_triangular(&kd)
+        .ok_or_else(|| FeError::NonFinite {
+            what: "L^-1 K".to_string(),
+        })?;
     let c = l
         .solve_lower_triangular(&z.transpose())
         .ok_or_else(|| FeError::NonFinite {

@@ -65,7 +65,10 @@ fn shifted(
         }
         ptr.push(rows.len());
     }
-    SparseColMat::new(SymbolicSparseColMat::new_checked(n, n, ptr, None, rows), vals)
+    SparseColMat::new(
+        SymbolicSparseColMat::new_checked(n, n, ptr, None, rows),
+        vals,
+    )
 }
 
 /// Factorises K − σM: Cholesky, else LDLᵀ on the same symbolic structure, else LU.
@@ -90,10 +93,9 @@ pub(crate) fn factorise(
     let len = sym.len_val();
     let mut vals = vec![0.0; len];
     let llt = {
-        let mut buf = MemBuffer::try_new(
-            sym.factorize_numeric_llt_scratch::<Real>(par, Spec::default()),
-        )
-        .map_err(|e| fail("Cholesky workspace", format!("{e:?}")))?;
+        let mut buf =
+            MemBuffer::try_new(sym.factorize_numeric_llt_scratch::<Real>(par, Spec::default()))
+                .map_err(|e| fail("Cholesky workspace", format!("{e:?}")))?;
         sym.factorize_numeric_llt(
             &mut vals,
             a.as_ref(),
@@ -118,10 +120,9 @@ pub(crate) fn factorise(
         Err(e) => format!("Cholesky failed ({e:?}): K - sigma M is not positive definite"),
     };
     let ldlt = {
-        let mut buf = MemBuffer::try_new(
-            sym.factorize_numeric_ldlt_scratch::<Real>(par, Spec::default()),
-        )
-        .map_err(|e| fail("LDLT workspace", format!("{e:?}")))?;
+        let mut buf =
+            MemBuffer::try_new(sym.factorize_numeric_ldlt_scratch::<Real>(par, Spec::default()))
+                .map_err(|e| fail("LDLT workspace", format!("{e:?}")))?;
         sym.factorize_numeric_ldlt(
             &mut vals,
             a.as_ref(),

@@ -62,19 +62,38 @@ struct Ctx<'a> {
 
 impl Ctx<'_> {
     fn m_times(&mut self, x: MatRef<'_, Real>, mut out: MatMut<'_, Real>) {
-        sparse_dense_matmul(out.as_mut(), Accum::Replace, self.m, x, 1.0, self.par_sparse);
+        sparse_dense_matmul(
+            out.as_mut(),
+            Accum::Replace,
+            self.m,
+            x,
+            1.0,
+            self.par_sparse,
+        );
         self.m_products += x.ncols();
     }
 
     /// Two passes of classical Gram–Schmidt of `w` against the basis (v, mv); returns h.
-    fn project_out(&self, v: MatRef<'_, Real>, mv: MatRef<'_, Real>, mut w: MatMut<'_, Real>) -> Mat<Real> {
+    fn project_out(
+        &self,
+        v: MatRef<'_, Real>,
+        mv: MatRef<'_, Real>,
+        mut w: MatMut<'_, Real>,
+    ) -> Mat<Real> {
         let mut h = Mat::<Real>::zeros(v.ncols(), w.ncols());
         if v.ncols() == 0 {
             return h;
         }
         for _ in 0..2 {
             let mut c = Mat::<Real>::zeros(v.ncols(), w.ncols());
-            matmul(c.as_mut(), Accum::Replace, mv.transpose(), w.as_ref(), 1.0, self.par);
+            matmul(
+                c.as_mut(),
+                Accum::Replace,
+                mv.transpose(),
+                w.as_ref(),
+                1.0,
+                self.par,
+            );
             matmul(w.as_mut(), Accum::Add, v, c.as_ref(), -1.0, self.par);
             h += &c;
         }
@@ -175,8 +194,16 @@ pub(crate) fn lanczos(
     ctx.op.solve_in_place(mw.as_mut());
     ctx.solves += b;
     w.copy_from(&mw);
-    let pre: Vec<Real> = (0..b).map(|j| dot(w.col_as_slice(j), w.col_as_slice(j)).sqrt()).collect();
-    ctx.orth_block(v.as_ref().subcols(0, 0), mv.as_ref().subcols(0, 0), &mut w, &mut mw, &pre);
+    let pre: Vec<Real> = (0..b)
+        .map(|j| dot(w.col_as_slice(j), w.col_as_slice(j)).sqrt())
+        .collect();
+    ctx.orth_block(
+        v.as_ref().subcols(0, 0),
+        mv.as_ref().subcols(0, 0),
+        &mut w,
+        &mut mw,
+        &pre,
+    );
     v.as_mut().subcols_mut(0, b).copy_from(&w);
     mv.as_mut().subcols_mut(0, b).copy_from(&mw);
 
@@ -191,8 +218,14 @@ pub(crate) fn lanczos(
         ctx.solve_s += ts.elapsed().as_secs_f64();
         ctx.solves += b;
         iterations += 1;
-        let pre: Vec<Real> = (0..b).map(|j| dot(w.col_as_slice(j), w.col_as_slice(j)).sqrt()).collect();
-        let h = ctx.project_out(v.as_ref().subcols(0, tot), mv.as_ref().subcols(0, tot), w.as_mut());
+        let pre: Vec<Real> = (0..b)
+            .map(|j| dot(w.col_as_slice(j), w.col_as_slice(j)).sqrt())
+            .collect();
+        let h = ctx.project_out(
+            v.as_ref().subcols(0, tot),
+            mv.as_ref().subcols(0, tot),
+            w.as_mut(),
+        );
         for r in 0..tot {
             for c in 0..b {
                 t[(r, cur + c)] = h[(r, c)];
@@ -209,7 +242,13 @@ pub(crate) fn lanczos(
             }
         }
         let mut mw = Mat::<Real>::zeros(n, b);
-        let rr = ctx.orth_block(v.as_ref().subcols(0, tot), mv.as_ref().subcols(0, tot), &mut w, &mut mw, &pre);
+        let rr = ctx.orth_block(
+            v.as_ref().subcols(0, tot),
+            mv.as_ref().subcols(0, tot),
+            &mut w,
+            &mut mw,
+            &pre,
+        );
         v.as_mut().subcols_mut(tot, b).copy_from(&w);
         mv.as_mut().subcols_mut(tot, b).copy_from(&mw);
         for r in 0..b {
@@ -254,10 +293,6 @@ pub(crate) fn lanczos(
             }
             converged += 1;
         }
-        if std::env::var("SQUEAL_PROF").is_ok() {
-            let i = converged.min(theta.len() - 1);
-            eprintln!("it {iterations} cur {cur} converged {converged} next res/theta {:.2e}", res[i] / theta[i].abs());
-        }
         if done || cur >= n.saturating_sub(b) {
             let count = match want.n_modes {
                 Some(k) => k.min(theta.len()),
@@ -268,7 +303,14 @@ pub(crate) fn lanczos(
                 None => count,
             };
             let mut x = Mat::<Real>::zeros(n, count);
-            matmul(x.as_mut(), Accum::Replace, v.as_ref().subcols(0, cur), y.as_ref().subcols(0, count), 1.0, ctx.par);
+            matmul(
+                x.as_mut(),
+                Accum::Replace,
+                v.as_ref().subcols(0, cur),
+                y.as_ref().subcols(0, count),
+                1.0,
+                ctx.par,
+            );
             return LanczosOut {
                 x,
                 converged: converged.min(count),
@@ -288,7 +330,14 @@ pub(crate) fn lanczos(
         if restarts >= max_restarts {
             let count = want.n_modes.unwrap_or(converged).min(theta.len());
             let mut x = Mat::<Real>::zeros(n, count);
-            matmul(x.as_mut(), Accum::Replace, v.as_ref().subcols(0, cur), y.as_ref().subcols(0, count), 1.0, ctx.par);
+            matmul(
+                x.as_mut(),
+                Accum::Replace,
+                v.as_ref().subcols(0, cur),
+                y.as_ref().subcols(0, count),
+                1.0,
+                ctx.par,
+            );
             return LanczosOut {
                 x,
                 converged: converged.min(count),
@@ -319,12 +368,33 @@ pub(crate) fn lanczos(
         let yk = y.as_ref().subcols(0, keep);
         let mut x = Mat::<Real>::zeros(n, keep);
         let mut mx = Mat::<Real>::zeros(n, keep);
-        matmul(x.as_mut(), Accum::Replace, v.as_ref().subcols(0, cur), yk, 1.0, ctx.par);
-        matmul(mx.as_mut(), Accum::Replace, mv.as_ref().subcols(0, cur), yk, 1.0, ctx.par);
+        matmul(
+            x.as_mut(),
+            Accum::Replace,
+            v.as_ref().subcols(0, cur),
+            yk,
+            1.0,
+            ctx.par,
+        );
+        matmul(
+            mx.as_mut(),
+            Accum::Replace,
+            mv.as_ref().subcols(0, cur),
+            yk,
+            1.0,
+            ctx.par,
+        );
         let resid_v = v.as_ref().subcols(cur, b).to_owned();
         let resid_mv = mv.as_ref().subcols(cur, b).to_owned();
         let mut coupling = Mat::<Real>::zeros(b, keep);
-        matmul(coupling.as_mut(), Accum::Replace, t.as_ref().submatrix(cur, 0, b, cur), yk, 1.0, ctx.par);
+        matmul(
+            coupling.as_mut(),
+            Accum::Replace,
+            t.as_ref().submatrix(cur, 0, b, cur),
+            yk,
+            1.0,
+            ctx.par,
+        );
         v.as_mut().subcols_mut(0, keep).copy_from(&x);
         mv.as_mut().subcols_mut(0, keep).copy_from(&mx);
         v.as_mut().subcols_mut(keep, b).copy_from(&resid_v);

@@ -3,7 +3,7 @@
 
 use super::pad::RotorSide;
 use super::sector::{extrude, patch, ring, EdgeShape};
-use super::{define_constants, divisions, positive, Param, PadGeometry, RotorGeometry};
+use super::{define_constants, divisions, positive, PadGeometry, Param, RotorGeometry};
 use crate::{MeshError, Real};
 use serde::{Deserialize, Serialize};
 
@@ -277,7 +277,10 @@ impl CaliperGeometry {
             return Err(invalid(
                 "z_piston",
                 self.z_piston,
-                format!("must be finite and differ from z_finger = {}", self.z_finger),
+                format!(
+                    "must be finite and differ from z_finger = {}",
+                    self.z_finger
+                ),
             ));
         }
         positive("finger_thickness", self.finger_thickness)?;
@@ -326,23 +329,47 @@ pub fn caliper(g: &CaliperGeometry) -> String {
             p("r_pad_out", g.r_pad_out, "pads' outer radius"),
             p("r_bridge_in", g.r_bridge_in, "bridge inner radius"),
             p("r_bridge_out", g.r_bridge_out, "bridge outer radius"),
-            p("theta_start", g.theta_start_deg, "first sector end, degrees"),
+            p(
+                "theta_start",
+                g.theta_start_deg,
+                "first sector end, degrees",
+            ),
             p("theta_span", g.theta_span_deg, "angular span, degrees"),
             p("n_circ", g.n_circ as Real, "elements around the sector"),
             p("n_rad", g.n_rad as Real, "elements across the pads"),
             p("n_gap", g.n_gap as Real, "elements across the gap"),
             p("n_bridge", g.n_bridge as Real, "elements across the bridge"),
-            p("pad_inner_arc", g.pad_inner_edge.flag(), "1: arc, 0: chords"),
-            p("pad_outer_arc", g.pad_outer_edge.flag(), "1: arc, 0: chords"),
+            p(
+                "pad_inner_arc",
+                g.pad_inner_edge.flag(),
+                "1: arc, 0: chords",
+            ),
+            p(
+                "pad_outer_arc",
+                g.pad_outer_edge.flag(),
+                "1: arc, 0: chords",
+            ),
             p("z_finger", g.z_finger, "z of the fingers' face"),
             p("z_piston", g.z_piston, "z of the piston's face"),
             p("finger_thickness", g.finger_thickness, "finger thickness"),
-            p("n_finger", g.n_finger as Real, "elements through the fingers"),
+            p(
+                "n_finger",
+                g.n_finger as Real,
+                "elements through the fingers",
+            ),
             p("n_middle", g.n_middle as Real, "elements along the bridge"),
             p("piston_length", g.piston_length, "piston length"),
             p("n_piston", g.n_piston as Real, "elements along the piston"),
-            p("housing_thickness", g.housing_thickness, "housing thickness"),
-            p("n_housing", g.n_housing as Real, "elements through the housing"),
+            p(
+                "housing_thickness",
+                g.housing_thickness,
+                "housing thickness",
+            ),
+            p(
+                "n_housing",
+                g.n_housing as Real,
+                "elements through the housing",
+            ),
         ],
     );
     s.push_str(

@@ -264,7 +264,12 @@ impl PadGeometry {
 
     /// Nodes of that mesh: order 1 (hex8) or 2 (hex20).
     pub fn n_nodes(&self, order: u8) -> usize {
-        structured_nodes(self.n_circ, self.n_rad, self.n_lining + self.n_backplate, order)
+        structured_nodes(
+            self.n_circ,
+            self.n_rad,
+            self.n_lining + self.n_backplate,
+            order,
+        )
     }
 }
 
@@ -286,14 +291,22 @@ pub fn pad(g: &PadGeometry) -> String {
         &[
             p("r_in", g.r_in, "inner radius of the friction face"),
             p("r_out", g.r_out, "outer radius of the friction face"),
-            p("theta_start", g.theta_start_deg, "first sector end, degrees"),
+            p(
+                "theta_start",
+                g.theta_start_deg,
+                "first sector end, degrees",
+            ),
             p("theta_span", g.theta_span_deg, "angular span, degrees"),
             p("n_circ", g.n_circ as Real, "elements around the sector"),
             p("n_rad", g.n_rad as Real, "elements across the radius"),
             p("z_face", g.z_face, "z of the friction face"),
             p("dir", g.side.sign(), "+1: pad towards +z, -1: towards -z"),
             p("lining", g.lining, "lining thickness"),
-            p("n_lining", g.n_lining as Real, "elements through the lining"),
+            p(
+                "n_lining",
+                g.n_lining as Real,
+                "elements through the lining",
+            ),
             p("backplate", g.backplate, "backplate thickness"),
             p(
                 "n_backplate",

@@ -26,8 +26,10 @@ pub(crate) struct Eigenpairs {
     pub n_solves: usize,
     /// Seconds spent in the solves (Lanczos only).
     pub solve_s: Real,
-    /// Seconds spent in M products and reorthogonalisation (Lanczos only).
+    /// Seconds spent reorthogonalising against the basis (Lanczos only).
     pub orth_s: Real,
+    /// Seconds spent in the M-orthonormalisation of new blocks, with their M products (Lanczos only).
+    pub qr_s: Real,
 }
 
 fn eig_err(what: &str, n: usize, detail: impl Into<String>) -> ReductionError {
@@ -116,6 +118,7 @@ pub(crate) fn dense(
         n_solves: 0,
         solve_s: 0.0,
         orth_s: 0.0,
+        qr_s: 0.0,
     })
 }
 
@@ -249,7 +252,7 @@ pub(crate) fn lanczos(
     let mut basis = Basis::new(n, initial_cap);
     let mut t = Mat::<Real>::zeros(max_dim + p, max_dim + p);
     let mut n_solves = 0;
-    let (mut solve_s, mut orth_s) = (0.0, 0.0);
+    let (mut solve_s, mut orth_s, mut qr_s) = (0.0, 0.0, 0.0);
     let mut w = random_block(n, p, 1);
     let (mw, _) = chol_qr(&mut w, m).ok_or_else(|| eig_err(what, n, "degenerate random start"))?;
     basis.push(w.as_ref(), mw.as_ref());
@@ -282,8 +285,10 @@ pub(crate) fn lanczos(
                 t[(b, a)] = v;
             }
         }
-        let next = chol_qr(&mut w, m);
         orth_s += clock.elapsed().as_secs_f64();
+        let clock = std::time::Instant::now();
+        let next = chol_qr(&mut w, m);
+        qr_s += clock.elapsed().as_secs_f64();
         let b_j = match &next {
             Some((_, r)) => r.clone(),
             None => Mat::<Real>::zeros(p, p),
@@ -350,6 +355,7 @@ pub(crate) fn lanczos(
                 n_solves,
                 solve_s,
                 orth_s,
+                qr_s,
             });
         }
         push_next(&mut basis, &mut t, next, w, p, m, what)?;

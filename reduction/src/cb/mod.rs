@@ -1,5 +1,14 @@
 //! Craig–Bampton reduction of one component: constraint modes, fixed-interface modes,
 //! reduced matrices, data recovery and checks (rigid-body mass, frequencies).
+//!
+//! - [`reduce`] / [`reduce_damped`]: (K, M[, B]) sparse over the free DOFs + boundary free-DOF
+//!   indices → [`CbModel`] with dense reduced matrices ordered [boundary DOFs, modal coordinates].
+//!   One sparse Cholesky of K_ii serves both the constraint modes Ψ = −K_ii⁻¹K_ib (solved in
+//!   parallel column blocks) and, above [`CbOptions::dense_max`] interior DOFs, the shift-invert
+//!   block Lanczos for the fixed-interface modes (σ = 0: K_ii is positive definite whenever the
+//!   boundary restrains the rigid-body motions).
+//! - [`CbModel::recover`]: full free-DOF vector from a reduced one.
+//! - [`check`]: pyyeti-`cbcheck`-like report ([`CbCheck`], Serialize + Display).
 
 mod check;
 mod eigen;

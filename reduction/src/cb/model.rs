@@ -41,8 +41,10 @@ pub struct CbStats {
     pub eigen_s: Real,
     /// Part of `eigen_s` spent solving with the K_ii factor (block Lanczos).
     pub eigen_solve_s: Real,
-    /// Part of `eigen_s` spent in M products and reorthogonalisation (block Lanczos).
+    /// Part of `eigen_s` spent reorthogonalising against the Krylov basis (block Lanczos).
     pub eigen_orth_s: Real,
+    /// Part of `eigen_s` spent M-orthonormalising new blocks, M products included (block Lanczos).
+    pub eigen_qr_s: Real,
     pub products_s: Real,
     pub total_s: Real,
     /// Peak resident memory (VmHWM, KiB) after each phase, when /proc/self/status is readable.

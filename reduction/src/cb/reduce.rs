@@ -147,8 +147,9 @@ pub fn reduce_damped(
         }
         None => (None, EigenMethod::None),
     };
-    let (eigen_solve_s, eigen_orth_s) =
-        pairs.as_ref().map_or((0.0, 0.0), |p| (p.solve_s, p.orth_s));
+    let (eigen_solve_s, eigen_orth_s, eigen_qr_s) = pairs
+        .as_ref()
+        .map_or((0.0, 0.0, 0.0), |p| (p.solve_s, p.orth_s, p.qr_s));
     let (lambda, phi, krylov_dim, eig_solves) = match pairs {
         Some(p) => (p.values, p.vectors, p.krylov_dim, p.n_solves),
         None => (Vec::new(), Mat::<Real>::zeros(ni, 0), 0, 0),
@@ -192,6 +193,7 @@ pub fn reduce_damped(
         eigen_s,
         eigen_solve_s,
         eigen_orth_s,
+        eigen_qr_s,
         products_s,
         total_s: t_start.elapsed().as_secs_f64(),
         peak_rss_kib: mem,

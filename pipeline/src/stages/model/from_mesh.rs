@@ -275,7 +275,7 @@ fn reduce_component(
         .filter(|&(n, k)| global_fixed.contains(&(gid[n], k)))
         .collect();
     let dofs = DofMap::new(mesh.nodes.len(), &fixed).map_err(fe_err(name))?;
-    let materials = vec![spec.material; mesh.volumes.len()];
+    let materials = spec.block_materials(mesh)?;
     let asm = assemble(mesh, &materials, &dofs, &AssemblyOptions { hex8: spec.hex8 }).map_err(fe_err(name))?;
 
     let mut is_boundary = grids.shared[c].clone();

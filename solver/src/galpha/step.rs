@@ -1,0 +1,364 @@
+//! One generalized-α step: Newton on (q̈_{n+1}, f_{n+1}), the local error estimate and the
+//! step-size control.
+//!
+//! # Newton
+//! Modified Newton with the matrix of [`GalphaSystem::factor`], re-formed when h changed, and
+//! once more (fresh friction tangents) when an iteration with an older matrix fails.
+//! IDA's convergence test on the implied corrections of y = {v, λ, u},
+//! δy = (c_v δq̈, h/2 δf, c_u δq̈): the rate ρ = (‖δ_m‖/‖δ_0‖)^{1/m} must stay below 0.9,
+//! and ρ/(1−ρ)‖δ‖ ≤ `newton_tol_coef` (the first iteration uses the previous estimate,
+//! 20 after a factorisation).
+//!
+//! # Local error estimate (adaptive steps)
+//! From the Taylor expansion of the updates with a_n ≈ q̈(t_n + δh), δ = α_m − α_f
+//! (constants in [`GalphaCoeffs::error_constants`]):
+//! e_u = C_u h² (q̈_{n+1} − q̈_n) (Zienkiewicz–Xie's estimator generalised to α_m ≠ α_f),
+//! e_v = C_v h³ q⁗ and e_λ = h³/12 f'' (trapezoidal rule), the last two with second divided
+//! differences over (t_{n−1}, t_n, t_{n+1}) (not used on the first step). Accept when the
+//! weighted RMS norm is ≤ 1; h_new = h·clamp(0.9·err^{−1/3}, 0.2, 2), increased only by
+//! ≥ 1.5× to save factorisations. When h changes, a_n is moved to the new shift δh with
+//! a_n += δ(h_new − h_old)·q⃛ (q⃛ from the last two accelerations).
+
+use super::{Galpha, GalphaSystem, Status};
+use crate::bdf::ATOL_EXCLUDED;
+use crate::bsql::FrictionForces;
+use crate::{Real, SolverError};
+
+/// Outcome of one Newton attempt.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Nls {
+    Converged,
+    Failed,
+}
+
+const RATE_MAX: Real = 0.9;
+
+fn recoverable(e: SolverError) -> Result<Nls, SolverError> {
+    if e.is_recoverable() {
+        Ok(Nls::Failed)
+    } else {
+        Err(e)
+    }
+}
+
+impl Galpha {
+    /// Error weights at the current point; returns the number of active components.
+    fn set_weights(&mut self) -> usize {
+        let (n, ng) = (self.cur.v.len(), self.cur.f.len());
+        let w = &mut self.w;
+        let mut active = 0;
+        for i in 0..2 * n + ng {
+            let y = if i < n {
+                self.cur.v[i]
+            } else if i < n + ng {
+                self.cur.lam[i - n]
+            } else {
+                self.cur.u[i - n - ng]
+            };
+            w.ewt[i] = if w.atol[i] >= ATOL_EXCLUDED {
+                0.0
+            } else {
+                active += 1;
+                1.0 / (w.rtol[i] * y.abs() + w.atol[i])
+            };
+        }
+        active.max(1)
+    }
+
+    /// Weighted RMS of the y-corrections implied by (δq̈, δf) = `delta`.
+    fn correction_norm(&self, c_v: Real, c_u: Real, h: Real, active: usize) -> Real {
+        let (n, ng) = (self.cur.v.len(), self.cur.f.len());
+        let (d, e) = (&self.w.delta, &self.w.ewt);
+        let mut s = 0.0;
+        for i in 0..n {
+            let dv = c_v * d[i] * e[i];
+            let du = c_u * d[i] * e[n + ng + i];
+            s += dv * dv + du * du;
+        }
+        for k in 0..ng {
+            let dl = 0.5 * h * d[n + k] * e[n + k];
+            s += dl * dl;
+        }
+        (s / active as Real).sqrt()
+    }
+
+    /// v, u (and a) of the trial point from its q̈.
+    fn fill_trial(&mut self, c_v: Real, c_u: Real, c_a: Real) {
+        let w = &self.w;
+        let tr = &mut self.trial;
+        for i in 0..tr.v.len() {
+            tr.v[i] = w.v_base[i] + c_v * tr.qdd[i];
+            tr.u[i] = w.u_base[i] + c_u * tr.qdd[i];
+            tr.a[i] = w.a_base[i] + c_a * tr.qdd[i];
+        }
+    }
+
+    fn eval_residual<F: FrictionForces>(
+        &mut self,
+        sys: &mut GalphaSystem<F>,
+    ) -> Result<Nls, SolverError> {
+        self.stats.residual_evals += 1;
+        let tr = &self.trial;
+        if let Err(e) = sys.residual(tr.t, &tr.qdd, &tr.f, &tr.v, &tr.u, &mut self.w.delta) {
+            self.w.last_res_norm = Real::NAN;
+            return recoverable(e);
+        }
+        let mut m: Real = 0.0;
+        for x in &self.w.delta {
+            if !x.is_finite() {
+                self.w.last_res_norm = Real::NAN;
+                return Ok(Nls::Failed);
+            }
+            m = m.max(x.abs());
+        }
+        self.w.last_res_norm = m;
+        Ok(Nls::Converged)
+    }
+
+    /// Newton from the predictor q̈ = q̈_n, f = f_n for a step of size h.
+    fn attempt<F: FrictionForces>(
+        &mut self,
+        sys: &mut GalphaSystem<F>,
+        h: Real,
+        active: usize,
+    ) -> Result<Nls, SolverError> {
+        let co = self.co;
+        let (am, af, g, b) = (co.alpha_m, co.alpha_f, co.gamma, co.beta);
+        let c_a = co.c_a();
+        let (c_v, c_u) = (h * g * c_a, h * h * b * c_a);
+        let n = self.cur.v.len();
+        self.trial.t = if self.opts.adaptive {
+            self.cur.t + h
+        } else {
+            self.t_base + (self.k_base + 1) as Real * h
+        };
+        {
+            let (c, w) = (&self.cur, &mut self.w);
+            for i in 0..n {
+                let ab = (af * c.qdd[i] - am * c.a[i]) / (1.0 - am);
+                w.a_base[i] = ab;
+                w.v_base[i] = c.v[i] + h * (1.0 - g) * c.a[i] + h * g * ab;
+                w.u_base[i] = c.u[i] + h * c.v[i] + h * h * ((0.5 - b) * c.a[i] + b * ab);
+            }
+        }
+        let mut fresh = false;
+        loop {
+            self.trial.qdd.copy_from_slice(&self.cur.qdd);
+            self.trial.f.copy_from_slice(&self.cur.f);
+            self.fill_trial(c_v, c_u, c_a);
+            if self.factored_h != Some(h) || fresh {
+                self.factored_h = None;
+                self.stats.factorisations += 1;
+                let tr = &self.trial;
+                if let Err(e) = sys.factor(
+                    tr.t,
+                    &tr.v,
+                    &tr.f,
+                    c_v,
+                    c_u,
+                    self.opts.include_friction_damping,
+                ) {
+                    return recoverable(e);
+                }
+                self.factored_h = Some(h);
+                self.ss = 20.0;
+                fresh = true;
+            }
+            let out = self.newton(sys, c_v, c_u, c_a, h, active)?;
+            if out == Nls::Failed && !fresh {
+                self.stats.convergence_failures += 1;
+                fresh = true;
+                continue;
+            }
+            if out == Nls::Converged {
+                let (c, tr) = (&self.cur, &mut self.trial);
+                for k in 0..tr.lam.len() {
+                    tr.lam[k] = c.lam[k] + 0.5 * h * (c.f[k] + tr.f[k]);
+                }
+            }
+            return Ok(out);
+        }
+    }
+
+    fn newton<F: FrictionForces>(
+        &mut self,
+        sys: &mut GalphaSystem<F>,
+        c_v: Real,
+        c_u: Real,
+        c_a: Real,
+        h: Real,
+        active: usize,
+    ) -> Result<Nls, SolverError> {
+        let n = self.cur.v.len();
+        let coef = self.opts.newton_tol_coef;
+        if self.eval_residual(sys)? == Nls::Failed {
+            return Ok(Nls::Failed);
+        }
+        let mut old_norm = 0.0;
+        let mut m = 0usize;
+        loop {
+            self.stats.newton_iterations += 1;
+            if let Err(e) = sys.solve(&mut self.w.delta) {
+                return recoverable(e);
+            }
+            let tr = &mut self.trial;
+            for i in 0..n {
+                tr.qdd[i] -= self.w.delta[i];
+            }
+            for k in 0..tr.f.len() {
+                tr.f[k] -= self.w.delta[n + k];
+            }
+            self.fill_trial(c_v, c_u, c_a);
+            let del = self.correction_norm(c_v, c_u, h, active);
+            if !del.is_finite() {
+                return Ok(Nls::Failed);
+            }
+            if m == 0 {
+                old_norm = del;
+                if del <= 1e-8 * coef {
+                    return Ok(Nls::Converged);
+                }
+            } else {
+                let rate = (del / old_norm).powf(1.0 / m as Real);
+                if rate > RATE_MAX {
+                    return Ok(Nls::Failed);
+                }
+                self.ss = rate / (1.0 - rate);
+            }
+            if self.ss * del <= coef {
+                return Ok(Nls::Converged);
+            }
+            m += 1;
+            if m >= self.opts.max_newton_iters {
+                return Ok(Nls::Failed);
+            }
+            if self.eval_residual(sys)? == Nls::Failed {
+                return Ok(Nls::Failed);
+            }
+        }
+    }
+
+    /// Weighted RMS local error estimate of the converged trial step.
+    fn error_norm(&self, h: Real, active: usize) -> Real {
+        let (c_u, c_v) = self.co.error_constants();
+        let (c, t, p) = (&self.cur, &self.trial, &self.prev);
+        let (n, ng) = (c.v.len(), c.f.len());
+        let e = &self.w.ewt;
+        let hp = c.t - p.t;
+        let second = self.has_prev && hp > 0.0;
+        let dd = |y1: Real, y0: Real, ym: Real| 2.0 * ((y1 - y0) / h - (y0 - ym) / hp) / (h + hp);
+        let mut s = 0.0;
+        for i in 0..n {
+            let eu = c_u * h * h * (t.qdd[i] - c.qdd[i]) * e[n + ng + i];
+            s += eu * eu;
+            if second {
+                let ev = c_v * h * h * h * dd(t.qdd[i], c.qdd[i], p.qdd[i]) * e[i];
+                s += ev * ev;
+            }
+        }
+        if second {
+            for k in 0..ng {
+                let el = h * h * h / 12.0 * dd(t.f[k], c.f[k], p.f[k]) * e[n + k];
+                s += el * el;
+            }
+        }
+        (s / active as Real).sqrt()
+    }
+
+    /// Move the pseudo-acceleration of the current point to the shift of a step of size h.
+    fn shift_pseudo_acceleration(&mut self, h: Real) {
+        if !self.opts.adaptive || !self.has_prev || h == self.a_h {
+            self.a_h = h;
+            return;
+        }
+        let d = self.co.delta() * (h - self.a_h) / (self.cur.t - self.prev.t);
+        for i in 0..self.cur.a.len() {
+            self.cur.a[i] += d * (self.cur.qdd[i] - self.prev.qdd[i]);
+        }
+        self.a_h = h;
+    }
+
+    /// One accepted step (with retries when adaptive); `Some(status)` on failure.
+    pub(crate) fn step<F: FrictionForces>(
+        &mut self,
+        sys: &mut GalphaSystem<F>,
+    ) -> Result<Option<Status>, SolverError> {
+        let mut failures = 0usize;
+        let active = self.set_weights();
+        loop {
+            let h = self.h;
+            let t = self.cur.t;
+            if self.opts.adaptive && h < self.opts.h_min.max(4.0 * Real::EPSILON * t.abs()) {
+                return Ok(Some(Status::StepSizeTooSmall {
+                    t,
+                    h,
+                    residual_norm: self.w.last_res_norm,
+                }));
+            }
+            self.shift_pseudo_acceleration(h);
+            if self.attempt(sys, h, active)? == Nls::Failed {
+                self.stats.convergence_failures += 1;
+                failures += 1;
+                if !self.opts.adaptive || failures >= self.opts.max_failures {
+                    return Ok(Some(Status::ConvergenceFailures {
+                        t,
+                        h,
+                        residual_norm: self.w.last_res_norm,
+                    }));
+                }
+                self.h = 0.25 * h;
+                continue;
+            }
+            if self.opts.adaptive {
+                let err = self.error_norm(h, active);
+                if !(err <= 1.0) {
+                    self.stats.rejected_steps += 1;
+                    failures += 1;
+                    if failures >= self.opts.max_failures {
+                        return Ok(Some(Status::ErrorTestFailures {
+                            t,
+                            h,
+                            error_norm: err,
+                        }));
+                    }
+                    let fac = if err.is_finite() {
+                        (0.9 * err.powf(-1.0 / 3.0)).clamp(0.2, 0.9)
+                    } else {
+                        0.25
+                    };
+                    self.h = h * fac;
+                    continue;
+                }
+                let fac = if err > 0.0 {
+                    (0.9 * err.powf(-1.0 / 3.0)).min(2.0)
+                } else {
+                    2.0
+                };
+                let h_max = self.opts.h_max.unwrap_or(Real::INFINITY);
+                if fac >= 1.5 && failures == 0 {
+                    self.h = (h * fac).min(h_max);
+                }
+            }
+            self.accept(sys, h);
+            return Ok(None);
+        }
+    }
+
+    fn accept<F: FrictionForces>(&mut self, sys: &GalphaSystem<F>, h: Real) {
+        std::mem::swap(&mut self.prev, &mut self.cur);
+        self.cur.copy_from(&self.trial);
+        self.has_prev = true;
+        self.h_used = h;
+        if self.h != h {
+            self.t_base = self.cur.t;
+            self.k_base = 0;
+        } else {
+            self.k_base += 1;
+        }
+        self.stats.steps += 1;
+        self.stats.last_h = h;
+        let drift = sys.drift(&self.cur.v, &self.w.g0);
+        self.stats.constraint_drift = drift;
+        self.stats.max_constraint_drift = self.stats.max_constraint_drift.max(drift);
+    }
+}
