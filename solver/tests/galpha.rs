@@ -141,3 +141,458 @@ fn numerical_damping_matches_amplification_matrix() {
     let z9 = algorithmic_damping(&GalphaCoeffs::from_rho_inf(0.9), 0.1).zeta;
     assert!(z9 < 2.4471e-4 / 3000.0, "{z9}");
 }
+
+/// The matrices of `common::Belt::system` (DOF 0 tangential, DOF 1 normal with m_z = 2,
+/// k_z = 50, G = [0, 1], preload N on DOF 1) as a generalized-α system.
+fn belt_galpha(b: &Belt) -> GalphaSystem<BeltFriction> {
+    let mm = Mat::from_fn(2, 2, |i, j| [[b.m, 0.0], [0.0, 2.0]][i][j]);
+    let bb = Mat::from_fn(2, 2, |i, j| if i == 0 && j == 0 { b.c } else { 0.0 });
+    let kk = Mat::from_fn(2, 2, |i, j| [[b.k, 0.0], [0.0, 50.0]][i][j]);
+    let g = Mat::from_fn(1, 2, |_, j| j as Real);
+    let load = LoadHistory {
+        p_pre: vec![0.0, b.n_load],
+        ..Default::default()
+    };
+    let fr = BeltFriction {
+        mu0: b.mu0,
+        a: b.a,
+        v_belt: b.v_belt,
+    };
+    GalphaSystem::new(mm, bb, kk, g, load, fr).unwrap()
+}
+
+/// Belt with ω = 2π, N = 10, a = 0.05, V = 1 and damping c (as in bsql_verification.rs).
+fn belt(c: Real) -> Belt {
+    Belt {
+        m: 1.0,
+        k: (2.0 * PI).powi(2),
+        c,
+        n_load: 10.0,
+        mu0: 0.5,
+        a: 0.05,
+        v_belt: 1.0,
+    }
+}
+
+/// Initial state of the belt runs: steady sliding (x = N(μ0 − aV)/k, λ' = N) plus a
+/// velocity kick 0.05, as y = {v, λ, u} and a guess for y'.
+fn belt_initial(b: &Belt) -> (Vec<Real>, Vec<Real>) {
+    let x_eq = b.n_load * (b.mu0 - b.a * b.v_belt) / b.k;
+    let y0 = vec![0.05, 0.0, 0.0, x_eq, 0.0];
+    let yp0 = vec![0.0, 0.0, b.n_load, 0.05, 0.0];
+    (y0, yp0)
+}
+
+/// Growth rate from the envelope |w(t)| with w = v − s̄ (x − x_eq), s = σ + iω_d the exact
+/// root of m s² + (c − N a) s + k = 0: for the exact solution w = C e^{st}, so ln|w| is a
+/// straight line of slope σ; for a numerical solution with root ŝ it has slope Re ŝ plus a
+/// ripple of relative size |ŝ − s|/(2ω_d). Least-squares slope over t ≥ 1 s.
+fn envelope_rate(b: &Belt, samples: &[(Real, Real, Real)]) -> Real {
+    let sigma = b.sigma();
+    let wd = (b.k / b.m - sigma * sigma).sqrt();
+    let s_conj = Complex64::new(sigma, -wd);
+    let x_eq = b.n_load * (b.mu0 - b.a * b.v_belt) / b.k;
+    let (ts, ls): (Vec<Real>, Vec<Real>) = samples
+        .iter()
+        .filter(|s| s.0 >= 1.0)
+        .map(|&(t, v, x)| (t, (Complex64::from(v) - s_conj * (x - x_eq)).norm().ln()))
+        .unzip();
+    common::slope(&ts, &ls)
+}
+
+/// Fixed-step generalized-α on the belt: (σ measured, samples).
+fn belt_galpha_rate(b: &Belt, h: Real, t_end: Real) -> Real {
+    let mut sys = belt_galpha(b);
+    let (y0, yp0) = belt_initial(b);
+    let opts = GalphaOptions {
+        h,
+        tolerances: tight(),
+        ..Default::default()
+    };
+    let mut ga = Galpha::new(opts, &mut sys, 0.0, &y0, &yp0).unwrap();
+    // Consistent start: m v' = −c·0.05 + N a·0.05, λ' = N (see bsql_verification.rs).
+    let vp_ref = (-b.c * 0.05 + b.n_load * b.a * 0.05) / b.m;
+    assert!((ga.yp()[0] - vp_ref).abs() < 1e-10 && (ga.yp()[2] - b.n_load).abs() < 1e-10);
+    let mut samples = vec![(0.0, y0[0], y0[3])];
+    let st = ga
+        .step_to(&mut sys, t_end, |_, t, y, _| {
+            samples.push((t, y[0], y[3]));
+            Ok(true)
+        })
+        .unwrap();
+    assert!(st.is_success(), "{st:?}");
+    println!("generalized-α belt h = {h}: {:?}", ga.stats());
+    envelope_rate(b, &samples)
+}
+
+/// Fixed-step BDF2 on the same belt (BsqlSystem, same matrices).
+fn belt_bdf2_rate(b: &Belt, h: Real, t_end: Real) -> Real {
+    let mut sys = b.system(BsqlOptions {
+        include_friction_damping: true,
+    });
+    let (mut y0, mut yp0) = belt_initial(b);
+    consistent_initial_conditions(
+        &mut sys,
+        0.0,
+        &mut y0,
+        &mut yp0,
+        None,
+        &InitialConditionOptions::default(),
+    )
+    .unwrap();
+    let opts = BdfOptions {
+        max_order: 2,
+        fixed_step: Some(h),
+        tolerances: tight(),
+        ..Default::default()
+    };
+    let mut bdf = Bdf::new(opts, 0.0, &y0, &yp0).unwrap();
+    let mut samples = vec![(0.0, y0[0], y0[3])];
+    let st = bdf
+        .step_to(&mut sys, t_end, |_, t, y, _| {
+            samples.push((t, y[0], y[3]));
+            Ok(true)
+        })
+        .unwrap();
+    assert!(st.is_success(), "{st:?}");
+    envelope_rate(b, &samples)
+}
+
+#[test]
+fn belt_growth_rate_within_half_percent_and_closer_than_bdf2() {
+    // m x'' + c x' + k x = N(μ0 − a(V − x')): σ = −(c − N a)/(2m) = +0.1 for c = 0.3
+    // (linear in x since λ' = N exactly: the normal DOF is held by G = [0, 1]).
+    let b = belt(0.3);
+    let sigma = b.sigma();
+    let omega = (b.k / b.m).sqrt();
+    let h = 0.1 / omega; // ωh = 0.1, 63 steps per period
+    let t_end = 12.0;
+    let s_ga = belt_galpha_rate(&b, h, t_end);
+    let s_bdf = belt_bdf2_rate(&b, h, t_end);
+    // Expected from the principal root of each scheme at ζ_phys = −σ/ω: generalized-α
+    // adds ≈ ζ̄ω = 7.3e-8·2π (negligible), BDF2 ≈ 2.44e-4·2π = 1.5e-3 (1.5 % of σ).
+    let co = GalphaCoeffs::from_rho_inf(0.9);
+    let zeta_phys = -sigma / omega;
+    let xi = squeal_solver::galpha::principal_root(&co, omega * h, zeta_phys);
+    let s_ga_theory = xi.ln().re / h;
+    let (e_ga, e_bdf) = ((s_ga - sigma) / sigma, (s_bdf - sigma) / sigma);
+    println!(
+        "belt σ = {sigma}: generalized-α {s_ga:.7} (rel. err {e_ga:.3e}, root theory {s_ga_theory:.7}), \
+         BDF2 {s_bdf:.7} (rel. err {e_bdf:.3e})"
+    );
+    assert!(e_ga.abs() < 0.005, "generalized-α σ = {s_ga} vs {sigma}");
+    assert!((s_ga - s_ga_theory).abs() < 1e-3 * sigma, "{s_ga} vs {s_ga_theory}");
+    assert!(e_ga.abs() < e_bdf.abs(), "GA {e_ga} vs BDF2 {e_bdf}");
+    // BDF2's numerical damping lowers the growth rate by about ζ_BDF2·ω.
+    assert!(e_bdf < -0.01, "BDF2 rel. err {e_bdf}");
+}
+
+#[test]
+fn belt_with_enough_damping_decays_at_linearised_rate() {
+    // c = 0.7 > N a: σ = −0.1.
+    let b = belt(0.7);
+    let h = 0.1 / (b.k / b.m).sqrt();
+    let s = belt_galpha_rate(&b, h, 12.0);
+    assert!(
+        (s - b.sigma()).abs() < 0.005 * b.sigma().abs(),
+        "σ = {s} vs {}",
+        b.sigma()
+    );
+}
+
+/// The 3-DOF coupled model of bsql_verification.rs: one oblique contact constraint
+/// G = [0.3, 1, −0.5] and the belt friction law on DOF 0 driven by the contact force λ'.
+struct Coupled {
+    m: Mat<Real>,
+    b: Mat<Real>,
+    k: Mat<Real>,
+    g: Mat<Real>,
+    load: LoadHistory,
+}
+
+fn coupled() -> Coupled {
+    let m = [[1.0, 0.1, 0.0], [0.1, 2.0, 0.2], [0.0, 0.2, 1.5]];
+    let k = [[40.0, -10.0, 0.0], [-10.0, 60.0, -15.0], [0.0, -15.0, 30.0]];
+    Coupled {
+        m: Mat::from_fn(3, 3, |i, j| m[i][j]),
+        b: Mat::from_fn(3, 3, |i, j| 0.02 * k[i][j]),
+        k: Mat::from_fn(3, 3, |i, j| k[i][j]),
+        g: Mat::from_fn(1, 3, |_, j| [0.3, 1.0, -0.5][j]),
+        load: LoadHistory {
+            p_pre: vec![0.0, 10.0, 0.0],
+            ..Default::default()
+        },
+    }
+}
+
+fn friction() -> BeltFriction {
+    BeltFriction {
+        mu0: 0.5,
+        a: 0.05,
+        v_belt: 1.0,
+    }
+}
+
+fn coupled_galpha(c: &Coupled) -> GalphaSystem<BeltFriction> {
+    GalphaSystem::new(
+        c.m.clone(),
+        c.b.clone(),
+        c.k.clone(),
+        c.g.clone(),
+        c.load.clone(),
+        friction(),
+    )
+    .unwrap()
+}
+
+fn coupled_bsql(c: &Coupled) -> BsqlSystem<BeltFriction> {
+    BsqlSystem::new(
+        c.m.clone(),
+        c.b.clone(),
+        c.k.clone(),
+        c.g.clone(),
+        c.load.clone(),
+        friction(),
+        BsqlOptions::default(),
+    )
+    .unwrap()
+}
+
+/// Steady sliding state (from the BSQL steady-state solver) plus a velocity perturbation.
+fn coupled_initial(c: &Coupled, v0: [Real; 3]) -> (Vec<Real>, Vec<Real>) {
+    let mut sys = coupled_bsql(c);
+    let ss = squeal_solver::bsql::steady_state(&mut sys, 0.0, &Default::default()).unwrap();
+    let (mut y0, yp0) = ss.initial_values();
+    y0[..3].copy_from_slice(&v0);
+    (y0, yp0)
+}
+
+#[test]
+fn constraint_velocity_stays_at_its_initial_value() {
+    // G v' = 0 is imposed at every step, so G v must keep its initial (here non-zero) value
+    // up to round-off: G v0 = 0.3·0.05 + 0.02 − 0.5·0.03 = 0.02.
+    let c = coupled();
+    let (y0, yp0) = coupled_initial(&c, [0.05, 0.02, 0.03]);
+    let gv0 = 0.3 * 0.05 + 0.02 - 0.5 * 0.03;
+    let mut sys = coupled_galpha(&c);
+    let opts = GalphaOptions {
+        h: 2e-3,
+        tolerances: tight(),
+        ..Default::default()
+    };
+    let mut ga = Galpha::new(opts, &mut sys, 0.0, &y0, &yp0).unwrap();
+    let (mut drift, mut v_max): (Real, Real) = (0.0, 0.0);
+    let st = ga
+        .step_to(&mut sys, 20.0, |_, _, y, yp| {
+            let gv = 0.3 * y[0] + y[1] - 0.5 * y[2];
+            let ga_ = 0.3 * yp[0] + yp[1] - 0.5 * yp[2];
+            assert!(ga_.abs() < 1e-12, "G v' = {ga_}");
+            drift = drift.max((gv - gv0).abs());
+            v_max = v_max.max(y[..3].iter().fold(0.0, |m: Real, x| m.max(x.abs())));
+            Ok(true)
+        })
+        .unwrap();
+    assert!(st.is_success(), "{st:?}");
+    let stats = ga.stats();
+    println!("G v drift {drift:e} (v_max {v_max}), stats {stats:?}");
+    // Round-off only: 10 000 steps, each adding O(ε·|v|) to G v.
+    assert!(drift < 1e4 * 8.0 * Real::EPSILON * v_max, "drift {drift:e}");
+    assert!((stats.max_constraint_drift - drift).abs() < 1e-15);
+    // The position constraint then drifts linearly: G u(t) = G u0 + t·G v0 (G u0 = 0).
+    let gu = 0.3 * ga.y()[4] + ga.y()[5] - 0.5 * ga.y()[6];
+    assert!((gu - 20.0 * gv0).abs() < 1e-9, "G u = {gu}");
+}
+
+/// Generalized-α and a tight BDF on the friction-driven coupled model: max over the
+/// samples (every 0.01 s to t = 5 s) of |y_GA − y_BDF| per partition, relative to the
+/// largest |y_BDF| of that partition; partitions v, λ', u.
+fn coupled_difference(h: Real) -> [Real; 3] {
+    let c = coupled();
+    let (y0, yp0) = coupled_initial(&c, [0.05, 0.0, 0.03]); // G v0 = 0
+    // Reference: BDF at rtol 1e-10.
+    let mut bs = coupled_bsql(&c);
+    let (mut yb, mut ypb) = (y0.clone(), yp0.clone());
+    let ic = InitialConditionOptions {
+        tol: 1e-13,
+        ..Default::default()
+    };
+    consistent_initial_conditions(&mut bs, 0.0, &mut yb, &mut ypb, None, &ic).unwrap();
+    let opts = BdfOptions {
+        tolerances: bs.tolerances(1e-10, 1e-12, 1e-10, 1e-12),
+        ..Default::default()
+    };
+    let mut bdf = Bdf::new(opts, 0.0, &yb, &ypb).unwrap();
+    let mut gs = coupled_galpha(&c);
+    let gopts = GalphaOptions {
+        h,
+        tolerances: tight(),
+        ..Default::default()
+    };
+    let mut ga = Galpha::new(gopts, &mut gs, 0.0, &y0, &yp0).unwrap();
+    let parts = [(0..3, 0), (3..4, 1), (4..7, 2)];
+    let (mut diff, mut scale) = ([0.0; 3], [0.0; 3]);
+    for i in 1..=500 {
+        let t = i as Real * 0.01;
+        assert!(bdf.integrate_to(&mut bs, t).unwrap().is_success());
+        assert!(ga.integrate_to(&mut gs, t).unwrap().is_success());
+        for (r, p) in parts.iter().cloned() {
+            for j in r {
+                // λ' (the contact force) from y', the others from y.
+                let (a, b) = if p == 1 {
+                    (ga.yp()[j], bdf.yp()[j])
+                } else {
+                    (ga.y()[j], bdf.y()[j])
+                };
+                diff[p] = diff[p].max((a - b).abs());
+                scale[p] = scale[p].max(b.abs());
+            }
+        }
+    }
+    println!(
+        "h = {h}: GA {:?}\n        BDF {:?}",
+        ga.stats(),
+        bdf.stats()
+    );
+    [diff[0] / scale[0], diff[1] / scale[1], diff[2] / scale[2]]
+}
+
+#[test]
+fn agrees_with_tight_bdf_on_friction_driven_constrained_case() {
+    let d1 = coupled_difference(4e-3);
+    let d2 = coupled_difference(2e-3);
+    let d3 = coupled_difference(1e-3);
+    println!("relative max differences (v, λ', u): {d1:?} {d2:?} {d3:?}");
+    for p in 0..3 {
+        // Second order: the difference (dominated by the GA error) falls 4× per halving.
+        for (a, b) in [(d1[p], d2[p]), (d2[p], d3[p])] {
+            assert!((a / b - 4.0).abs() < 0.4, "partition {p}: ratio {}", a / b);
+        }
+        assert!(d3[p] < 1e-4, "partition {p}: {}", d3[p]);
+    }
+}
+
+#[test]
+fn adaptive_steps_follow_the_tolerance() {
+    // Local error ∝ h³ held at the tolerance ⇒ h ∝ tol^{1/3}, global error ∝ tol^{2/3}:
+    // 100× tighter gives 100^{1/3} ≈ 4.6× more steps and ≈ 21.5× less error.
+    let omega = 2.0;
+    let mut res = Vec::new();
+    for rtol in [1e-4, 1e-6, 1e-8] {
+        let mut sys = oscillator(omega);
+        let opts = GalphaOptions {
+            h: 1e-3,
+            adaptive: true,
+            tolerances: Tolerances::Scalar {
+                rtol,
+                atol: 1e-2 * rtol,
+            },
+            ..Default::default()
+        };
+        let mut ga = Galpha::new(opts, &mut sys, 0.0, &[0.0, 1.0], &[0.0, 0.0]).unwrap();
+        let mut max_err: Real = 0.0;
+        for i in 1..=40 {
+            let t = 0.25 * i as Real;
+            assert!(ga.integrate_to(&mut sys, t).unwrap().is_success());
+            max_err = max_err.max((ga.y()[1] - (omega * t).cos()).abs());
+            max_err = max_err.max((ga.y()[0] + omega * (omega * t).sin()).abs() / omega);
+        }
+        println!("adaptive rtol {rtol:e}: max error {max_err:.3e}, {:?}", ga.stats());
+        res.push((max_err, ga.stats().steps as Real));
+    }
+    for w in res.windows(2) {
+        let (e, s) = (w[0].0 / w[1].0, w[1].1 / w[0].1);
+        assert!((10.0..50.0).contains(&e), "error ratio {e}");
+        assert!((3.5..6.0).contains(&s), "step ratio {s}");
+    }
+    assert!(res[1].0 < 1e-3, "{res:?}");
+}
+
+/// Friction that turns NaN after t = 0.5 (a broken friction table, say).
+struct NanAfter;
+
+impl FrictionForces for NanAfter {
+    fn add_forces(
+        &mut self,
+        t: Real,
+        _: &[Real],
+        _: &[Real],
+        f: &mut [Real],
+    ) -> Result<(), squeal_solver::SolverError> {
+        if t > 0.5 {
+            f[0] = Real::NAN;
+        }
+        Ok(())
+    }
+    fn add_tangents(
+        &mut self,
+        _: Real,
+        _: &[Real],
+        _: &[Real],
+        _: &mut Mat<Real>,
+        _: Option<&mut Mat<Real>>,
+    ) -> Result<(), squeal_solver::SolverError> {
+        Ok(())
+    }
+}
+
+#[test]
+fn failure_is_a_status_naming_t_h_and_residual() {
+    use squeal_solver::galpha::Status;
+    for adaptive in [false, true] {
+        let mut sys = GalphaSystem::new(
+            Mat::identity(1, 1),
+            Mat::zeros(1, 1),
+            Mat::identity(1, 1),
+            Mat::zeros(0, 1),
+            LoadHistory::default(),
+            NanAfter,
+        )
+        .unwrap();
+        let opts = GalphaOptions {
+            h: 0.01,
+            adaptive,
+            ..Default::default()
+        };
+        let mut ga = Galpha::new(opts, &mut sys, 0.0, &[0.0, 1.0], &[0.0, 0.0]).unwrap();
+        let st = ga.integrate_to(&mut sys, 1.0).unwrap();
+        println!("{st:?}");
+        match st {
+            Status::ConvergenceFailures {
+                t,
+                h,
+                residual_norm,
+            }
+            | Status::StepSizeTooSmall {
+                t,
+                h,
+                residual_norm,
+            } => {
+                assert!(t <= 0.5 && t > 0.5 - 0.011, "t = {t}");
+                assert!(h > 0.0 && h <= 0.01);
+                assert!(residual_norm.is_nan());
+            }
+            other => panic!("unexpected {other:?}"),
+        }
+        assert!(!st.is_success());
+        assert!(ga.y().iter().all(|x| x.is_finite()));
+    }
+}
+
+#[test]
+fn options_validate_and_round_trip() {
+    let o = GalphaOptions::default();
+    assert_eq!(o.rho_inf, 0.9);
+    o.validate().unwrap();
+    let back: GalphaOptions = serde_json::from_str(&serde_json::to_string(&o).unwrap()).unwrap();
+    assert_eq!(back, o);
+    let e = serde_json::from_str::<GalphaOptions>(r#"{"rho": 0.5}"#).unwrap_err();
+    assert!(e.to_string().contains("rho"), "{e}");
+    let bad = GalphaOptions {
+        rho_inf: 1.2,
+        ..Default::default()
+    };
+    assert!(bad.validate().unwrap_err().to_string().contains("rho_inf"));
+    // ρ∞ = 1 is the trapezoidal rule: α_m = α_f = 1/2, γ = 1/2, β = 1/4.
+    let c = GalphaCoeffs::from_rho_inf(1.0);
+    assert_eq!((c.alpha_m, c.alpha_f, c.gamma, c.beta), (0.5, 0.5, 0.5, 0.25));
+}

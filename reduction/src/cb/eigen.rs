@@ -208,7 +208,7 @@ impl Basis {
 
     /// w ← w − Q (MQ)ᵀ w; returns the coefficients (MQ)ᵀ w (len × p).
     fn project_out(&self, w: &mut Mat<Real>) -> Mat<Real> {
-        let par = faer::get_global_parallelism();
+        let par = if std::env::var_os("SQUEAL_ORTH_SEQ").is_some() { faer::Par::Seq } else { faer::get_global_parallelism() };
         let mut c = Mat::<Real>::zeros(self.len, w.ncols());
         faer::linalg::matmul::matmul(
             c.as_mut(),

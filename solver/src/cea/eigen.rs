@@ -1,11 +1,17 @@
-//! First-order form, standard eigenproblem, and mode recovery.
+//! The exact complex eigenvalue analysis: constraint elimination, standard eigenproblem,
+//! mode recovery; and the dispatch between the exact and projected methods.
 
-use super::{reduce, CeaError, CeaMatrices, CeaOptions, CeaResult, CeaStats, Cplx, Mode};
-use faer::{Mat, Side};
+use super::first_order::first_order_eigen;
+use super::operator::cholesky;
+use super::{
+    reduce, CeaError, CeaMatrices, CeaMethod, CeaOptions, CeaResult, CeaStats, Cplx, ModalBasis,
+    Mode,
+};
+use faer::{Mat, MatRef};
 use std::time::Instant;
 
 /// `L⁻¹ X L⁻ᵀ` for lower-triangular L.
-fn sandwich(l: faer::MatRef<'_, f64>, x: &Mat<f64>) -> Mat<f64> {
+pub(crate) fn sandwich(l: MatRef<'_, f64>, x: &Mat<f64>) -> Mat<f64> {
     let mut y = x.clone();
     l.solve_lower_triangular_in_place(&mut y);
     let mut z = y.transpose().to_owned();
@@ -15,17 +21,21 @@ fn sandwich(l: faer::MatRef<'_, f64>, x: &Mat<f64>) -> Mat<f64> {
 
 /// Complex eigenvalue analysis about a steady sliding state, without spurious roots.
 ///
-/// Finds every physical root p of `M ü + (B − C_f) u̇ + K u + (Gᵀ − D) N = 0`, `G u = 0`
-/// (solutions `u e^{pt}`): the constraint is eliminated exactly ([`reduce`]), then the reduced quadratic
+/// Finds the physical roots p of `M ü + (B − C_f) u̇ + K u + (Gᵀ − D) N = 0`, `G u = 0`
+/// (solutions `u e^{pt}`). With `opts.method` = `auto` (the default) or `exact`, every
+/// root: the constraint is eliminated exactly ([`reduce`]), then the reduced quadratic
 /// problem `M_r q̈ + C_r q̇ + K_r q = 0` (size m = n − ng) is brought to a standard one with the
 /// Cholesky factor `M_r = L Lᵀ` (`w = Lᵀ q`): `ẅ + Ĉ ẇ + K̂ w = 0`, `Ĉ = L⁻¹C_rL⁻ᵀ`,
 /// `K̂ = L⁻¹K_rL⁻ᵀ`, and in first-order form with the state `z = [w; ẇ/σ]`
 /// ```text
 /// ż = [[0, σ I], [−K̂/σ, −Ĉ]] z,      σ = sqrt(mean |K̂_ii|)
 /// ```
-/// (σ balances the two blocks so that the matrix norm is ~ max|p| rather than max|p|²).
-/// All 2m eigenvalues come from faer's dense `eigen()` (real Schur; no QZ). One root of each
-/// complex-conjugate pair is kept (Im p > 0) and every real root; shapes are `u = T L⁻ᵀ w`.
+/// All 2m eigenvalues come from faer's dense real eigensolver (real Schur; no QZ;
+/// eigenvectors only when `compute_shapes`). One root of each complex-conjugate pair is kept
+/// (Im p > 0) and every real root; shapes are `u = T L⁻ᵀ w`.
+///
+/// With `method = projection` the roots come from the subspace of the real modes of this
+/// same state ([`ModalBasis`]); in a sweep build the basis once instead ([`super::sweep`]).
 ///
 /// # Reference
 /// $$(p^2[M_{dd}] + p[B_{dd}] + [K_{dd}])\{\psi\} = 0$$ [Paper eqs. (19)–(24)], reduced as
@@ -36,6 +46,19 @@ fn sandwich(l: faer::MatRef<'_, f64>, x: &Mat<f64>) -> Mat<f64> {
 /// of the eigenvalue solver.
 pub fn complex_eigen(sys: &CeaMatrices, opts: &CeaOptions) -> Result<CeaResult, CeaError> {
     opts.validate()?;
+    match opts.method {
+        CeaMethod::Auto | CeaMethod::Exact => exact(sys, opts),
+        CeaMethod::Projection => {
+            let basis = ModalBasis::new(sys, opts)?;
+            let mut r = basis.solve(sys, opts)?;
+            r.stats.time_basis_s = basis.time_s();
+            Ok(r)
+        }
+    }
+}
+
+/// The exact method.
+pub(crate) fn exact(sys: &CeaMatrices, opts: &CeaOptions) -> Result<CeaResult, CeaError> {
     let t0 = Instant::now();
     let red = reduce(sys, opts)?;
     let n = sys.m.nrows();
@@ -44,6 +67,7 @@ pub fn complex_eigen(sys: &CeaMatrices, opts: &CeaOptions) -> Result<CeaResult, 
         n,
         n_constraints: n - m,
         n_reduced: m,
+        method: CeaMethod::Exact,
         constraint_rank_ratio: red.rank_ratio,
         time_reduce_s: t0.elapsed().as_secs_f64(),
         ..CeaStats::default()
@@ -55,85 +79,43 @@ pub fn complex_eigen(sys: &CeaMatrices, opts: &CeaOptions) -> Result<CeaResult, 
             stats,
         });
     }
-    let llt = red.m_r.llt(Side::Lower).map_err(|e| match e {
-        faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => {
-            CeaError::NotPositiveDefinite {
-                what: "T^T M T",
-                n: m,
-                pivot: index,
-            }
-        }
-    })?;
+    let llt = cholesky("T^T M T", &red.m_r)?;
     let l = llt.L();
     let khat = sandwich(l, &red.k_r);
     let chat = red.c_r.as_ref().map(|c| sandwich(l, c));
-    let mean_k = (0..m).map(|i| khat[(i, i)].abs()).sum::<f64>() / m as f64;
-    let sigma = if mean_k > 0.0 && mean_k.is_finite() {
-        mean_k.sqrt()
-    } else {
-        1.0
+    let fo = first_order_eigen(&khat, chat.as_ref(), opts.compute_shapes)?;
+    let shapes = match &fo.w {
+        Some(w) => recover_shapes(w.clone(), Some(l), red.t.as_ref()),
+        None => vec![Vec::new(); fo.vals.len()],
     };
-    let a = Mat::from_fn(2 * m, 2 * m, |i, j| match (i < m, j < m) {
-        (true, true) => 0.0,
-        (true, false) => {
-            if j - m == i {
-                sigma
-            } else {
-                0.0
-            }
-        }
-        (false, true) => -khat[(i - m, j)] / sigma,
-        (false, false) => chat.as_ref().map_or(0.0, |c| -c[(i - m, j - m)]),
-    });
-    let (vals, vecs): (Vec<Cplx>, Option<Mat<Cplx>>) = if opts.compute_shapes {
-        let e = a.eigen().map_err(|_| CeaError::NoConvergence {
-            what: "eigendecomposition",
-            n: 2 * m,
-        })?;
-        let s = e.S().column_vector();
-        let vals = (0..2 * m).map(|i| s[i]).collect();
-        (vals, Some(e.U().to_owned()))
-    } else {
-        let v = a.eigenvalues().map_err(|_| CeaError::NoConvergence {
-            what: "eigenvalues",
-            n: 2 * m,
-        })?;
-        (v, None)
-    };
-    let rho = vals.iter().map(|p| p.norm()).fold(0.0, f64::max);
-    let keep: Vec<usize> = (0..2 * m).filter(|&j| vals[j].im >= 0.0).collect();
-    for (j, p) in vals.iter().enumerate() {
-        if !(p.re.is_finite() && p.im.is_finite()) {
-            return Err(CeaError::NonFinite {
-                what: "eigenvalue",
-                row: j,
-                col: 0,
-                value: if p.re.is_finite() { p.im } else { p.re },
-            });
-        }
-    }
-    let shapes = match &vecs {
-        Some(u) => recover_shapes(u, &keep, m, l, red.t.as_ref()),
-        None => vec![Vec::new(); keep.len()],
-    };
+    let modes = make_modes(&fo.vals, shapes, fo.rho, opts);
+    finish_stats(&mut stats, &modes, fo.rho);
+    stats.time_eigen_s = t1.elapsed().as_secs_f64();
+    Ok(CeaResult { modes, stats })
+}
+
+/// Modes from the kept eigenvalues and their shapes, sorted by frequency then real part.
+pub(crate) fn make_modes(
+    vals: &[Cplx],
+    shapes: Vec<Vec<Cplx>>,
+    rho: f64,
+    opts: &CeaOptions,
+) -> Vec<Mode> {
     let tol = opts.unstable_tol * rho;
-    let mut modes: Vec<Mode> = keep
+    let mut modes: Vec<Mode> = vals
         .iter()
         .zip(shapes)
-        .map(|(&j, shape)| {
-            let p = vals[j];
-            Mode {
-                eigenvalue: p,
-                frequency_hz: p.im.abs() / (2.0 * std::f64::consts::PI),
-                real_part: p.re,
-                damping_ratio: if p.im == 0.0 {
-                    None
-                } else {
-                    Some(-2.0 * p.re / p.im.abs())
-                },
-                unstable: p.re > tol,
-                shape,
-            }
+        .map(|(&p, shape)| Mode {
+            eigenvalue: p,
+            frequency_hz: p.im.abs() / (2.0 * std::f64::consts::PI),
+            real_part: p.re,
+            damping_ratio: if p.im == 0.0 {
+                None
+            } else {
+                Some(-2.0 * p.re / p.im.abs())
+            },
+            unstable: p.re > tol,
+            shape,
         })
         .collect();
     modes.sort_by(|x, y| {
@@ -141,6 +123,11 @@ pub fn complex_eigen(sys: &CeaMatrices, opts: &CeaOptions) -> Result<CeaResult, 
             .total_cmp(&y.frequency_hz)
             .then(x.real_part.total_cmp(&y.real_part))
     });
+    modes
+}
+
+/// Mode counts, largest real part and spectral radius.
+pub(crate) fn finish_stats(stats: &mut CeaStats, modes: &[Mode], rho: f64) {
     stats.n_modes = modes.len();
     stats.n_real_roots = modes.iter().filter(|x| x.eigenvalue.im == 0.0).count();
     stats.n_unstable = modes.iter().filter(|x| x.unstable).count();
@@ -149,29 +136,19 @@ pub fn complex_eigen(sys: &CeaMatrices, opts: &CeaOptions) -> Result<CeaResult, 
         .map(|x| x.real_part)
         .fold(f64::NEG_INFINITY, f64::max);
     stats.spectral_radius = rho;
-    stats.time_eigen_s = t1.elapsed().as_secs_f64();
-    Ok(CeaResult { modes, stats })
 }
 
-/// u = T L⁻ᵀ w for the kept eigenvectors (w = top half of the state vector), normalised to
-/// unit 2-norm with the largest entry real positive.
-fn recover_shapes(
-    u: &Mat<Cplx>,
-    keep: &[usize],
-    m: usize,
-    l: faer::MatRef<'_, f64>,
+/// `u = T L⁻ᵀ w` for `w = [Re W | Im W]` (m × 2k), each shape normalised to unit 2-norm with
+/// its largest entry real positive. `l = None` is L = I, `t = None` is T = I.
+pub(crate) fn recover_shapes(
+    mut w: Mat<f64>,
+    l: Option<MatRef<'_, f64>>,
     t: Option<&Mat<f64>>,
 ) -> Vec<Vec<Cplx>> {
-    let k = keep.len();
-    // [Re W | Im W] (m × 2k), solve Lᵀ Q = W.
-    let mut w = Mat::from_fn(m, 2 * k, |i, c| {
-        if c < k {
-            u[(i, keep[c])].re
-        } else {
-            u[(i, keep[c - k])].im
-        }
-    });
-    l.transpose().solve_upper_triangular_in_place(&mut w);
+    let k = w.ncols() / 2;
+    if let Some(l) = l {
+        l.transpose().solve_upper_triangular_in_place(&mut w);
+    }
     let q = match t {
         Some(t) => t * &w,
         None => w,

@@ -90,4 +90,19 @@ pub enum CeaError {
         /// The builder's error, printed.
         message: String,
     },
+    /// The problem differs from the one the projection basis was built for in a matrix
+    /// that must not change (G, or the matrix sizes).
+    #[error("projection basis was built for a different {what}: entry ({row}, {col}) is {value}, the basis had {reference}; use method = \"exact\" or rebuild the basis")]
+    BasisMismatch {
+        /// Which matrix.
+        what: &'static str,
+        /// Row of the first differing entry.
+        row: usize,
+        /// Column of the first differing entry.
+        col: usize,
+        /// Entry now.
+        value: f64,
+        /// Entry of the reference.
+        reference: f64,
+    },
 }

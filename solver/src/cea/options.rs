@@ -3,6 +3,100 @@
 use super::CeaError;
 use serde::{Deserialize, Serialize};
 
+/// How the reduced quadratic problem is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum CeaMethod {
+    /// Exact for a single CEA; in a sweep, `projection` when the reduced problem has more than
+    /// [`ProjectionOptions::auto_min_dofs`] DOFs and the basis is truncated (`n_basis`,
+    /// `basis_cutoff_hz` or `frequency_max_hz` given), else `exact`.
+    #[default]
+    Auto,
+    /// Every root of the reduced problem from a dense `eigen()` of size 2(n − ng).
+    Exact,
+    /// Galerkin projection onto the real modes of the constrained, friction-free (symmetric)
+    /// problem up to a cutoff, then a small dense `eigen()` (Abaqus-style subspace CEA).
+    Projection,
+}
+
+/// Subspace-projection options (used when the method resolves to `projection`).
+///
+/// The basis is the undamped real modes of `M_r q̈ + sym(K_r) q = 0` at the reference state,
+/// sorted by frequency: all modes with frequency ≤ `basis_cutoff_hz`, at most `n_basis` of them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ProjectionOptions {
+    /// Highest frequency of interest, Hz (default: none). Sets the default cutoff
+    /// (`cutoff_factor` × it) and the band of the sweep's exact checks.
+    pub frequency_max_hz: Option<f64>,
+    /// Basis cutoff frequency, Hz (default: none: `cutoff_factor × frequency_max_hz` if that is
+    /// given, otherwise no frequency limit).
+    pub basis_cutoff_hz: Option<f64>,
+    /// Cutoff over frequency of interest when `basis_cutoff_hz` is not given (default: 2.5).
+    pub cutoff_factor: f64,
+    /// Largest number of basis modes (default: none: no count limit).
+    pub n_basis: Option<usize>,
+    /// Friction coefficient of the reference state whose real modes form a sweep's basis
+    /// (default: none: the first μ of the sweep).
+    pub basis_mu: Option<f64>,
+    /// `auto` projects a sweep only above this many reduced DOFs n − ng (default: 200: below
+    /// it a dense exact solve takes < ~0.1 s).
+    pub auto_min_dofs: usize,
+}
+
+impl Default for ProjectionOptions {
+    fn default() -> Self {
+        ProjectionOptions {
+            frequency_max_hz: None,
+            basis_cutoff_hz: None,
+            cutoff_factor: 2.5,
+            n_basis: None,
+            basis_mu: None,
+            auto_min_dofs: 200,
+        }
+    }
+}
+
+impl ProjectionOptions {
+    /// The basis cutoff in Hz, if any: `basis_cutoff_hz`, else `cutoff_factor × frequency_max_hz`.
+    pub fn cutoff_hz(&self) -> Option<f64> {
+        self.basis_cutoff_hz
+            .or(self.frequency_max_hz.map(|f| f * self.cutoff_factor))
+    }
+
+    /// True when the basis is truncated by a count or a frequency.
+    pub fn is_truncated(&self) -> bool {
+        self.n_basis.is_some() || self.cutoff_hz().is_some()
+    }
+
+    /// Checks the options; the error names the field.
+    pub fn validate(&self) -> Result<(), CeaError> {
+        let pos = |field, v: Option<f64>| match v {
+            Some(x) => check(field, x, x > 0.0, "must be > 0"),
+            None => Ok(()),
+        };
+        pos("projection.frequency_max_hz", self.frequency_max_hz)?;
+        pos("projection.basis_cutoff_hz", self.basis_cutoff_hz)?;
+        if let Some(mu) = self.basis_mu {
+            check("projection.basis_mu", mu, true, "must be finite")?;
+        }
+        check(
+            "projection.cutoff_factor",
+            self.cutoff_factor,
+            self.cutoff_factor >= 1.0,
+            "must be >= 1",
+        )?;
+        if self.n_basis == Some(0) {
+            return Err(CeaError::InvalidOption {
+                field: "projection.n_basis",
+                value: "0".into(),
+                reason: "must be >= 1".into(),
+            });
+        }
+        Ok(())
+    }
+}
+
 /// Complex eigenvalue analysis options. [Paper eqs. (19)–(24)]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -14,6 +108,10 @@ pub struct CeaOptions {
     pub rank_tol: f64,
     /// Compute the mode shapes u = T q (default: true; false returns empty shapes).
     pub compute_shapes: bool,
+    /// Solution method (default: `auto`: exact for a single CEA, see [`CeaMethod::Auto`]).
+    pub method: CeaMethod,
+    /// Subspace-projection options (default: [`ProjectionOptions::default`]).
+    pub projection: ProjectionOptions,
 }
 
 impl Default for CeaOptions {
@@ -22,6 +120,8 @@ impl Default for CeaOptions {
             unstable_tol: 1e-8,
             rank_tol: 1e-10,
             compute_shapes: true,
+            method: CeaMethod::Auto,
+            projection: ProjectionOptions::default(),
         }
     }
 }
@@ -52,16 +152,18 @@ impl CeaOptions {
             self.rank_tol,
             self.rank_tol >= 0.0 && self.rank_tol < 1.0,
             "must be in [0, 1)",
-        )
+        )?;
+        self.projection.validate()
     }
 }
 
-/// Friction sweep options (mode tracking and critical μ).
+/// Friction sweep options (mode tracking, critical μ, projection error control).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SweepOptions {
-    /// Options of each eigenvalue solve (default: [`CeaOptions::default`]; shapes are always
-    /// computed during a sweep since tracking needs them).
+    /// Options of each eigenvalue solve, including the method (default:
+    /// [`CeaOptions::default`]: `auto`; shapes are always computed during a sweep since
+    /// tracking needs them).
     pub cea: CeaOptions,
     /// Smallest MAC for two modes at neighbouring μ to be the same tracked mode; below it a
     /// track ends and a new one starts (default: 0.1).
@@ -75,6 +177,11 @@ pub struct SweepOptions {
     pub max_bisection: usize,
     /// Keep the mode shapes of every step in the result (default: false: memory n × modes × steps).
     pub keep_shapes: bool,
+    /// With projection, also solve exactly (eigenvalues only) at the first and last μ and
+    /// report the largest relative eigenvalue difference in the checked band (default: true).
+    pub exact_check: bool,
+    /// With projection, also check every k-th step (k ≥ 1; default: 0: the ends only).
+    pub exact_check_every: usize,
 }
 
 impl Default for SweepOptions {
@@ -86,6 +193,8 @@ impl Default for SweepOptions {
             bisection_tol: 1e-7,
             max_bisection: 60,
             keep_shapes: false,
+            exact_check: true,
+            exact_check_every: 0,
         }
     }
 }

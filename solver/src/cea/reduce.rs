@@ -1,8 +1,8 @@
 //! Exact elimination of the contact constraint and multipliers (null space of G).
 
-use super::{check_finite, CeaError, CeaMatrices, CeaOptions};
-use faer::linalg::solvers::Solve;
-use faer::{Mat, Side};
+use super::operator::{check_inputs, damping, mass_solve, ContactProjector};
+use super::{CeaError, CeaMatrices, CeaOptions};
+use faer::Mat;
 
 /// The reduced second-order problem `M_r q̈ + C_r q̇ + K_r q = 0`, `u = T q`.
 #[derive(Debug, Clone)]
@@ -17,22 +17,6 @@ pub struct Reduced {
     pub k_r: Mat<f64>,
     /// σ_min(G)/σ_max(G) (1 without constraint).
     pub rank_ratio: f64,
-}
-
-/// Z ↦ P Z.
-type Projector = Box<dyn Fn(Mat<f64>) -> Mat<f64>>;
-
-fn shape(what: &'static str, a: &Mat<f64>, r: usize, c: usize) -> Result<(), CeaError> {
-    if a.nrows() != r || a.ncols() != c {
-        return Err(CeaError::Shape {
-            what,
-            rows: a.nrows(),
-            cols: a.ncols(),
-            expected_rows: r,
-            expected_cols: c,
-        });
-    }
-    check_finite(what, a.as_ref())
 }
 
 /// Eliminates `G u = 0` and the multiplier perturbations `N` exactly.
@@ -70,28 +54,8 @@ fn shape(what: &'static str, a: &Mat<f64>, r: usize, c: usize) -> Result<(), Cea
 /// is given), singular `S`, non-convergence of the SVD.
 #[allow(non_snake_case)]
 pub fn reduce(sys: &CeaMatrices, opts: &CeaOptions) -> Result<Reduced, CeaError> {
-    let n = sys.m.nrows();
-    shape("M", &sys.m, n, n)?;
-    shape("K", &sys.k, n, n)?;
-    let ng = sys.g.as_ref().map_or(0, |g| g.nrows());
-    if let Some(g) = &sys.g {
-        shape("G", g, ng, n)?;
-    }
-    if let Some(b) = &sys.b {
-        shape("B", b, n, n)?;
-    }
-    if let Some(c) = &sys.c_f {
-        shape("C_f", c, n, n)?;
-    }
-    if let Some(d) = &sys.d {
-        shape("D", d, n, ng)?;
-    }
-    let C: Option<Mat<f64>> = match (&sys.b, &sys.c_f) {
-        (None, None) => None,
-        (Some(b), None) => Some(b.clone()),
-        (None, Some(c)) => Some(-c),
-        (Some(b), Some(c)) => Some(b - c),
-    };
+    let (n, ng) = check_inputs(sys)?;
+    let C = damping(sys);
     if ng == 0 {
         return Ok(Reduced {
             t: None,
@@ -102,15 +66,6 @@ pub fn reduce(sys: &CeaMatrices, opts: &CeaOptions) -> Result<Reduced, CeaError>
         });
     }
     let G = sys.g.as_ref().expect("ng > 0 implies G");
-    if ng >= n {
-        return Err(CeaError::Shape {
-            what: "G (needs fewer rows than columns)",
-            rows: ng,
-            cols: n,
-            expected_rows: n.saturating_sub(1),
-            expected_cols: n,
-        });
-    }
     let Gt = G.transpose().to_owned();
     let svd = Gt.svd().map_err(|_| CeaError::NoConvergence {
         what: "SVD of G^T",
@@ -135,45 +90,15 @@ pub fn reduce(sys: &CeaMatrices, opts: &CeaOptions) -> Result<Reduced, CeaError>
     let M = &sys.m;
     let m_r = T.transpose() * (M * &T);
 
-    // P Z = Z − A S⁻¹ (Yᵀ Z), Y = M⁻¹Gᵀ; only needed when D is present.
-    let project: Option<Projector> = match &sys.d {
+    // P is only needed when D is present.
+    let project = match &sys.d {
         None => None,
-        Some(D) => {
-            let llt = M.llt(Side::Lower).map_err(|e| match e {
-                faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => {
-                    CeaError::NotPositiveDefinite {
-                        what: "M",
-                        n,
-                        pivot: index,
-                    }
-                }
-            })?;
-            let mut Y = Gt.clone();
-            llt.solve_in_place(&mut Y);
-            let A = &Gt - D;
-            let S = Y.transpose() * &A;
-            let lu = S.partial_piv_lu();
-            let U = lu.U();
-            let (mut pmin, mut pmax) = (f64::INFINITY, 0.0f64);
-            for i in 0..ng {
-                pmin = pmin.min(U[(i, i)].abs());
-                pmax = pmax.max(U[(i, i)].abs());
-            }
-            let pr = if pmax > 0.0 { pmin / pmax } else { 0.0 };
-            if pr.is_nan() || pr <= 1e3 * f64::EPSILON {
-                return Err(CeaError::SingularContactOperator { ng, ratio: pr });
-            }
-            Some(Box::new(move |Z: Mat<f64>| {
-                let mut W = Y.transpose() * &Z;
-                lu.solve_in_place(&mut W);
-                Z - &A * &W
-            }))
-        }
+        Some(D) => Some(ContactProjector::new(mass_solve(M, &Gt)?, &Gt, D)?),
     };
     let apply = |X: &Mat<f64>| -> Mat<f64> {
         let XT = X * &T;
         let PXT = match &project {
-            Some(p) => p(XT),
+            Some(p) => p.apply(XT),
             None => XT,
         };
         T.transpose() * PXT

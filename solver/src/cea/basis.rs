@@ -1,0 +1,143 @@
+//! The real modal basis of the constrained, friction-free problem (subspace projection).
+
+use super::eigen::sandwich;
+use super::operator::{check_inputs, cholesky, mass_solve};
+use super::{reduce, CeaError, CeaMatrices, CeaOptions};
+use faer::{Mat, MatRef, Side};
+use std::time::Instant;
+
+/// A fixed real basis Ψ (n × nb) for the subspace projection of the complex eigenvalue
+/// problem: the undamped real modes of the constrained problem at a reference state,
+/// `G Ψ = 0` and `Ψᵀ M Ψ = I`.
+///
+/// Built once (one symmetric dense eigendecomposition of size n − ng), then
+/// [`ModalBasis::solve`] projects the problem at any μ and solves an eigenproblem of size
+/// 2 nb instead of 2(n − ng).
+#[derive(Debug, Clone)]
+pub struct ModalBasis {
+    /// Ψ (n × nb).
+    psi: Mat<f64>,
+    /// Undamped frequencies of the basis modes, Hz, ascending.
+    frequencies_hz: Vec<f64>,
+    /// M of the reference state (a different M at solve time is projected afresh).
+    pub(crate) m_ref: Mat<f64>,
+    /// G of the reference state (the same G is required at solve time).
+    pub(crate) g_ref: Option<Mat<f64>>,
+    /// Gᵀ and Y = M⁻¹Gᵀ of the reference state (only with constraints).
+    pub(crate) gt: Option<Mat<f64>>,
+    pub(crate) y: Option<Mat<f64>>,
+    /// Size of the reduced problem n − ng.
+    pub(crate) n_reduced: usize,
+    /// σ_min(G)/σ_max(G).
+    pub(crate) rank_ratio: f64,
+    time_s: f64,
+}
+
+impl ModalBasis {
+    /// Computes the basis from the reference state `sys` and `opts.projection`.
+    ///
+    /// # Derivation
+    /// With `T` an orthonormal basis of null(G) and `P` the contact projector ([`reduce`]),
+    /// the real modes solve `sym(K_r) φ = ω² M_r φ`, `M_r = TᵀMT`, `K_r = TᵀPKT`,
+    /// `sym(X) = (X + Xᵀ)/2` (= K_r when the reference state has no friction tangent). With
+    /// `M_r = L Lᵀ`: `L⁻¹ sym(K_r) L⁻ᵀ v = ω² v` (dense `self_adjoint_eigen`), `φ = L⁻ᵀ v`, so
+    /// `Φᵀ M_r Φ = I`. The modes with `ω/2π ≤` the cutoff are kept, at most `n_basis` of them
+    /// (lowest first), and `Ψ = T Φ`. Damping (`B`, `C_f`) is ignored for the basis.
+    ///
+    /// # Errors
+    /// As [`reduce`]; a reduced mass that is not positive definite; an empty basis (cutoff
+    /// below the lowest mode), named with the lowest frequency.
+    pub fn new(sys: &CeaMatrices, opts: &CeaOptions) -> Result<Self, CeaError> {
+        opts.validate()?;
+        let t0 = Instant::now();
+        let (n, ng) = check_inputs(sys)?;
+        let undamped = CeaMatrices {
+            m: sys.m.clone(),
+            k: sys.k.clone(),
+            b: None,
+            g: sys.g.clone(),
+            d: sys.d.clone(),
+            c_f: None,
+        };
+        let red = reduce(&undamped, opts)?;
+        let m = red.m_r.nrows();
+        let llt = cholesky("T^T M T", &red.m_r)?;
+        let l = llt.L();
+        let ksym = Mat::from_fn(m, m, |i, j| 0.5 * (red.k_r[(i, j)] + red.k_r[(j, i)]));
+        let khat = sandwich(l, &ksym);
+        let evd = khat
+            .self_adjoint_eigen(Side::Lower)
+            .map_err(|_| CeaError::NoConvergence {
+                what: "symmetric eigendecomposition (projection basis)",
+                n: m,
+            })?;
+        let lam = evd.S().column_vector();
+        let hz = |x: f64| x.max(0.0).sqrt() / (2.0 * std::f64::consts::PI);
+        let pr = &opts.projection;
+        let mut nb = match pr.cutoff_hz() {
+            Some(fc) => (0..m).take_while(|&i| hz(lam[i]) <= fc).count(),
+            None => m,
+        };
+        if let Some(cap) = pr.n_basis {
+            nb = nb.min(cap);
+        }
+        if nb == 0 {
+            return Err(CeaError::InvalidOption {
+                field: "projection.basis_cutoff_hz",
+                value: format!("{:?}", pr.cutoff_hz()),
+                reason: format!(
+                    "no real mode below the cutoff (lowest: {} Hz)",
+                    if m > 0 { hz(lam[0]) } else { f64::NAN }
+                ),
+            });
+        }
+        let mut phi = evd.U().subcols(0, nb).to_owned();
+        l.transpose().solve_upper_triangular_in_place(&mut phi);
+        let psi = match &red.t {
+            Some(t) => t * &phi,
+            None => phi,
+        };
+        let gt = sys.g.as_ref().map(|g| g.transpose().to_owned());
+        let y = match (&gt, ng) {
+            (Some(gt), ng) if ng > 0 => Some(mass_solve(&sys.m, gt)?),
+            _ => None,
+        };
+        debug_assert_eq!(psi.nrows(), n);
+        Ok(ModalBasis {
+            psi,
+            frequencies_hz: (0..nb).map(|i| hz(lam[i])).collect(),
+            m_ref: sys.m.clone(),
+            g_ref: sys.g.clone(),
+            gt,
+            y,
+            n_reduced: m,
+            rank_ratio: red.rank_ratio,
+            time_s: t0.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// Number of basis modes nb.
+    pub fn len(&self) -> usize {
+        self.psi.ncols()
+    }
+
+    /// True when the basis is empty (never, for a basis built by [`ModalBasis::new`]).
+    pub fn is_empty(&self) -> bool {
+        self.psi.ncols() == 0
+    }
+
+    /// Undamped frequencies of the basis modes, Hz, ascending.
+    pub fn frequencies_hz(&self) -> &[f64] {
+        &self.frequencies_hz
+    }
+
+    /// The basis vectors Ψ (n × nb; `G Ψ = 0`, `Ψᵀ M Ψ = I` for the reference M).
+    pub fn vectors(&self) -> MatRef<'_, f64> {
+        self.psi.as_ref()
+    }
+
+    /// Wall time of the basis computation, seconds.
+    pub fn time_s(&self) -> f64 {
+        self.time_s
+    }
+}
