@@ -1,10 +1,14 @@
-//! Benchmark: 50 modes of a free-free hex20 brake-rotor-like annulus (~100k DOFs).
+//! Benchmark: 50 modes of a free-free hex20 brake-rotor-like annulus (~100k DOFs), with the
+//! AMD and the nested-dissection orderings of the factorisation, in the same run.
 //!
 //! Build and run (not under `cargo test`):
 //!   cargo build --release -p squeal-fe --example bench_modal
-//!   target/release/examples/bench_modal [OUT.json] [--clamped] [--block B] [--basis M] [--tol T]
-//! Writes n_dofs, nnz, timings, peak RSS (VmHWM) and the frequencies as JSON
-//! (default `target/bench/modal.json`).
+//!   target/release/examples/bench_modal [OUT.json] [--clamped] [--block B] [--basis M]
+//!       [--tol T] [--leaf L] [--repeat R] [--only amd|nd]
+//! Each repeat solves once per ordering (alternating which goes first, since the machine is
+//! shared) and records nnz(L), ordering/factor/Lanczos/solve/total seconds and the peak RSS of
+//! that solve (VmHWM, reset before each solve). Writes JSON (default `target/bench/modal.json`)
+//! with every run, the per-ordering medians and the AMD/ND ratios.
 
 use squeal_fe::*;
 use squeal_meshes::structured::annulus_mesh;
@@ -18,19 +22,44 @@ fn peak_rss_mb() -> Option<f64> {
     Some(kb / 1024.0)
 }
 
+/// Resets VmHWM to the current RSS (Linux ≥ 4.0); false if not possible.
+fn reset_peak_rss() -> bool {
+    std::fs::write("/proc/self/clear_refs", "5").is_ok()
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    let k = v.len() / 2;
+    if v.len() % 2 == 1 {
+        v[k]
+    } else {
+        0.5 * (v[k - 1] + v[k])
+    }
+}
+
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let clamped = args.iter().any(|a| a == "--clamped");
+    let valued = [
+        "--block", "--basis", "--tol", "--leaf", "--repeat", "--only",
+    ];
     let out = args
         .iter()
         .enumerate()
-        .find(|(i, a)| {
-            !a.starts_with("--")
-                && (*i == 0 || !args[i - 1].starts_with("--b") && !args[i - 1].starts_with("--t"))
-        })
+        .find(|(i, a)| !a.starts_with("--") && (*i == 0 || !valued.contains(&args[i - 1].as_str())))
         .map(|(_, a)| a)
         .cloned()
         .unwrap_or_else(|| "target/bench/modal.json".to_string());
+    let flag = |name: &str| {
+        args.iter()
+            .position(|a| a == name)
+            .and_then(|i| args.get(i + 1))
+            .cloned()
+    };
+    let num = |name: &str| flag(name).and_then(|v| v.parse::<f64>().ok());
     let t0 = Instant::now();
     // Solid rotor: r 0.07..0.15 m, 25 mm thick, 144 x 12 x 4 hex20.
     let (r_in, r_out, h, nc, nr, nt) = (0.07, 0.15, 0.025, 144, 12, 4);
@@ -43,27 +72,116 @@ fn main() -> anyhow::Result<()> {
     };
     let mat = Material::steel_si();
     let asm = assemble(&mesh, &[mat], &dofs, &AssemblyOptions::default())?;
-    let flag = |name: &str| {
-        args.iter()
-            .position(|a| a == name)
-            .and_then(|i| args.get(i + 1))
-            .and_then(|v| v.parse::<f64>().ok())
-    };
-    let mut opts = ModalOptions {
+    let coords = dof_coordinates(&mesh, &dofs);
+    let mut base = ModalOptions {
         n_modes: Some(50),
         ..Default::default()
     };
-    if let Some(b) = flag("--block") {
-        opts.block_size = b as usize;
+    if let Some(b) = num("--block") {
+        base.block_size = b as usize;
     }
-    if let Some(m) = flag("--basis") {
-        opts.max_basis = m as usize;
+    if let Some(m) = num("--basis") {
+        base.max_basis = m as usize;
     }
-    if let Some(t) = flag("--tol") {
-        opts.tol = t;
+    if let Some(t) = num("--tol") {
+        base.tol = t;
     }
-    let modes = solve_modes(&asm.k, &asm.m, &opts)?;
-    let total_s = t0.elapsed().as_secs_f64();
+    if let Some(l) = num("--leaf") {
+        base.nested_dissection.leaf_nodes = l as usize;
+    }
+    let repeat = num("--repeat").map_or(1, |r| r.max(1.0) as usize);
+    let orderings: Vec<(&str, FillOrdering)> = match flag("--only").as_deref() {
+        Some("amd") => vec![("amd", FillOrdering::Amd)],
+        Some("nd") => vec![("nested_dissection", FillOrdering::NestedDissection)],
+        _ => vec![
+            ("nested_dissection", FillOrdering::NestedDissection),
+            ("amd", FillOrdering::Amd),
+        ],
+    };
+
+    let mut runs = Vec::new();
+    let mut freqs: Vec<(String, Vec<f64>)> = Vec::new();
+    for r in 0..repeat {
+        let mut order = orderings.clone();
+        if r % 2 == 1 {
+            order.reverse();
+        }
+        for (name, ord) in order {
+            let opts = ModalOptions {
+                ordering: ord,
+                ..base.clone()
+            };
+            let rss_reset = reset_peak_rss();
+            let t = Instant::now();
+            let modes = solve_modes_with(&asm.k, &asm.m, &opts, Some(&coords))?;
+            let solve_total = t.elapsed().as_secs_f64();
+            let s = &modes.stats;
+            eprintln!(
+                "repeat {r} {name}: nnz(L) {} factor {:.2} s lanczos {:.2} s (solves {:.2} s) \
+                 total {:.2} s, residual {:.1e}",
+                s.factor_nnz, s.factor_s, s.lanczos_s, s.solve_s, solve_total, s.max_residual
+            );
+            runs.push(serde_json::json!({
+                "repeat": r,
+                "ordering": name,
+                "factor_nnz": s.factor_nnz,
+                "ordering_s": s.ordering_s,
+                "factor_s": s.factor_s,
+                "lanczos_s": s.lanczos_s,
+                "solve_s": s.solve_s,
+                "total_s": solve_total,
+                "peak_rss_mb": if rss_reset { peak_rss_mb() } else { None },
+                "status": modes.status,
+                "modal": modes.stats,
+            }));
+            if r == 0 {
+                freqs.push((name.to_string(), modes.frequencies_hz.clone()));
+            }
+        }
+    }
+    let mut summary = serde_json::Map::new();
+    let pick = |name: &str, key: &str| -> Vec<f64> {
+        runs.iter()
+            .filter(|x| x["ordering"] == name)
+            .filter_map(|x| x[key].as_f64())
+            .collect()
+    };
+    let keys = [
+        "factor_nnz",
+        "ordering_s",
+        "factor_s",
+        "lanczos_s",
+        "solve_s",
+        "total_s",
+        "peak_rss_mb",
+    ];
+    for (name, _) in &orderings {
+        let mut m = serde_json::Map::new();
+        for key in keys {
+            m.insert(key.to_string(), serde_json::json!(median(pick(name, key))));
+        }
+        summary.insert(format!("median_{name}"), m.into());
+    }
+    if orderings.len() == 2 {
+        let mut ratio = serde_json::Map::new();
+        for key in keys {
+            let a = median(pick("amd", key));
+            let n = median(pick("nested_dissection", key));
+            ratio.insert(key.to_string(), serde_json::json!(a / n));
+        }
+        summary.insert("ratio_amd_over_nd".to_string(), ratio.into());
+        let (fa, fb) = (&freqs[0].1, &freqs[1].1);
+        let max_rel = fa
+            .iter()
+            .zip(fb)
+            .filter(|(a, _)| a.abs() > 1.0)
+            .map(|(a, b)| ((a - b) / a).abs())
+            .fold(0.0, f64::max);
+        summary.insert(
+            "max_rel_frequency_difference_elastic".to_string(),
+            serde_json::json!(max_rel),
+        );
+    }
     let report = serde_json::json!({
         "case": format!("annulus hex20 r {r_in}..{r_out} m, h {h} m, {nc}x{nr}x{nt}, steel, {}",
                         if clamped { "hub clamped" } else { "free-free" }),
@@ -75,19 +193,18 @@ fn main() -> anyhow::Result<()> {
         "mesh_s": mesh_s,
         "assembly_s": asm.stats.total_s,
         "assembly": asm.stats,
-        "factor_s": modes.stats.factor_s,
-        "lanczos_s": modes.stats.lanczos_s,
-        "modal": modes.stats,
-        "status": modes.status,
-        "total_s": total_s,
-        "peak_rss_mb": peak_rss_mb(),
+        "options": base,
         "threads": rayon::current_num_threads(),
-        "frequencies_hz": modes.frequencies_hz,
+        "summary": summary,
+        "runs": runs,
+        "frequencies_hz": freqs[0].1,
+        "frequencies_ordering": freqs[0].0,
+        "wall_s": t0.elapsed().as_secs_f64(),
     });
     if let Some(dir) = std::path::Path::new(&out).parent() {
         std::fs::create_dir_all(dir)?;
     }
     std::fs::write(&out, serde_json::to_string_pretty(&report)?)?;
-    println!("{}", serde_json::to_string_pretty(&report)?);
+    println!("{}", serde_json::to_string_pretty(&report["summary"])?);
     Ok(())
 }

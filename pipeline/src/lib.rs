@@ -4,6 +4,7 @@
 //! [`RunDir`]; the binary only parses arguments.
 
 pub mod error;
+pub mod figures;
 pub mod history;
 pub mod output;
 pub mod progress;

@@ -11,7 +11,10 @@ fn squeal() -> Command {
 }
 
 fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
 }
 
 fn scene() -> PathBuf {
@@ -35,12 +38,18 @@ fn run(cmd: &mut Command) -> (bool, String, String) {
 }
 
 fn json(p: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))).unwrap()
+    serde_json::from_str(
+        &std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display())),
+    )
+    .unwrap()
 }
 
 fn transient(scene: &Path, out: &Path, sets: &[&str]) {
     let mut cmd = squeal();
-    cmd.args(["-q", "transient"]).arg(scene).arg("--out").arg(out);
+    cmd.args(["-q", "transient"])
+        .arg(scene)
+        .arg("--out")
+        .arg(out);
     for s in sets {
         cmd.args(["--set", s]);
     }
@@ -66,31 +75,69 @@ fn transient_writes_every_output_and_plotit_extracts_records() {
         .arg("--export-dae")
         .arg(&dae));
     assert!(ok, "{stderr}");
-    for f in ["history.npy", "history_map.json", "energy.csv", "restart.json", "summary.json", "scene.resolved.toml"] {
+    for f in [
+        "history.npy",
+        "history_map.json",
+        "energy.csv",
+        "restart.json",
+        "summary.json",
+        "scene.resolved.toml",
+    ] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
     let s = json(&out.join("summary.json"));
-    for key in ["steps", "cpu_s", "squeal", "growth_rate_per_s", "dominant_frequency_hz", "constraint_drift", "bdf_stats", "bsql_stats", "active_effects"] {
+    for key in [
+        "steps",
+        "cpu_s",
+        "squeal",
+        "growth_rate_per_s",
+        "dominant_frequency_hz",
+        "constraint_drift",
+        "bdf_stats",
+        "bsql_stats",
+        "active_effects",
+    ] {
         assert!(s.get(key).is_some(), "summary lacks {key}: {s}");
     }
     assert_eq!(s["status"]["status"], "reached");
     assert_eq!(s["n_gaps"], 9, "3 × 3 coincident face nodes → 9 gaps");
     // The contact constraint G v' = 0 with G v(0) = 0 keeps G v at round-off.
-    assert!(s["max_constraint_drift"].as_f64().unwrap() < 1e-10, "{}", s["max_constraint_drift"]);
+    assert!(
+        s["max_constraint_drift"].as_f64().unwrap() < 1e-10,
+        "{}",
+        s["max_constraint_drift"]
+    );
     // Only named effects are on: a linear-speed law has no pressure or temperature dependence.
     let effects = s["active_effects"].to_string();
-    assert!(effects.contains("speed dependence") && !effects.contains("temperature") && !effects.contains("pressure dependence"), "{effects}");
+    assert!(
+        effects.contains("speed dependence")
+            && !effects.contains("temperature")
+            && !effects.contains("pressure dependence"),
+        "{effects}"
+    );
 
     // Energy balance closes to the integration tolerance (RTOL1 = 1e-4 in the scene): the
     // residual ΔE − ∫(P·v + F_f·v − Gᵀλ'·v − vᵀBv) dt is below 10·RTOL1 of the largest term.
     let e = &s["energy"];
-    let scale = ["friction_work", "damping_dissipated", "kinetic", "strain", "external_work"]
-        .iter()
-        .map(|k| e[k].as_f64().unwrap().abs())
-        .fold(0.0f64, f64::max);
+    let scale = [
+        "friction_work",
+        "damping_dissipated",
+        "kinetic",
+        "strain",
+        "external_work",
+    ]
+    .iter()
+    .map(|k| e[k].as_f64().unwrap().abs())
+    .fold(0.0f64, f64::max);
     let resid = s["energy_residual"].as_f64().unwrap();
-    assert!(e["friction_work"].as_f64().unwrap() != 0.0 && e["damping_dissipated"].as_f64().unwrap() > 0.0);
-    assert!(resid.abs() < 1e-3 * scale, "energy residual {resid:e} vs scale {scale:e}");
+    assert!(
+        e["friction_work"].as_f64().unwrap() != 0.0
+            && e["damping_dissipated"].as_f64().unwrap() > 0.0
+    );
+    assert!(
+        resid.abs() < 1e-3 * scale,
+        "energy residual {resid:e} vs scale {scale:e}"
+    );
 
     // History: t then records; NOUTPT = 2 → about half the steps, plus t = 0 and t = TFINAL.
     let (rows, cols, data) = read_npy(&out.join("history.npy")).unwrap();
@@ -99,10 +146,18 @@ fn transient_writes_every_output_and_plotit_extracts_records() {
     let steps = s["steps"].as_u64().unwrap() as usize;
     assert_eq!(rows, steps / 2 + 2);
     assert_eq!(data[0], 0.0);
-    assert!((data[(rows - 1) * cols] - 0.1).abs() < 1e-15, "last row at TFINAL");
+    assert!(
+        (data[(rows - 1) * cols] - 0.1).abs() < 1e-15,
+        "last row at TFINAL"
+    );
     // Contact force at t = 0 = A·P0 (no brake load yet, λ' from the steady state only adds
     // the normal reaction to friction moments, which is small but not zero): positive.
-    let cf = map["columns"].as_array().unwrap().iter().find(|c| c["name"] == "gap4_contact_force").unwrap();
+    let cf = map["columns"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["name"] == "gap4_contact_force")
+        .unwrap();
     assert!(data[cf["column"].as_u64().unwrap() as usize] > 0.0);
 
     // plotit: chosen records to CSV, same numbers as the database.
@@ -110,29 +165,69 @@ fn transient_writes_every_output_and_plotit_extracts_records() {
     let (ok, _, stderr) = run(squeal()
         .args(["-q", "plotit"])
         .arg(&out)
-        .args(["--records", "velocity:grid=200017:comp=z", "gap4_contact_force", "friction_coefficient:gap=0"])
+        .args([
+            "--records",
+            "velocity:grid=200017:comp=z",
+            "gap4_contact_force",
+            "friction_coefficient:gap=0",
+        ])
         .arg("--out")
         .arg(&csv));
     assert!(ok, "{stderr}");
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
-    assert_eq!(lines.next().unwrap(), "t,v_200017_z,gap4_contact_force,gap0_friction_coefficient");
-    let last: Vec<f64> = text.lines().last().unwrap().split(',').map(|x| x.parse().unwrap()).collect();
-    let col = |name: &str| map["columns"].as_array().unwrap().iter().find(|c| c["name"] == name).unwrap()["column"].as_u64().unwrap() as usize;
+    assert_eq!(
+        lines.next().unwrap(),
+        "t,v_200017_z,gap4_contact_force,gap0_friction_coefficient"
+    );
+    let last: Vec<f64> = text
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let col = |name: &str| {
+        map["columns"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["name"] == name)
+            .unwrap()["column"]
+            .as_u64()
+            .unwrap() as usize
+    };
     assert_eq!(last[1], data[(rows - 1) * cols + col("v_200017_z")]);
     assert_eq!(text.lines().count(), rows + 1);
     // μ_total = friction force / normal force lies at or below μ(|V_t|) = 0.6 − 0.05|V_t|.
     assert!(last[3] > 0.4 && last[3] < 0.6, "{}", last[3]);
-    let (ok, _, stderr) = run(squeal().args(["-q", "plotit"]).arg(&out).args(["--records", "velocity:grid=7"]).arg("--out").arg(&csv));
+    let (ok, _, stderr) = run(squeal()
+        .args(["-q", "plotit"])
+        .arg(&out)
+        .args(["--records", "velocity:grid=7"])
+        .arg("--out")
+        .arg(&csv));
     assert!(!ok && stderr.contains("matches no column"), "{stderr}");
 
     // The exported DAE: numpy-readable matrices of the right shapes + gap table + options.
     let n = s["n_dofs"].as_u64().unwrap() as usize;
-    for (f, r, c) in [("M.npy", n, n), ("B.npy", n, n), ("K.npy", n, n), ("G.npy", 9, n), ("p_brake.npy", n, 1)] {
+    for (f, r, c) in [
+        ("M.npy", n, n),
+        ("B.npy", n, n),
+        ("K.npy", n, n),
+        ("G.npy", 9, n),
+        ("p_brake.npy", n, 1),
+    ] {
         let (rr, cc, _) = read_npy(&dae.join(f)).unwrap();
         assert_eq!((rr, cc), (r, c), "{f}");
     }
-    assert_eq!(json(&dae.join("gaps.json"))["gaps"].as_array().unwrap().len(), 9);
+    assert_eq!(
+        json(&dae.join("gaps.json"))["gaps"]
+            .as_array()
+            .unwrap()
+            .len(),
+        9
+    );
     assert!(json(&dae.join("solver_options.json"))["bdf"]["max_order"] == 2);
     assert!(dae.join("README.md").is_file());
 }
@@ -144,21 +239,39 @@ fn restart_from_half_time_reproduces_the_uninterrupted_run() {
     let h0 = "transient.h0=1e-6";
     transient(&scene(), &d.join("full"), &[h0]);
     transient(&scene(), &d.join("half"), &[h0, "transient.tfinal=0.05"]);
-    let restart = format!("transient.restart=\"{}\"", d.join("half/restart.json").display());
+    let restart = format!(
+        "transient.restart=\"{}\"",
+        d.join("half/restart.json").display()
+    );
     transient(&scene(), &d.join("rest"), &[h0, &restart]);
     let (a, b) = (last_row(&d.join("full")), last_row(&d.join("rest")));
     let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let diff = a.iter().zip(&b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-    assert!(diff <= 1e-10 * scale, "restart differs by {diff:e} (scale {scale:e})");
+    let diff = a
+        .iter()
+        .zip(&b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(
+        diff <= 1e-10 * scale,
+        "restart differs by {diff:e} (scale {scale:e})"
+    );
     let s = json(&d.join("rest/summary.json"));
-    assert_eq!(s["steps"], json(&d.join("full/summary.json"))["steps"], "same step sequence");
+    assert_eq!(
+        s["steps"],
+        json(&d.join("full/summary.json"))["steps"],
+        "same step sequence"
+    );
     // A restart file of another model is refused.
     let (ok, _, stderr) = run(squeal()
         .args(["-q", "transient"])
         .arg(scene())
         .arg("--out")
         .arg(d.join("bad"))
-        .args(["--set", &restart, "--set", "components.1.material.young=6e3"]));
+        .args([
+            "--set",
+            &restart,
+            "--set",
+            "components.1.material.young=6e3",
+        ]));
     assert!(!ok && stderr.contains("another model"), "{stderr}");
 }
 
@@ -204,13 +317,26 @@ grids = [200017, 200002]
 #[test]
 fn scene_from_stored_op4_or_punch_gives_the_same_modes_and_transient() {
     let d = tmp("tiny-stored");
-    let (ok, _, stderr) = run(squeal().args(["-q", "reduce"]).arg(scene()).arg("--out").arg(d.join("red")));
+    let (ok, _, stderr) = run(squeal()
+        .args(["-q", "reduce"])
+        .arg(scene())
+        .arg("--out")
+        .arg(d.join("red")));
     assert!(ok, "{stderr}");
-    for f in ["reduced.op4", "reduced.pch", "dofmap.json", "gaps.json", "checks.json"] {
+    for f in [
+        "reduced.op4",
+        "reduced.pch",
+        "dofmap.json",
+        "gaps.json",
+        "checks.json",
+    ] {
         assert!(d.join("red").join(f).is_file(), "{f}");
     }
     let checks = json(&d.join("red/checks.json"));
-    assert!(checks["pad"]["m_asymmetry"].as_f64().unwrap() < 1e-12, "{checks}");
+    assert!(
+        checks["pad"]["m_asymmetry"].as_f64().unwrap() < 1e-12,
+        "{checks}"
+    );
     let f_mesh: Vec<f64> = json(&d.join("red/summary.json"))["reduce"]["frequencies_hz"]
         .as_array()
         .unwrap()
@@ -223,7 +349,11 @@ fn scene_from_stored_op4_or_punch_gives_the_same_modes_and_transient() {
     for (from, file) in [("op4", "reduced.op4"), ("punch", "reduced.pch")] {
         let sc = stored_scene(&d, from, file);
         let out = d.join(format!("re-{from}"));
-        let (ok, _, stderr) = run(squeal().args(["-q", "reduce"]).arg(&sc).arg("--out").arg(&out));
+        let (ok, _, stderr) = run(squeal()
+            .args(["-q", "reduce"])
+            .arg(&sc)
+            .arg("--out")
+            .arg(&out));
         assert!(ok, "{from}: {stderr}");
         let f: Vec<f64> = json(&out.join("summary.json"))["reduce"]["frequencies_hz"]
             .as_array()
@@ -237,18 +367,28 @@ fn scene_from_stored_op4_or_punch_gives_the_same_modes_and_transient() {
             } else {
                 // The rigid pad-z mode: its eigenvalue (2πf)² is round-off of the largest one,
                 // so compare eigenvalues relative to the largest (f itself is √noise).
-                assert!((a * a - b * b).abs() <= 1e-8 * fmax * fmax, "{from}: rigid {a} vs {b}");
+                assert!(
+                    (a * a - b * b).abs() <= 1e-8 * fmax * fmax,
+                    "{from}: rigid {a} vs {b}"
+                );
             }
         }
     }
     // The transient from the stored OP4 model repeats the one from the meshes.
     let mesh_run = d.join("tr-mesh");
-    transient(&scene(), &mesh_run, &["transient.tfinal=0.02", "transient.rtol1=1e-4"]);
+    transient(
+        &scene(),
+        &mesh_run,
+        &["transient.tfinal=0.02", "transient.rtol1=1e-4"],
+    );
     let op4_run = d.join("tr-op4");
     transient(&stored_scene(&d, "op4", "reduced.op4"), &op4_run, &[]);
     let (a, b) = (last_row(&mesh_run), last_row(&op4_run));
     let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let diff = a.iter().zip(&b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    let diff = a
+        .iter()
+        .zip(&b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
     assert!(diff <= 1e-10 * scale, "op4 transient differs by {diff:e}");
 }
 
@@ -262,9 +402,15 @@ fn pad_face_off_the_rotor_lists_unmatched_nodes_with_coordinates() {
         .arg(d.join("o"))
         .args(["--set", "components.1.geometry.origin=[2.0, -0.5, 0.01]"]));
     assert!(!ok);
-    assert!(stderr.contains("no rotor node within tolerance"), "{stderr}");
+    assert!(
+        stderr.contains("no rotor node within tolerance"),
+        "{stderr}"
+    );
     // All 9 pad face nodes, each with its coordinates (z = 0.01).
     assert!(stderr.contains("failed for 9 node(s)"), "{stderr}");
     assert!(stderr.contains("1.000000e-2"), "{stderr}");
-    assert!(stderr.contains("contact[0]") && stderr.contains("pad `pad`"), "{stderr}");
+    assert!(
+        stderr.contains("contact[0]") && stderr.contains("pad `pad`"),
+        "{stderr}"
+    );
 }

@@ -1,10 +1,24 @@
-//! Benchmark of the complex eigenvalue analysis: one CEA and a 50-point friction sweep on a
-//! random ~500-DOF reduced model with 20 contact constraints. Prints JSON on stdout.
+//! Benchmark of the complex eigenvalue analysis on a random ~500-DOF reduced model with 20
+//! contact constraints: one exact CEA, a 50-point friction sweep with the projected
+//! (subspace) method, the exact sweep (run on a few of the same μ and extrapolated, unless
+//! `--exact-points` equals `--steps`), and the projection error against the exact
+//! eigenvalues. Writes JSON (default `target/bench/cea.json`) and prints it.
 //!
-//! `cargo build --release -p squeal-solver --example bench_cea && target/release/examples/bench_cea [n] [ng] [steps]`
+//! ```text
+//! cargo build --release -p squeal-solver --example bench_cea
+//! target/release/examples/bench_cea [OUT.json] [--n 500] [--ng 20] [--steps 50]
+//!     [--exact-points 4] [--f-max-hz 0.6] [--cutoff-factor 2.5] [--n-basis 100 | --n-basis 0]
+//! ```
+//! (`--n-basis 0`: no count limit, the cutoff alone decides.)
+//! ```text
+//! ```
 
 use faer::Mat;
-use squeal_solver::cea::{complex_eigen, sweep, CeaError, CeaMatrices, CeaOptions, SweepOptions};
+use serde_json::{json, Value};
+use squeal_solver::cea::{
+    compare_eigenvalues, complex_eigen, sweep, CeaError, CeaMatrices, CeaMethod, CeaOptions,
+    ProjectionOptions, Sweep, SweepOptions,
+};
 use std::time::Instant;
 
 struct Rng(u64);
@@ -79,67 +93,247 @@ fn build(md: &Model, mu: f64) -> CeaMatrices {
     s
 }
 
+struct Args {
+    out: String,
+    n: usize,
+    ng: usize,
+    steps: usize,
+    exact_points: usize,
+    f_max_hz: f64,
+    cutoff_factor: f64,
+    n_basis: Option<usize>,
+}
+
+fn args() -> Args {
+    let mut a = Args {
+        out: "target/bench/cea.json".into(),
+        n: 500,
+        ng: 20,
+        steps: 50,
+        exact_points: 4,
+        // The friction-coupled DOFs (0..3 ng) have diagonal stiffness ≲ 1 + 100·3ng/n + 1.5
+        // ≈ 14.5 with unit mass: ω ≲ 3.8 rad/s, f ≲ 0.6 Hz; the whole model reaches ~1.6 Hz.
+        f_max_hz: 0.6,
+        cutoff_factor: 2.5,
+        // This model's undamped spectrum is uniform in ω² and ends at ~1.6 Hz, so a 2.5×
+        // cutoff keeps 432 of the 480 modes (no speed-up: ~0.9 s per step). 100 modes reach
+        // ~0.78 Hz (1.3× the band); the error this costs is measured and written below.
+        n_basis: Some(100),
+    };
+    let v: Vec<String> = std::env::args().skip(1).collect();
+    let mut i = 0;
+    while i < v.len() {
+        let val = |i: usize| -> &str { v.get(i + 1).map(|s| s.as_str()).unwrap_or("") };
+        let num = |i: usize| -> f64 {
+            val(i)
+                .parse()
+                .unwrap_or_else(|_| panic!("{} needs a number, got `{}`", v[i], val(i)))
+        };
+        match v[i].as_str() {
+            "--n" => a.n = num(i) as usize,
+            "--ng" => a.ng = num(i) as usize,
+            "--steps" => a.steps = num(i) as usize,
+            "--exact-points" => a.exact_points = num(i) as usize,
+            "--f-max-hz" => a.f_max_hz = num(i),
+            "--cutoff-factor" => a.cutoff_factor = num(i),
+            "--n-basis" => a.n_basis = Some(num(i) as usize).filter(|&k| k > 0),
+            s if !s.starts_with("--") => {
+                a.out = s.to_string();
+                i += 1;
+                continue;
+            }
+            s => panic!("unknown argument {s}"),
+        }
+        i += 2;
+    }
+    a
+}
+
+fn lowest(s: &Sweep) -> Value {
+    match s.lowest_critical() {
+        Some((id, c)) => json!({"track": id, "mu": c.mu, "frequency_hz": c.frequency_hz}),
+        None => Value::Null,
+    }
+}
+
 fn main() {
-    let args: Vec<usize> = std::env::args()
-        .skip(1)
-        .filter_map(|a| a.parse().ok())
+    let a = args();
+    let md = model(a.n, a.ng);
+    let mu_max = 2.0;
+    let mus: Vec<f64> = (0..a.steps)
+        .map(|i| mu_max * i as f64 / (a.steps - 1).max(1) as f64)
         .collect();
-    let n = args.first().copied().unwrap_or(500);
-    let ng = args.get(1).copied().unwrap_or(20);
-    let steps = args.get(2).copied().unwrap_or(50);
-    let md = model(n, ng);
+
+    // 1. One exact CEA at μ = 0.5, with and without shapes.
+    let sys = build(&md, 0.5);
     let t = Instant::now();
-    let r = complex_eigen(&build(&md, 0.5), &CeaOptions::default()).expect("CEA");
-    let t_cea = t.elapsed().as_secs_f64();
+    let exact = complex_eigen(&sys, &CeaOptions::default()).expect("exact CEA");
+    let t_exact = t.elapsed().as_secs_f64();
+    let values_only = CeaOptions {
+        compute_shapes: false,
+        ..CeaOptions::default()
+    };
     let t = Instant::now();
-    let r2 = complex_eigen(
-        &build(&md, 0.5),
-        &CeaOptions {
-            compute_shapes: false,
+    let exact_values = complex_eigen(&sys, &values_only).expect("exact CEA");
+    let t_exact_values = t.elapsed().as_secs_f64();
+    assert_eq!(exact.modes.len(), exact_values.modes.len());
+
+    // 2. A single projected CEA with the full basis: equal to the exact one to round-off.
+    let full = CeaOptions {
+        method: CeaMethod::Projection,
+        compute_shapes: false,
+        ..CeaOptions::default()
+    };
+    let t = Instant::now();
+    let proj_full = complex_eigen(&sys, &full).expect("projected CEA");
+    let t_proj_full = t.elapsed().as_secs_f64();
+    let cmp_full = compare_eigenvalues(&proj_full.modes, &exact_values.modes, f64::INFINITY);
+
+    // 3. The projected sweep (the default `auto` method picks projection: n − ng > 200 and
+    // a frequency of interest is given); exact checks at the first and last μ.
+    let projection = ProjectionOptions {
+        frequency_max_hz: Some(a.f_max_hz),
+        cutoff_factor: a.cutoff_factor,
+        n_basis: a.n_basis,
+        ..ProjectionOptions::default()
+    };
+    let sopts = SweepOptions {
+        bisection: false,
+        cea: CeaOptions {
+            projection,
             ..CeaOptions::default()
         },
-    )
-    .expect("CEA");
-    let t_cea_values = t.elapsed().as_secs_f64();
-    assert_eq!(r.modes.len(), r2.modes.len());
-    let mus: Vec<f64> = (0..steps)
-        .map(|i| 2.0 * i as f64 / (steps - 1).max(1) as f64)
-        .collect();
-    let t = Instant::now();
-    let opts = SweepOptions {
-        bisection: false,
         ..SweepOptions::default()
     };
-    let s = sweep(|mu| Ok::<_, CeaError>(build(&md, mu)), &mus, &opts).expect("sweep");
-    let t_sweep = t.elapsed().as_secs_f64();
-    let low = s
-        .lowest_critical()
-        .map(|(id, c)| (id, c.mu, c.frequency_hz));
-    println!("{{");
-    println!(
-        "  \"n\": {n}, \"n_constraints\": {ng}, \"n_reduced\": {}, \"first_order_size\": {},",
-        r.stats.n_reduced,
-        2 * r.stats.n_reduced
-    );
-    println!(
-        "  \"cea_with_shapes_s\": {t_cea:.4}, \"cea_reduce_s\": {:.4}, \"cea_eigen_s\": {:.4},",
-        r.stats.time_reduce_s, r.stats.time_eigen_s
-    );
-    println!("  \"cea_eigenvalues_only_s\": {t_cea_values:.4},");
-    println!(
-        "  \"cea_modes\": {}, \"cea_unstable_at_mu_0_5\": {},",
-        r.stats.n_modes, r.stats.n_unstable
-    );
-    println!("  \"sweep_steps\": {}, \"sweep_solves\": {}, \"sweep_s\": {t_sweep:.4}, \"sweep_eigen_s\": {:.4}, \"sweep_per_step_s\": {:.4},", s.stats.n_steps, s.stats.n_solves, s.stats.time_eigen_s, t_sweep / s.stats.n_solves as f64);
-    println!(
-        "  \"sweep_tracks\": {}, \"sweep_critical\": {},",
-        s.stats.n_tracks, s.stats.n_critical
-    );
-    match low {
-        Some((id, mu, f)) => println!(
-            "  \"lowest_critical\": {{\"track\": {id}, \"mu\": {mu:.6}, \"frequency_hz\": {f:.6}}}"
-        ),
-        None => println!("  \"lowest_critical\": null"),
+    let t = Instant::now();
+    let ps = sweep(|mu| Ok::<_, CeaError>(build(&md, mu)), &mus, &sopts).expect("sweep");
+    let t_ps = t.elapsed().as_secs_f64();
+    let st = &ps.stats;
+
+    // 4. The exact sweep on `exact_points` of the same μ (evenly spread, ends included).
+    let k = a.exact_points.clamp(1, a.steps);
+    let idx: Vec<usize> = if k == 1 {
+        vec![0]
+    } else {
+        (0..k).map(|i| i * (a.steps - 1) / (k - 1)).collect()
+    };
+    let emus: Vec<f64> = idx.iter().map(|&i| mus[i]).collect();
+    let eopts = SweepOptions {
+        bisection: false,
+        cea: CeaOptions {
+            method: CeaMethod::Exact,
+            ..CeaOptions::default()
+        },
+        ..SweepOptions::default()
+    };
+    let t = Instant::now();
+    let es = sweep(|mu| Ok::<_, CeaError>(build(&md, mu)), &emus, &eopts).expect("sweep");
+    let t_es = t.elapsed().as_secs_f64();
+    let full_run = k == a.steps;
+
+    // 5. Projection error at each exact point.
+    let band = st.check_band_hz.unwrap_or(f64::INFINITY);
+    let errors: Vec<Value> = idx
+        .iter()
+        .zip(&es.steps)
+        .map(|(&i, e)| {
+            let c = compare_eigenvalues(&ps.steps[i].modes, &e.modes, band);
+            json!({"mu": mus[i], "comparison": c})
+        })
+        .collect();
+    let max_err = errors
+        .iter()
+        .map(|e| {
+            e["comparison"]["max_rel_error"]
+                .as_f64()
+                .unwrap_or(f64::NAN)
+        })
+        .fold(0.0, f64::max);
+    let max_re_err = errors
+        .iter()
+        .map(|e| {
+            e["comparison"]["max_real_part_error"]
+                .as_f64()
+                .unwrap_or(f64::NAN)
+        })
+        .fold(0.0, f64::max);
+    let max_unstable_hz = es
+        .steps
+        .iter()
+        .flat_map(|s| {
+            s.modes
+                .iter()
+                .filter(|m| m.unstable)
+                .map(|m| m.frequency_hz)
+        })
+        .fold(0.0, f64::max);
+
+    let out = json!({
+        "machine_cores": std::thread::available_parallelism().map(|x| x.get()).unwrap_or(1),
+        "model": {
+            "n": a.n, "n_constraints": a.ng, "n_reduced": exact.stats.n_reduced,
+            "first_order_size": 2 * exact.stats.n_reduced,
+            "highest_undamped_hz": proj_full.modes.last().map(|m| m.frequency_hz),
+            "highest_unstable_hz_exact": max_unstable_hz,
+            "mu_range": [0.0, mu_max],
+        },
+        "exact_cea": {
+            "mu": 0.5,
+            "with_shapes_s": t_exact,
+            "reduce_s": exact.stats.time_reduce_s,
+            "eigen_s": exact.stats.time_eigen_s,
+            "eigenvalues_only_s": t_exact_values,
+            "n_modes": exact.stats.n_modes,
+            "n_unstable": exact.stats.n_unstable,
+        },
+        "projected_cea_full_basis": {
+            "time_s": t_proj_full,
+            "n_basis": proj_full.stats.n_basis,
+            "max_rel_error_all_modes": cmp_full.max_rel_error,
+        },
+        "projected_sweep": {
+            "steps": st.n_steps,
+            "bisection": false,
+            "time_s": t_ps,
+            "time_without_exact_checks_s": t_ps - st.time_check_s,
+            "time_basis_s": st.time_basis_s,
+            "time_exact_checks_s": st.time_check_s,
+            "time_per_step_s": (t_ps - st.time_check_s - st.time_basis_s) / st.n_solves as f64,
+            "method": st.method,
+            "n_basis": st.n_basis,
+            "basis_max_frequency_hz": st.basis_max_frequency_hz,
+            "frequency_max_hz": a.f_max_hz,
+            "check_band_hz": st.check_band_hz,
+            "max_rel_eigenvalue_error_at_checks": st.max_rel_eigenvalue_error,
+            "exact_checks": st.exact_checks,
+            "n_tracks": st.n_tracks,
+            "n_critical": st.n_critical,
+            "lowest_critical": lowest(&ps),
+            "target_s": 2.0,
+            "meets_target": t_ps < 2.0,
+        },
+        "exact_sweep": {
+            "points_run": k,
+            "time_s": t_es,
+            "time_per_step_s": t_es / k as f64,
+            "time_for_all_steps_s": t_es / k as f64 * a.steps as f64,
+            "time_for_all_steps_is": if full_run { "measured" } else { "extrapolated from points_run" },
+            "lowest_critical": if full_run { lowest(&es) } else { Value::Null },
+        },
+        "projection_error_vs_exact": {
+            "band_hz": band,
+            "max_rel_eigenvalue_error": max_err,
+            "max_real_part_error": max_re_err,
+            "points": errors,
+        },
+    });
+    let text = serde_json::to_string_pretty(&out).expect("json");
+    if let Some(dir) = std::path::Path::new(&a.out).parent() {
+        if !dir.as_os_str().is_empty() {
+            std::fs::create_dir_all(dir).expect("create output directory");
+        }
     }
-    println!("}}");
+    std::fs::write(&a.out, &text).expect("write JSON");
+    println!("{text}");
+    eprintln!("written to {}", a.out);
 }

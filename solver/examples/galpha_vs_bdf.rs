@@ -299,7 +299,17 @@ fn main() -> anyhow_free::Result {
     }
     println!(
         "{:<16} {:>8} {:>5} {:>9} {:>12} {:>11} {:>11} {:>7} {:>7} {:>6} {:>10}",
-        "integrator", "rtol", "order", "ωh", "σ", "σ rel.err", "ω rel.err", "steps", "newton", "facts", "cpu_s"
+        "integrator",
+        "rtol",
+        "order",
+        "ωh",
+        "σ",
+        "σ rel.err",
+        "ω rel.err",
+        "steps",
+        "newton",
+        "facts",
+        "cpu_s"
     );
     let opt = |x: Option<Real>| x.map_or("-".to_string(), |v| format!("{v:.0e}"));
     for r in &runs {

@@ -3,15 +3,15 @@
 
 mod common;
 
-use common::{BeltFriction, Belt};
+use common::{Belt, BeltFriction};
 use faer::Mat;
 use num_complex::Complex64;
+use squeal_solver::bdf::Tolerances;
 use squeal_solver::bdf::{consistent_initial_conditions, Bdf, BdfOptions, InitialConditionOptions};
 use squeal_solver::bsql::{BsqlOptions, BsqlSystem, FrictionForces, LoadHistory, NoFriction};
 use squeal_solver::galpha::{
     algorithmic_damping, spectral_radius, Galpha, GalphaCoeffs, GalphaOptions, GalphaSystem,
 };
-use squeal_solver::bdf::Tolerances;
 use squeal_solver::Real;
 
 use std::f64::consts::PI;
@@ -48,7 +48,11 @@ fn run_oscillator(rho_inf: Real, omega: Real, h: Real, t_end: Real) -> Vec<(Real
     };
     // y = {v, u}, y' = {q̈, v}; q̈0 is solved for by `new`.
     let mut ga = Galpha::new(opts, &mut sys, 0.0, &[0.0, 1.0], &[0.0, 0.0]).unwrap();
-    assert!((ga.yp()[0] + omega * omega).abs() < 1e-12, "q̈0 = {}", ga.yp()[0]);
+    assert!(
+        (ga.yp()[0] + omega * omega).abs() < 1e-12,
+        "q̈0 = {}",
+        ga.yp()[0]
+    );
     let mut out = vec![(0.0, 1.0, 0.0)];
     let st = ga
         .step_to(&mut sys, t_end, |_, t, y, _| {
@@ -71,8 +75,9 @@ fn second_order_convergence_on_undamped_oscillator() {
         let out = run_oscillator(0.9, omega, h, t_end);
         let &(t, x, v) = out.last().unwrap();
         assert!((t - t_end).abs() < 1e-12, "last step at {t}");
-        let e = ((x - (omega * t).cos()).powi(2) + ((v + omega * (omega * t).sin()) / omega).powi(2))
-            .sqrt();
+        let e = ((x - (omega * t).cos()).powi(2)
+            + ((v + omega * (omega * t).sin()) / omega).powi(2))
+        .sqrt();
         errs.push(e);
     }
     let ratios: Vec<Real> = errs.windows(2).map(|w| w[0] / w[1]).collect();
@@ -123,13 +128,20 @@ fn numerical_damping_matches_amplification_matrix() {
              period error {:.4e}; ω̂ measured {im:.9}, theory {im_theory:.9}; BDF2 2.4471e-4",
             th.zeta, th.period_error
         );
-        assert!((im - im_theory).abs() < 1e-7 * omega, "frequency {im} vs {im_theory}");
+        assert!(
+            (im - im_theory).abs() < 1e-7 * omega,
+            "frequency {im} vs {im_theory}"
+        );
         if rho == 1.0 {
             // Trapezoidal rule: |ξ| = 1 exactly, no numerical damping.
             assert!(th.zeta.abs() < 1e-14, "theory {}", th.zeta);
             assert!(zeta.abs() < 1e-9, "measured {zeta}");
         } else {
-            assert!((th.zeta - lead).abs() < 0.01 * lead, "{} vs {lead}", th.zeta);
+            assert!(
+                (th.zeta - lead).abs() < 0.01 * lead,
+                "{} vs {lead}",
+                th.zeta
+            );
             assert!(
                 (zeta - th.zeta).abs() < 0.01 * th.zeta,
                 "measured {zeta} vs theory {}",
@@ -200,7 +212,7 @@ fn envelope_rate(b: &Belt, samples: &[(Real, Real, Real)]) -> Real {
     common::slope(&ts, &ls)
 }
 
-/// Fixed-step generalized-α on the belt: (σ measured, samples).
+/// Fixed-step generalized-α on the belt: the measured growth rate.
 fn belt_galpha_rate(b: &Belt, h: Real, t_end: Real) -> Real {
     let mut sys = belt_galpha(b);
     let (y0, yp0) = belt_initial(b);
@@ -281,7 +293,10 @@ fn belt_growth_rate_within_half_percent_and_closer_than_bdf2() {
          BDF2 {s_bdf:.7} (rel. err {e_bdf:.3e})"
     );
     assert!(e_ga.abs() < 0.005, "generalized-α σ = {s_ga} vs {sigma}");
-    assert!((s_ga - s_ga_theory).abs() < 1e-3 * sigma, "{s_ga} vs {s_ga_theory}");
+    assert!(
+        (s_ga - s_ga_theory).abs() < 1e-3 * sigma,
+        "{s_ga} vs {s_ga_theory}"
+    );
     assert!(e_ga.abs() < e_bdf.abs(), "GA {e_ga} vs BDF2 {e_bdf}");
     // BDF2's numerical damping lowers the growth rate by about ζ_BDF2·ω.
     assert!(e_bdf < -0.01, "BDF2 rel. err {e_bdf}");
@@ -409,7 +424,7 @@ fn constraint_velocity_stays_at_its_initial_value() {
 fn coupled_difference(h: Real) -> [Real; 3] {
     let c = coupled();
     let (y0, yp0) = coupled_initial(&c, [0.05, 0.0, 0.03]); // G v0 = 0
-    // Reference: BDF at rtol 1e-10.
+                                                            // Reference: BDF at rtol 1e-10.
     let mut bs = coupled_bsql(&c);
     let (mut yb, mut ypb) = (y0.clone(), yp0.clone());
     let ic = InitialConditionOptions {
@@ -430,7 +445,7 @@ fn coupled_difference(h: Real) -> [Real; 3] {
     };
     let mut ga = Galpha::new(gopts, &mut gs, 0.0, &y0, &yp0).unwrap();
     let parts = [(0..3, 0), (3..4, 1), (4..7, 2)];
-    let (mut diff, mut scale) = ([0.0; 3], [0.0; 3]);
+    let (mut diff, mut scale): ([Real; 3], [Real; 3]) = ([0.0; 3], [0.0; 3]);
     for i in 1..=500 {
         let t = i as Real * 0.01;
         assert!(bdf.integrate_to(&mut bs, t).unwrap().is_success());
@@ -496,7 +511,10 @@ fn adaptive_steps_follow_the_tolerance() {
             max_err = max_err.max((ga.y()[1] - (omega * t).cos()).abs());
             max_err = max_err.max((ga.y()[0] + omega * (omega * t).sin()).abs() / omega);
         }
-        println!("adaptive rtol {rtol:e}: max error {max_err:.3e}, {:?}", ga.stats());
+        println!(
+            "adaptive rtol {rtol:e}: max error {max_err:.3e}, {:?}",
+            ga.stats()
+        );
         res.push((max_err, ga.stats().steps as Real));
     }
     for w in res.windows(2) {
@@ -594,5 +612,8 @@ fn options_validate_and_round_trip() {
     assert!(bad.validate().unwrap_err().to_string().contains("rho_inf"));
     // ρ∞ = 1 is the trapezoidal rule: α_m = α_f = 1/2, γ = 1/2, β = 1/4.
     let c = GalphaCoeffs::from_rho_inf(1.0);
-    assert_eq!((c.alpha_m, c.alpha_f, c.gamma, c.beta), (0.5, 0.5, 0.5, 0.25));
+    assert_eq!(
+        (c.alpha_m, c.alpha_f, c.gamma, c.beta),
+        (0.5, 0.5, 0.5, 0.25)
+    );
 }

@@ -6,8 +6,11 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::linalg::solvers::Solve;
+use crate::ordering::DofPermutation;
+use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, LdltRef, LltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky, LdltRef, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
 };
 use faer::sparse::linalg::solvers::Lu;
 use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat};
@@ -25,6 +28,7 @@ pub(crate) struct Factored {
     pub kind: FactorKind,
     pub fallback_reason: Option<String>,
     pub factor_nnz: usize,
+    pub supernodal: bool,
     pub factorisations: usize,
 }
 
@@ -72,10 +76,12 @@ fn shifted(
 }
 
 /// Factorises K − σM: Cholesky, else LDLᵀ on the same symbolic structure, else LU.
+/// `perm` is the fill-reducing ordering (AMD when `None`).
 pub(crate) fn factorise(
     k: SparseColMatRef<'_, usize, Real>,
     m: SparseColMatRef<'_, usize, Real>,
     sigma: Real,
+    perm: Option<&DofPermutation>,
 ) -> Result<Factored, FeError> {
     let par = Par::rayon(0);
     let a = shifted(k, m, sigma, true);
@@ -83,14 +89,14 @@ pub(crate) fn factorise(
         what: format!("{what} of K - sigma M (sigma = {sigma:e})"),
         reason: e,
     };
-    let sym = factorize_symbolic_cholesky(
-        a.symbolic(),
-        Side::Lower,
-        SymmetricOrdering::Amd,
-        Default::default(),
-    )
-    .map_err(|e| fail("symbolic Cholesky", format!("{e:?}")))?;
+    let ordering = match perm {
+        Some(p) => SymmetricOrdering::Custom(PermRef::new_checked(&p.perm, &p.perm_inv, a.ncols())),
+        None => SymmetricOrdering::Amd,
+    };
+    let sym = factorize_symbolic_cholesky(a.symbolic(), Side::Lower, ordering, Default::default())
+        .map_err(|e| fail("symbolic Cholesky", format!("{e:?}")))?;
     let len = sym.len_val();
+    let supernodal = matches!(sym.raw(), SymbolicCholeskyRaw::Supernodal(_));
     let mut vals = vec![0.0; len];
     let llt = {
         let mut buf =
@@ -114,6 +120,7 @@ pub(crate) fn factorise(
                 kind: FactorKind::Llt,
                 fallback_reason: None,
                 factor_nnz: len,
+                supernodal,
                 factorisations: 1,
             })
         }
@@ -140,6 +147,7 @@ pub(crate) fn factorise(
             kind: FactorKind::Ldlt,
             fallback_reason: Some(llt_err),
             factor_nnz: len,
+            supernodal,
             factorisations: 2,
         });
     }
@@ -152,6 +160,7 @@ pub(crate) fn factorise(
         kind: FactorKind::Lu,
         fallback_reason: Some(format!("{llt_err}; LDLT failed too: {ldlt:?}")),
         factor_nnz: 0,
+        supernodal: false,
         factorisations: 3,
     })
 }

@@ -12,4 +12,4 @@ mod options;
 mod solve;
 
 pub use options::{FactorKind, ModalOptions, ModalStats, ModalStatus, Modes};
-pub use solve::solve_modes;
+pub use solve::{solve_modes, solve_modes_with};

@@ -1,5 +1,6 @@
 //! Options, statistics and result of the modal solve.
 
+use crate::ordering::{FillOrdering, NestedDissectionOptions, NestedDissectionStats};
 use crate::{FeError, Real};
 use faer::Mat;
 use serde::{Deserialize, Serialize};
@@ -33,6 +34,12 @@ pub struct ModalOptions {
     pub dense_below: usize,
     /// Seed of the random starting block (default: 7).
     pub seed: u64,
+    /// Fill-reducing ordering of the Cholesky factorisation (default: `auto` = nested
+    /// dissection when DOF coordinates are given to
+    /// [`solve_modes_with`](super::solve_modes_with) and n ≥ 20 000, AMD otherwise).
+    pub ordering: FillOrdering,
+    /// Nested-dissection parameters (default: [`NestedDissectionOptions::default`]).
+    pub nested_dissection: NestedDissectionOptions,
 }
 
 impl Default for ModalOptions {
@@ -47,6 +54,8 @@ impl Default for ModalOptions {
             max_restarts: 50,
             dense_below: 400,
             seed: 7,
+            ordering: FillOrdering::Auto,
+            nested_dissection: NestedDissectionOptions::default(),
         }
     }
 }
@@ -87,7 +96,7 @@ impl ModalOptions {
         if self.block_size == 0 {
             return bad("block_size", 0.0, "must be at least 1");
         }
-        Ok(())
+        self.nested_dissection.validate()
     }
 }
 
@@ -116,8 +125,15 @@ pub struct ModalStats {
     pub factor_kind: FactorKind,
     /// Why a fall-back factorisation was used, if one was.
     pub fallback_reason: Option<String>,
-    /// Stored entries of the factor L (0 for LU and dense).
+    /// Fill-reducing ordering used (`None` for LU and dense).
+    pub ordering: Option<FillOrdering>,
+    /// Nested-dissection statistics, when it was used.
+    pub nested_dissection: Option<NestedDissectionStats>,
+    /// Stored entries of the factor L, including the explicit zeros of supernodes
+    /// (0 for LU and dense).
     pub factor_nnz: usize,
+    /// Whether the Cholesky factor is supernodal (else simplicial).
+    pub supernodal: bool,
     /// Block Lanczos steps (one block solve each).
     pub iterations: usize,
     /// Thick restarts.
@@ -132,8 +148,11 @@ pub struct ModalStats {
     pub block_size: usize,
     /// Largest Krylov basis used.
     pub max_basis: usize,
-    /// Seconds in the symbolic and numeric factorisation.
+    /// Seconds in the symbolic and numeric factorisation (ordering included).
     pub factor_s: Real,
+    /// Seconds computing the fill-reducing ordering (part of `factor_s`; AMD's time is inside
+    /// faer's symbolic factorisation and not separated).
+    pub ordering_s: Real,
     /// Seconds in the Lanczos iteration (solves, orthogonalisation, Rayleigh–Ritz).
     pub lanczos_s: Real,
     /// Seconds in the triangular solves (part of `lanczos_s`).

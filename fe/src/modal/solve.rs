@@ -4,6 +4,7 @@ use super::dense::dense_eigen;
 use super::factor::factorise;
 use super::lanczos::{lanczos, Want};
 use super::options::{FactorKind, ModalOptions, ModalStats, ModalStatus, Modes};
+use crate::ordering::{nested_dissection, FillOrdering, AUTO_ND_MIN_DOFS};
 use crate::{FeError, Real};
 use faer::sparse::linalg::matmul::sparse_dense_matmul;
 use faer::sparse::{SparseColMat, SparseColMatRef};
@@ -21,10 +22,27 @@ use std::time::Instant;
 /// Errors: invalid options, dimension mismatch, `n_modes` > n, non-finite entries, failed
 /// factorisation. Non-convergence within `max_restarts` is `Ok` with
 /// `ModalStatus::MaxIterations`.
+///
+/// Without DOF coordinates, `opts.ordering = auto` means AMD; see [`solve_modes_with`].
 pub fn solve_modes(
     k: &SparseColMat<usize, Real>,
     m: &SparseColMat<usize, Real>,
     opts: &ModalOptions,
+) -> Result<Modes, FeError> {
+    solve_modes_with(k, m, opts, None)
+}
+
+/// [`solve_modes`] with the coordinates of every DOF (`dof_coords[i]` = point of the node of
+/// DOF i, e.g. from [`dof_coordinates`](crate::ordering::dof_coordinates)), which enable the
+/// nested-dissection ordering (`opts.ordering = nested_dissection`, or `auto` for n ≥ 20 000).
+///
+/// Errors as [`solve_modes`], plus `dof_coords` of the wrong length, non-finite coordinates,
+/// and `ordering = nested_dissection` without coordinates.
+pub fn solve_modes_with(
+    k: &SparseColMat<usize, Real>,
+    m: &SparseColMat<usize, Real>,
+    opts: &ModalOptions,
+    dof_coords: Option<&[[Real; 3]]>,
 ) -> Result<Modes, FeError> {
     let t0 = Instant::now();
     opts.validate()?;
@@ -54,6 +72,27 @@ pub fn solve_modes(
             return Err(FeError::TooManyModes { requested: req, n });
         }
     }
+    if let Some(c) = dof_coords {
+        if c.len() != n {
+            return Err(FeError::Dimension {
+                what: "DOF coordinates",
+                got: c.len(),
+                expected: n,
+            });
+        }
+    }
+    let use_nd = match opts.ordering {
+        FillOrdering::Amd => false,
+        FillOrdering::Auto => dof_coords.is_some() && n >= AUTO_ND_MIN_DOFS,
+        FillOrdering::NestedDissection if dof_coords.is_none() => {
+            return Err(FeError::Dimension {
+                what: "DOF coordinates (modal.ordering = nested_dissection needs them)",
+                got: 0,
+                expected: n,
+            })
+        }
+        FillOrdering::NestedDissection => true,
+    };
     for (what, a) in [("K", k), ("M", m)] {
         if a.val().iter().any(|v| !v.is_finite()) {
             return Err(FeError::NonFinite {
@@ -80,7 +119,10 @@ pub fn solve_modes(
         shift: sigma,
         factor_kind: FactorKind::Dense,
         fallback_reason: None,
+        ordering: None,
+        nested_dissection: None,
         factor_nnz: 0,
+        supernodal: false,
         iterations: 0,
         restarts: 0,
         factorisations: 0,
@@ -89,6 +131,7 @@ pub fn solve_modes(
         block_size: b,
         max_basis: 0,
         factor_s: 0.0,
+        ordering_s: 0.0,
         lanczos_s: 0.0,
         solve_s: 0.0,
         total_s: 0.0,
@@ -109,9 +152,27 @@ pub fn solve_modes(
         )
     } else {
         let t1 = Instant::now();
-        let f = factorise(k, m, sigma)?;
+        let perm = match (use_nd, dof_coords) {
+            (true, Some(c)) => {
+                let (p, nd) = nested_dissection(k.symbolic(), c, &opts.nested_dissection)?;
+                stats.ordering_s = nd.ordering_s;
+                stats.nested_dissection = Some(nd);
+                Some(p)
+            }
+            _ => None,
+        };
+        let f = factorise(k, m, sigma, perm.as_ref())?;
+        drop(perm);
         stats.factor_s = t1.elapsed().as_secs_f64();
         stats.factor_kind = f.kind;
+        stats.supernodal = f.supernodal;
+        if f.kind != FactorKind::Lu {
+            stats.ordering = Some(if use_nd {
+                FillOrdering::NestedDissection
+            } else {
+                FillOrdering::Amd
+            });
+        }
         stats.fallback_reason = f.fallback_reason;
         stats.factor_nnz = f.factor_nnz;
         stats.factorisations = f.factorisations;

@@ -145,10 +145,17 @@ fn run(cli: Cli) -> Result<()> {
                 r.steps, r.cpu_s, r.squeal, r.growth_rate_per_s, r.dominant_frequency_hz, r.response
             ));
             if !r.status.is_success() {
-                anyhow::bail!("integration stopped early: {:?} (outputs up to there are written)", r.status);
+                anyhow::bail!(
+                    "integration stopped early: {:?} (outputs up to there are written)",
+                    r.status
+                );
             }
         }
-        Verb::Plotit { run_dir, records, out } => {
+        Verb::Plotit {
+            run_dir,
+            records,
+            out,
+        } => {
             let (rows, cols) = stages::plotit::run(&run_dir, &records, &out)?;
             progress.info(format!("{}: {rows} rows, {cols} columns", out.display()));
         }

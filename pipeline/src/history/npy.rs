@@ -34,7 +34,7 @@ fn io(path: &Path) -> impl Fn(std::io::Error) -> PipelineError + '_ {
 
 /// Writes a whole 2-D array (row-major `data`, `cols` columns) to `path`.
 pub fn write_npy(path: &Path, data: &[f64], cols: usize) -> Result<(), PipelineError> {
-    let rows = if cols == 0 { 0 } else { data.len() / cols };
+    let rows = data.len().checked_div(cols).unwrap_or(0);
     let mut bytes = header(rows, cols);
     for v in data {
         bytes.extend_from_slice(&v.to_le_bytes());
@@ -74,7 +74,9 @@ impl NpyAppender {
             });
         }
         for v in row {
-            self.file.write_all(&v.to_le_bytes()).map_err(io(&self.path))?;
+            self.file
+                .write_all(&v.to_le_bytes())
+                .map_err(io(&self.path))?;
         }
         self.rows += 1;
         Ok(())
@@ -100,7 +102,9 @@ impl NpyAppender {
 /// Reads a float64 2-D `.npy` array: (rows, cols, row-major data).
 pub fn read_npy(path: &Path) -> Result<(usize, usize, Vec<f64>), PipelineError> {
     let mut bytes = Vec::new();
-    File::open(path).and_then(|mut f| f.read_to_end(&mut bytes)).map_err(io(path))?;
+    File::open(path)
+        .and_then(|mut f| f.read_to_end(&mut bytes))
+        .map_err(io(path))?;
     let bad = |m: &str| PipelineError::Input {
         path: path.to_path_buf(),
         message: m.to_string(),
@@ -110,10 +114,17 @@ pub fn read_npy(path: &Path) -> Result<(usize, usize, Vec<f64>), PipelineError> 
     }
     let (hlen, start) = match bytes[6] {
         1 => (u16::from_le_bytes([bytes[8], bytes[9]]) as usize, 10),
-        _ => (u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize, 12),
+        _ => (
+            u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize,
+            12,
+        ),
     };
-    let head = std::str::from_utf8(bytes.get(start..start + hlen).ok_or_else(|| bad("truncated header"))?)
-        .map_err(|_| bad("header is not text"))?;
+    let head = std::str::from_utf8(
+        bytes
+            .get(start..start + hlen)
+            .ok_or_else(|| bad("truncated header"))?,
+    )
+    .map_err(|_| bad("header is not text"))?;
     if !head.contains("'<f8'") || head.contains("'fortran_order': True") {
         return Err(bad("only little-endian float64 C-order arrays are read"));
     }

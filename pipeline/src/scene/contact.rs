@@ -47,7 +47,10 @@ impl ContactPair {
             message,
         };
         if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
-            return Err(bad("tolerance", format!("{} must be finite and > 0", self.tolerance)));
+            return Err(bad(
+                "tolerance",
+                format!("{} must be finite and > 0", self.tolerance),
+            ));
         }
         if !self.p0.is_finite() {
             return Err(bad("p0", format!("{} must be finite", self.p0)));

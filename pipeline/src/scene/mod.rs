@@ -287,7 +287,9 @@ impl Scene {
         }
         if let Some(l) = &self.loads {
             l.validate()?;
-            if self.model.from != ModelSource::Mesh && !(l.pressure.is_empty() && l.force.is_empty()) {
+            if self.model.from != ModelSource::Mesh
+                && !(l.pressure.is_empty() && l.force.is_empty())
+            {
                 return Err(PipelineError::Scene {
                     field: "loads".into(),
                     message: "pressure and force load sets need a meshed model; a stored model \

@@ -129,10 +129,16 @@ impl ModelSpec {
         }
         if self.from != ModelSource::Mesh {
             if self.matrices.is_none() {
-                return Err(bad("matrices", format!("required with from = {:?}", self.from)));
+                return Err(bad(
+                    "matrices",
+                    format!("required with from = {:?}", self.from),
+                ));
             }
             if self.dofmap.is_none() {
-                return Err(bad("dofmap", format!("required with from = {:?}", self.from)));
+                return Err(bad(
+                    "dofmap",
+                    format!("required with from = {:?}", self.from),
+                ));
             }
         }
         Ok(())

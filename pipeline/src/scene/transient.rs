@@ -75,19 +75,31 @@ impl LoadsSpec {
     /// Checks PMAX, TLOAD and the load values.
     pub fn validate(&self) -> Result<(), PipelineError> {
         if !self.pmax.is_finite() {
-            return Err(scene_err("loads.pmax", format!("{} must be finite", self.pmax)));
+            return Err(scene_err(
+                "loads.pmax",
+                format!("{} must be finite", self.pmax),
+            ));
         }
         if !(self.tload.is_finite() && self.tload >= 0.0) {
-            return Err(scene_err("loads.tload", format!("{} must be finite and >= 0", self.tload)));
+            return Err(scene_err(
+                "loads.tload",
+                format!("{} must be finite and >= 0", self.tload),
+            ));
         }
         for (i, p) in self.pressure.iter().enumerate() {
             if !p.pressure.is_finite() {
-                return Err(scene_err(&format!("loads.pressure[{i}].pressure"), format!("{} must be finite", p.pressure)));
+                return Err(scene_err(
+                    &format!("loads.pressure[{i}].pressure"),
+                    format!("{} must be finite", p.pressure),
+                ));
             }
         }
         for (i, f) in self.force.iter().enumerate() {
             if f.force.iter().any(|x| !x.is_finite()) {
-                return Err(scene_err(&format!("loads.force[{i}].force"), format!("{:?} must be finite", f.force)));
+                return Err(scene_err(
+                    &format!("loads.force[{i}].force"),
+                    format!("{:?} must be finite", f.force),
+                ));
             }
         }
         Ok(())
@@ -136,16 +148,25 @@ impl DampingSpec {
     pub fn validate(&self) -> Result<(), PipelineError> {
         for (f, v) in [("g", self.g), ("w3", self.w3), ("w4", self.w4)] {
             if !v.is_finite() || (f != "g" && v < 0.0) {
-                return Err(scene_err(&format!("damping.{f}"), format!("{v} must be finite (and >= 0 for W3, W4)")));
+                return Err(scene_err(
+                    &format!("damping.{f}"),
+                    format!("{v} must be finite (and >= 0 for W3, W4)"),
+                ));
             }
         }
         for (c, v) in &self.ge {
             if !v.is_finite() {
-                return Err(scene_err(&format!("damping.ge.{c}"), format!("{v} must be finite")));
+                return Err(scene_err(
+                    &format!("damping.ge.{c}"),
+                    format!("{v} must be finite"),
+                ));
             }
         }
         if !(0.0..1.0).contains(&self.modal_ratio) {
-            return Err(scene_err("damping.modal_ratio", format!("{} must be in [0, 1)", self.modal_ratio)));
+            return Err(scene_err(
+                "damping.modal_ratio",
+                format!("{} must be in [0, 1)", self.modal_ratio),
+            ));
         }
         Ok(())
     }
@@ -238,7 +259,10 @@ impl TransientSpec {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(scene_err(&format!("transient.{f}"), format!("{v} must be finite and > 0")))
+                Err(scene_err(
+                    &format!("transient.{f}"),
+                    format!("{v} must be finite and > 0"),
+                ))
             }
         };
         pos("tfinal", self.tfinal)?;
@@ -247,10 +271,16 @@ impl TransientSpec {
         pos("atol2", self.atol2)?;
         pos("tolint", self.tolint)?;
         if !(self.rtol2 >= 0.0 && self.rtol2.is_finite()) {
-            return Err(scene_err("transient.rtol2", format!("{} must be finite and >= 0", self.rtol2)));
+            return Err(scene_err(
+                "transient.rtol2",
+                format!("{} must be finite and >= 0", self.rtol2),
+            ));
         }
         if !(1..=5).contains(&self.maxord) {
-            return Err(scene_err("transient.maxord", format!("{} must be in 1..=5", self.maxord)));
+            return Err(scene_err(
+                "transient.maxord",
+                format!("{} must be in 1..=5", self.maxord),
+            ));
         }
         if self.noutpt == 0 {
             return Err(scene_err("transient.noutpt", "0 must be >= 1".into()));
@@ -310,11 +340,17 @@ impl OutputSpec {
     pub fn validate(&self) -> Result<(), PipelineError> {
         if let Some(r) = &self.response {
             if !matches!(r.dof.as_str(), "x" | "y" | "z") {
-                return Err(scene_err("output.response.dof", format!("`{}` must be x, y or z", r.dof)));
+                return Err(scene_err(
+                    "output.response.dof",
+                    format!("`{}` must be x, y or z", r.dof),
+                ));
             }
         }
         if !self.squeal_growth_threshold.is_finite() {
-            return Err(scene_err("output.squeal_growth_threshold", "must be finite".into()));
+            return Err(scene_err(
+                "output.squeal_growth_threshold",
+                "must be finite".into(),
+            ));
         }
         Ok(())
     }

@@ -27,15 +27,37 @@ pub fn select<'a>(map: &'a HistoryMap, spec: &str) -> Result<Vec<&'a Column>, Pi
     let mut parts = spec.split(':');
     let kind_s = parts.next().unwrap_or("");
     let kind: RecordKind = serde_json::from_value(serde_json::Value::String(kind_s.to_string()))
-        .map_err(|_| bad(spec, format!("`{kind_s}` is neither a column name nor a record kind")))?;
+        .map_err(|_| {
+            bad(
+                spec,
+                format!("`{kind_s}` is neither a column name nor a record kind"),
+            )
+        })?;
     let (mut grid, mut comp, mut gap) = (None, None, None);
     for p in parts {
-        let (k, v) = p.split_once('=').ok_or_else(|| bad(spec, format!("`{p}` is not key=value")))?;
+        let (k, v) = p
+            .split_once('=')
+            .ok_or_else(|| bad(spec, format!("`{p}` is not key=value")))?;
         match k {
-            "grid" => grid = Some(v.parse::<u64>().map_err(|_| bad(spec, format!("grid `{v}` is not an id")))?),
+            "grid" => {
+                grid = Some(
+                    v.parse::<u64>()
+                        .map_err(|_| bad(spec, format!("grid `{v}` is not an id")))?,
+                )
+            }
             "comp" => comp = Some(v.to_string()),
-            "gap" => gap = Some(v.parse::<usize>().map_err(|_| bad(spec, format!("gap `{v}` is not an index")))?),
-            _ => return Err(bad(spec, format!("unknown filter `{k}` (use grid, comp, gap)"))),
+            "gap" => {
+                gap = Some(
+                    v.parse::<usize>()
+                        .map_err(|_| bad(spec, format!("gap `{v}` is not an index")))?,
+                )
+            }
+            _ => {
+                return Err(bad(
+                    spec,
+                    format!("unknown filter `{k}` (use grid, comp, gap)"),
+                ))
+            }
         }
     }
     let sel: Vec<&Column> = map
@@ -43,12 +65,18 @@ pub fn select<'a>(map: &'a HistoryMap, spec: &str) -> Result<Vec<&'a Column>, Pi
         .iter()
         .filter(|c| c.kind == kind)
         .filter(|c| grid.is_none_or(|g| c.grid == Some(g)))
-        .filter(|c| comp.as_ref().is_none_or(|x| c.component.as_deref() == Some(x.as_str())))
+        .filter(|c| {
+            comp.as_ref()
+                .is_none_or(|x| c.component.as_deref() == Some(x.as_str()))
+        })
         .filter(|c| gap.is_none_or(|g| c.gap == Some(g)))
         .collect();
     if sel.is_empty() {
         let names: Vec<&str> = map.columns.iter().map(|c| c.name.as_str()).collect();
-        return Err(bad(spec, format!("matches no column; the history has: {}", names.join(", "))));
+        return Err(bad(
+            spec,
+            format!("matches no column; the history has: {}", names.join(", ")),
+        ));
     }
     Ok(sel)
 }
@@ -80,7 +108,10 @@ pub fn run(run_dir: &Path, specs: &[String], out: &Path) -> Result<(usize, usize
     let header: Vec<&str> = chosen.iter().map(|c| c.name.as_str()).collect();
     let _ = writeln!(text, "{}", header.join(","));
     for r in 0..rows {
-        let line: Vec<String> = chosen.iter().map(|c| format!("{:e}", data[r * cols + c.column])).collect();
+        let line: Vec<String> = chosen
+            .iter()
+            .map(|c| format!("{:e}", data[r * cols + c.column]))
+            .collect();
         let _ = writeln!(text, "{}", line.join(","));
     }
     crate::output::write_atomic(out, text.as_bytes())?;

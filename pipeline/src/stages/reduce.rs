@@ -52,7 +52,10 @@ pub fn run(scene: &Scene, dir: &RunDir, progress: Progress) -> Result<ReduceRepo
         .iter()
         .map(|(name, c)| {
             progress.info(format!("{name}: {c}"));
-            (name.clone(), serde_json::to_value(c).unwrap_or(serde_json::Value::Null))
+            (
+                name.clone(),
+                serde_json::to_value(c).unwrap_or(serde_json::Value::Null),
+            )
         })
         .collect();
     dir.write_json("checks.json", &checks)?;
@@ -63,7 +66,12 @@ pub fn run(scene: &Scene, dir: &RunDir, progress: Progress) -> Result<ReduceRepo
         .dofs
         .dofs
         .iter()
-        .filter(|d| matches!(d.kind, squeal_reduction::superelement::DofKind::Modal { .. }))
+        .filter(|d| {
+            matches!(
+                d.kind,
+                squeal_reduction::superelement::DofKind::Modal { .. }
+            )
+        })
         .count();
     let report = ReduceReport {
         source: model.source,

@@ -149,7 +149,7 @@ fn chol_qr(w: &mut Mat<Real>, m: &Sparse) -> Option<(Mat<Real>, Mat<Real>)> {
     let mut r_total = Mat::<Real>::identity(p, p);
     let mut mw = super::partition::sym_spmm(m, w.as_ref());
     for _ in 0..2 {
-        let g = w.transpose() * &mw;
+        let g = super::partition::at_b(w.as_ref(), mw.as_ref());
         let g = Mat::<Real>::from_fn(p, p, |i, j| 0.5 * (g[(i, j)] + g[(j, i)]));
         let llt = g.llt(Side::Lower).ok()?;
         let l = llt.L();
@@ -208,16 +208,8 @@ impl Basis {
 
     /// w ← w − Q (MQ)ᵀ w; returns the coefficients (MQ)ᵀ w (len × p).
     fn project_out(&self, w: &mut Mat<Real>) -> Mat<Real> {
-        let par = if std::env::var_os("SQUEAL_ORTH_SEQ").is_some() { faer::Par::Seq } else { faer::get_global_parallelism() };
-        let mut c = Mat::<Real>::zeros(self.len, w.ncols());
-        faer::linalg::matmul::matmul(
-            c.as_mut(),
-            faer::Accum::Replace,
-            self.mq.subcols(0, self.len).transpose(),
-            w.as_ref(),
-            1.0,
-            par,
-        );
+        let par = faer::get_global_parallelism();
+        let c = super::partition::at_b(self.mq.subcols(0, self.len), w.as_ref());
         faer::linalg::matmul::matmul(
             w.as_mut(),
             faer::Accum::Add,

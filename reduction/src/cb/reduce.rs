@@ -3,7 +3,7 @@
 use super::eigen::{self, LanczosParams, Want};
 use super::model::{peak_rss_kib, CbModel, CbStats, EigenMethod, PhaseMemory};
 use super::options::CbOptions;
-use super::partition::{check_square, split, sym_spmm, to_dense, Blocks, Partition, Sparse};
+use super::partition::{at_b, check_square, split, sym_spmm, to_dense, Blocks, Partition, Sparse};
 use crate::error::ReductionError;
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
@@ -258,7 +258,7 @@ fn condensed(a: &Blocks, psi: MatRef<'_, Real>, with_ii: bool) -> Mat<Real> {
     if with_ii {
         let mut w = sym_spmm(&a.ii, psi);
         add_sparse(w.as_mut(), &a.ib, 1.0);
-        out += psi.transpose() * &w;
+        out += at_b(psi, w.as_ref());
     }
     sym(out)
 }
@@ -275,10 +275,10 @@ fn reduced_mass_like(
     let mut out = Mat::<Real>::zeros(nb + nq, nb + nq);
     let mut w = sym_spmm(&a.ii, psi);
     add_sparse(w.as_mut(), &a.ib, 1.0);
-    let bb = sym(a.bb.clone() + sparse_t_dense(&a.ib, psi) + psi.transpose() * &w);
+    let bb = sym(a.bb.clone() + sparse_t_dense(&a.ib, psi) + at_b(psi, w.as_ref()));
     out.submatrix_mut(0, 0, nb, nb).copy_from(&bb);
     if nq > 0 {
-        let bq = w.transpose() * phi;
+        let bq = at_b(w.as_ref(), phi);
         out.submatrix_mut(0, nb, nb, nq).copy_from(&bq);
         out.submatrix_mut(nb, 0, nq, nb).copy_from(bq.transpose());
         if unit_modal {
@@ -286,7 +286,7 @@ fn reduced_mass_like(
                 out[(nb + j, nb + j)] = 1.0;
             }
         } else {
-            let qq = sym(phi.transpose() * sym_spmm(&a.ii, phi));
+            let qq = sym(at_b(phi, sym_spmm(&a.ii, phi).as_ref()));
             out.submatrix_mut(nb, nb, nq, nq).copy_from(&qq);
         }
     }

@@ -101,7 +101,12 @@ mod tests {
     /// about z (−2, 1, 0).
     #[test]
     fn rotation_columns_are_cross_products() {
-        let pts: Vec<DofPoint> = (0..3).map(|c| DofPoint { xyz: [1.0, 2.0, 3.0], comp: c }).collect();
+        let pts: Vec<DofPoint> = (0..3)
+            .map(|c| DofPoint {
+                xyz: [1.0, 2.0, 3.0],
+                comp: c,
+            })
+            .collect();
         let r = rigid_vectors(&pts);
         let expect = [[0.0, 3.0, -2.0], [-3.0, 0.0, 1.0], [2.0, -1.0, 0.0]]; // rows: u_x, u_y, u_z
         for comp in 0..3 {

@@ -16,7 +16,7 @@ use std::time::Instant;
 #[derive(Debug, Clone)]
 pub struct ModalBasis {
     /// Ψ (n × nb).
-    psi: Mat<f64>,
+    pub(crate) psi: Mat<f64>,
     /// Undamped frequencies of the basis modes, Hz, ascending.
     frequencies_hz: Vec<f64>,
     /// M of the reference state (a different M at solve time is projected afresh).

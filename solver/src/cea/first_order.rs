@@ -1,9 +1,13 @@
 //! The standard eigenproblem of `ẅ + Ĉ ẇ + K̂ w = 0` in first-order form.
 
 use super::{CeaError, Cplx};
+use faer::diag::Diag;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::evd::{evd_real, evd_scratch, ComputeEigenvectors};
-use faer::{Diag, Mat};
+use faer::Mat;
+
+/// Size of the first-order problem below which the dense eigensolver runs sequentially.
+const SEQ_BELOW: usize = 512;
 
 /// Roots of `ẅ + Ĉ ẇ + K̂ w = 0` (identity mass), one per conjugate pair.
 pub(crate) struct FirstOrder {
@@ -53,7 +57,13 @@ pub(crate) fn first_order_eigen(
             }
         }
     }
-    let par = faer::get_global_parallelism();
+    // Below ~500 rows faer's parallel Hessenberg/Schur kernels cost more in synchronisation
+    // than they gain on this 2-core machine (measured: see `bench_cea`).
+    let par = if n2 < SEQ_BELOW {
+        faer::Par::Seq
+    } else {
+        faer::get_global_parallelism()
+    };
     let want = if vectors {
         ComputeEigenvectors::Yes
     } else {

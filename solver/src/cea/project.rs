@@ -47,7 +47,7 @@ impl ModalBasis {
     pub fn solve(&self, sys: &CeaMatrices, opts: &CeaOptions) -> Result<CeaResult, CeaError> {
         let t0 = Instant::now();
         let (n, ng) = check_inputs(sys)?;
-        let psi = &self.psi_ref();
+        let psi = &self.psi;
         let ng_ref = self.g_ref.as_ref().map_or(0, |g| g.nrows());
         if n != psi.nrows() || ng != ng_ref {
             return Err(CeaError::Shape {

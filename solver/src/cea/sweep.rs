@@ -1,8 +1,11 @@
 //! Friction sweep: CEA at a list of μ, mode tracking, critical μ.
 
+use super::eigen::exact;
+use super::operator::check_inputs;
 use super::track::{assign, mac_matrix};
 use super::{
-    complex_eigen, CeaError, CeaMatrices, CeaOptions, CeaResult, CeaStats, Cplx, Mode, SweepOptions,
+    compare_eigenvalues, CeaError, CeaMatrices, CeaMethod, CeaOptions, CeaResult, CeaStats, Cplx,
+    ExactCheck, ModalBasis, Mode, SweepOptions,
 };
 use serde::Serialize;
 use std::fmt::Display;
@@ -72,8 +75,32 @@ pub struct SweepStats {
     pub n_critical: usize,
     /// Wall time, seconds.
     pub time_s: f64,
-    /// Wall time spent in the eigenvalue solves, seconds.
+    /// Wall time spent in the eigenvalue solves (building the matrices, projecting and
+    /// solving; not the exact checks), seconds.
     pub time_eigen_s: f64,
+    /// Method that ran (`exact` or `projection`).
+    pub method: CeaMethod,
+    /// Number of basis modes with `projection` (0 with `exact`).
+    pub n_basis: usize,
+    /// Size of the reduced problem n − ng (the full basis size).
+    pub n_reduced: usize,
+    /// Highest undamped frequency in the basis, Hz (`projection` only).
+    pub basis_max_frequency_hz: Option<f64>,
+    /// Friction coefficient of the basis' reference state (`projection` only).
+    pub basis_mu: Option<f64>,
+    /// Wall time of the basis computation, seconds.
+    pub time_basis_s: f64,
+    /// Band of the exact checks, Hz: `projection.frequency_max_hz`, else the highest basis
+    /// frequency / `cutoff_factor` (`projection` only).
+    pub check_band_hz: Option<f64>,
+    /// The exact checks of a projected sweep (first and last μ, and every
+    /// `exact_check_every`-th step).
+    pub exact_checks: Vec<ExactCheck>,
+    /// Largest relative eigenvalue difference projected vs exact over the checks and the
+    /// modes in `check_band_hz` (`None` without checks).
+    pub max_rel_eigenvalue_error: Option<f64>,
+    /// Wall time of the exact checks, seconds.
+    pub time_check_s: f64,
 }
 
 /// Result of [`sweep`].
@@ -110,6 +137,10 @@ impl Sweep {
 struct Solver<'a, F> {
     build: F,
     cea: CeaOptions,
+    /// The projection basis (`None`: exact).
+    basis: Option<ModalBasis>,
+    /// A system already built (to choose the method or the basis), used by the next solve.
+    cached: Option<(f64, CeaMatrices)>,
     stats: &'a mut SweepStats,
 }
 
@@ -118,15 +149,57 @@ where
     F: FnMut(f64) -> Result<CeaMatrices, E>,
     E: Display,
 {
+    /// Builds the system at μ into the cache (if it is not there) and returns it.
+    fn peek(&mut self, mu: f64) -> Result<&CeaMatrices, CeaError> {
+        if self.cached.as_ref().is_none_or(|c| c.0 != mu) {
+            let sys = (self.build)(mu).map_err(|e| CeaError::Build {
+                mu,
+                message: e.to_string(),
+            })?;
+            self.cached = Some((mu, sys));
+        }
+        Ok(&self.cached.as_ref().expect("just filled").1)
+    }
+
+    fn system(&mut self, mu: f64) -> Result<CeaMatrices, CeaError> {
+        self.peek(mu)?;
+        Ok(self.cached.take().expect("just filled").1)
+    }
+
     fn solve(&mut self, mu: f64) -> Result<CeaResult, CeaError> {
-        let sys = (self.build)(mu).map_err(|e| CeaError::Build {
-            mu,
-            message: e.to_string(),
-        })?;
+        self.solve_checked(mu, None)
+    }
+
+    /// Solves at μ; with `check = Some(step)` and a basis, also solves exactly (eigenvalues
+    /// only) and records the comparison.
+    fn solve_checked(&mut self, mu: f64, check: Option<usize>) -> Result<CeaResult, CeaError> {
         let t = Instant::now();
-        let r = complex_eigen(&sys, &self.cea)?;
+        let sys = self.system(mu)?;
+        let r = match &self.basis {
+            Some(b) => b.solve(&sys, &self.cea)?,
+            None => exact(&sys, &self.cea)?,
+        };
         self.stats.n_solves += 1;
         self.stats.time_eigen_s += t.elapsed().as_secs_f64();
+        if let (Some(step), Some(band)) = (check, self.stats.check_band_hz) {
+            let t = Instant::now();
+            let opts = CeaOptions {
+                compute_shapes: false,
+                ..self.cea.clone()
+            };
+            let e = exact(&sys, &opts)?;
+            let comparison = compare_eigenvalues(&r.modes, &e.modes, band);
+            let worst = self.stats.max_rel_eigenvalue_error.unwrap_or(0.0);
+            self.stats.max_rel_eigenvalue_error = Some(worst.max(comparison.max_rel_error));
+            let time_s = t.elapsed().as_secs_f64();
+            self.stats.time_check_s += time_s;
+            self.stats.exact_checks.push(ExactCheck {
+                step,
+                mu,
+                comparison,
+                time_s,
+            });
+        }
         Ok(r)
     }
 
@@ -222,15 +295,21 @@ where
     let mut solver = Solver {
         build,
         cea,
+        basis: None,
+        cached: None,
         stats: &mut stats,
     };
+    choose_method(&mut solver, mus, opts)?;
     let mut steps: Vec<SweepStep> = Vec::with_capacity(mus.len());
     let mut tracks: Vec<Track> = Vec::new();
     // (track id, mode index) of the tracks alive at the previous step, and its modes.
     let mut alive: Vec<(usize, usize)> = Vec::new();
     let mut prev: Option<CeaResult> = None;
+    let last = mus.len() - 1;
     for (s, &mu) in mus.iter().enumerate() {
-        let res = solver.solve(mu)?;
+        let check = (opts.exact_check && (s == 0 || s == last))
+            || (opts.exact_check_every > 0 && s % opts.exact_check_every == 0);
+        let res = solver.solve_checked(mu, check.then_some(s))?;
         let mut next_alive = Vec::with_capacity(res.modes.len());
         let mut taken = vec![false; res.modes.len()];
         if let Some(pr) = &prev {
@@ -343,6 +422,7 @@ where
         alive = next_alive;
         prev = Some(res);
     }
+    drop(solver);
     stats.n_tracks = tracks.len();
     stats.n_critical = tracks.iter().filter(|t| t.critical.is_some()).count();
     stats.time_s = start.elapsed().as_secs_f64();
@@ -351,4 +431,49 @@ where
         tracks,
         stats,
     })
+}
+
+/// Resolves `auto`, and builds the basis for `projection` (see [`CeaMethod::Auto`]).
+fn choose_method<F, E>(
+    solver: &mut Solver<'_, F>,
+    mus: &[f64],
+    opts: &SweepOptions,
+) -> Result<(), CeaError>
+where
+    F: FnMut(f64) -> Result<CeaMatrices, E>,
+    E: Display,
+{
+    let pr = &opts.cea.projection;
+    let n_reduced = {
+        let (n, ng) = check_inputs(solver.peek(mus[0])?)?;
+        n - ng
+    };
+    solver.stats.n_reduced = n_reduced;
+    let method = match opts.cea.method {
+        CeaMethod::Exact => CeaMethod::Exact,
+        CeaMethod::Projection => CeaMethod::Projection,
+        CeaMethod::Auto => {
+            if pr.is_truncated() && n_reduced > pr.auto_min_dofs {
+                CeaMethod::Projection
+            } else {
+                CeaMethod::Exact
+            }
+        }
+    };
+    solver.stats.method = method;
+    if method == CeaMethod::Exact {
+        return Ok(());
+    }
+    let t = Instant::now();
+    let basis_mu = pr.basis_mu.unwrap_or(mus[0]);
+    let cea = solver.cea.clone();
+    let basis = ModalBasis::new(solver.peek(basis_mu)?, &cea)?;
+    let f_max = basis.frequencies_hz().last().copied().unwrap_or(0.0);
+    solver.stats.n_basis = basis.len();
+    solver.stats.basis_max_frequency_hz = Some(f_max);
+    solver.stats.basis_mu = Some(basis_mu);
+    solver.stats.check_band_hz = Some(pr.frequency_max_hz.unwrap_or(f_max / pr.cutoff_factor));
+    solver.stats.time_basis_s = t.elapsed().as_secs_f64();
+    solver.basis = Some(basis);
+    Ok(())
 }

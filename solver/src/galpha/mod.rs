@@ -194,8 +194,6 @@ pub struct Galpha {
     pub(crate) has_prev: bool,
     /// Step size for the next step.
     pub(crate) h: Real,
-    /// Size of the last accepted step (0 before the first).
-    pub(crate) h_used: Real,
     /// Step size whose shift δh the current pseudo-acceleration corresponds to.
     pub(crate) a_h: Real,
     /// Start time and steps since then at constant h (t = t_base + k h for fixed steps).
@@ -271,7 +269,6 @@ impl Galpha {
             trial: cur.clone(),
             cur,
             has_prev: false,
-            h_used: 0.0,
             t_base: t0,
             k_base: 0,
             factored_h: None,

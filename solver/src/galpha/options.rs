@@ -25,7 +25,7 @@ pub struct GalphaOptions {
     pub rho_inf: Real,
     /// Step size: the fixed step, or the first step when `adaptive` (default: 1e-4).
     pub h: Real,
-    /// Adapt the step size with the local error estimate of [`super::error`] (default: false =
+    /// Adapt the step size with the local error estimate of [`super::step`] (default: false =
     /// fixed step `h`; the tolerances then only set the Newton convergence test).
     pub adaptive: bool,
     /// Error weights 1/(rtol|y_i| + atol_i) on y = {v, λ, u} for the error test and the

@@ -2,7 +2,7 @@
 //! step-size control.
 //!
 //! # Newton
-//! Modified Newton with the matrix of [`GalphaSystem::factor`], re-formed when h changed, and
+//! Modified Newton with the matrix of `GalphaSystem::factor`, re-formed when h changed, and
 //! once more (fresh friction tangents) when an iteration with an older matrix fails.
 //! IDA's convergence test on the implied corrections of y = {v, λ, u},
 //! δy = (c_v δq̈, h/2 δf, c_u δq̈): the rate ρ = (‖δ_m‖/‖δ_0‖)^{1/m} must stay below 0.9,
@@ -11,13 +11,16 @@
 //!
 //! # Local error estimate (adaptive steps)
 //! From the Taylor expansion of the updates with a_n ≈ q̈(t_n + δh), δ = α_m − α_f
-//! (constants in [`GalphaCoeffs::error_constants`]):
+//! (constants in [`super::GalphaCoeffs::error_constants`]):
 //! e_u = C_u h² (q̈_{n+1} − q̈_n) (Zienkiewicz–Xie's estimator generalised to α_m ≠ α_f),
 //! e_v = C_v h³ q⁗ and e_λ = h³/12 f'' (trapezoidal rule), the last two with second divided
 //! differences over (t_{n−1}, t_n, t_{n+1}) (not used on the first step). Accept when the
 //! weighted RMS norm is ≤ 1; h_new = h·clamp(0.9·err^{−1/3}, 0.2, 2), increased only by
-//! ≥ 1.5× to save factorisations. When h changes, a_n is moved to the new shift δh with
+//! ≥ 1.5× and after 3 steps at the same h, to save factorisations, and decreased (to 0.8·factor·h) after
+//! an accepted step whose error exceeds 0.85 (factor < 0.95). When h changes, a_n is moved to the new shift δh with
 //! a_n += δ(h_new − h_old)·q⃛ (q⃛ from the last two accelerations).
+
+#![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(err <= 1.0)` deliberately rejects NaN too.
 
 use super::{Galpha, GalphaSystem, Status};
 use crate::bdf::ATOL_EXCLUDED;
@@ -32,6 +35,8 @@ enum Nls {
 }
 
 const RATE_MAX: Real = 0.9;
+/// Accepted steps at one h before the step size may grow.
+const GROW_AFTER: u64 = 3;
 
 fn recoverable(e: SolverError) -> Result<Nls, SolverError> {
     if e.is_recoverable() {
@@ -335,8 +340,15 @@ impl Galpha {
                     2.0
                 };
                 let h_max = self.opts.h_max.unwrap_or(Real::INFINITY);
-                if fac >= 1.5 && failures == 0 {
+                // Grow only after `GROW_AFTER` steps at this h without failures (as IDA
+                // waits k + 1 steps): error estimates of single components pass through
+                // zero twice per period and would invite growth followed by rejections.
+                if fac >= 1.5 && failures == 0 && self.k_base + 1 >= GROW_AFTER {
                     self.h = (h * fac).min(h_max);
+                } else if fac < 0.95 {
+                    // Error close to the tolerance: shrink now, with a margin, rather than
+                    // be rejected next.
+                    self.h = h * (0.8 * fac).max(0.5);
                 }
             }
             self.accept(sys, h);
@@ -348,7 +360,6 @@ impl Galpha {
         std::mem::swap(&mut self.prev, &mut self.cur);
         self.cur.copy_from(&self.trial);
         self.has_prev = true;
-        self.h_used = h;
         if self.h != h {
             self.t_base = self.cur.t;
             self.k_base = 0;

@@ -202,7 +202,8 @@ impl<F: FrictionForces> GalphaSystem<F> {
             self.d_dv.fill(0.0);
         }
         let d_dv = if with_cf { Some(&mut self.d_dv) } else { None };
-        self.friction.add_tangents(t, v, f, &mut self.d_dlam, d_dv)?;
+        self.friction
+            .add_tangents(t, v, f, &mut self.d_dlam, d_dv)?;
         let a = &mut self.lu.a;
         let mut a_scale: Real = 0.0;
         for j in 0..n {

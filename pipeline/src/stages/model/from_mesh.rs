@@ -127,7 +127,11 @@ fn match_pairs(scene: &Scene, meshes: &[Mesh], grids: &Grids) -> Result<GapSet, 
 }
 
 /// Mesh, assemble and reduce every component, assemble the superelements, match the gaps.
-pub fn build_from_mesh(scene: &Scene, dir: &RunDir, progress: Progress) -> Result<ReducedModel, PipelineError> {
+pub fn build_from_mesh(
+    scene: &Scene,
+    dir: &RunDir,
+    progress: Progress,
+) -> Result<ReducedModel, PipelineError> {
     if scene.components.is_empty() {
         return Err(PipelineError::Scene {
             field: "components".into(),
@@ -150,6 +154,12 @@ pub fn build_from_mesh(scene: &Scene, dir: &RunDir, progress: Progress) -> Resul
             global_fixed.insert((grids.grid_of[c][node], k));
         }
     }
+    // Contact boundary: the matched pad and rotor nodes only (not a whole rotor face).
+    let gap_grids: std::collections::HashSet<u64> = gaps
+        .gaps
+        .iter()
+        .flat_map(|g| [g.pad_node, g.rotor_node])
+        .collect();
     let opts = scene.reduction.clone().unwrap_or_default();
     let cb_opts = opts.cb_options();
     let damping = scene.damping.clone().unwrap_or_default();
@@ -159,12 +169,27 @@ pub fn build_from_mesh(scene: &Scene, dir: &RunDir, progress: Progress) -> Resul
     ));
     let reduced: Vec<Reduced> = (0..scene.components.len())
         .into_par_iter()
-        .map(|c| reduce_component(scene, c, &meshes[c], &grids, &global_fixed, &cb_opts, opts.checks))
+        .map(|c| {
+            reduce_component(
+                scene,
+                c,
+                &meshes[c],
+                &grids,
+                &global_fixed,
+                &gap_grids,
+                &cb_opts,
+                opts.checks,
+            )
+        })
         .collect::<Result<_, _>>()?;
     step.done("reduced every component");
 
     // Superelement assembly; element damping B_c = (GE_c/W4)·K_r,c.
-    let factors: Vec<Real> = scene.components.iter().map(|c| damping.element_factor(&c.name)).collect();
+    let factors: Vec<Real> = scene
+        .components
+        .iter()
+        .map(|c| damping.element_factor(&c.name))
+        .collect();
     let b_mats: Vec<Mat<Real>> = reduced
         .iter()
         .zip(&factors)
@@ -257,13 +282,15 @@ pub fn build_from_mesh(scene: &Scene, dir: &RunDir, progress: Progress) -> Resul
     Ok(model)
 }
 
-/// Assembles and reduces component `c`: boundary = contact-face nodes + shared nodes.
+/// Assembles and reduces component `c`: boundary = its gap nodes + shared nodes.
+#[allow(clippy::too_many_arguments)]
 fn reduce_component(
     scene: &Scene,
     c: usize,
     mesh: &Mesh,
     grids: &Grids,
     global_fixed: &BTreeSet<(u64, usize)>,
+    gap_grids: &std::collections::HashSet<u64>,
     cb_opts: &squeal_reduction::CbOptions,
     run_checks: bool,
 ) -> Result<Reduced, PipelineError> {
@@ -276,18 +303,19 @@ fn reduce_component(
         .collect();
     let dofs = DofMap::new(mesh.nodes.len(), &fixed).map_err(fe_err(name))?;
     let materials = spec.block_materials(mesh)?;
-    let asm = assemble(mesh, &materials, &dofs, &AssemblyOptions { hex8: spec.hex8 }).map_err(fe_err(name))?;
+    let asm = assemble(
+        mesh,
+        &materials,
+        &dofs,
+        &AssemblyOptions { hex8: spec.hex8 },
+    )
+    .map_err(fe_err(name))?;
 
-    let mut is_boundary = grids.shared[c].clone();
-    for pair in &scene.contact {
-        for (comp, set) in [(&pair.pad, &pair.pad_faces), (&pair.rotor, &pair.rotor_faces)] {
-            if comp == name {
-                if let Some(nodes) = mesh.node_sets.get(set.as_str()) {
-                    nodes.iter().for_each(|&n| is_boundary[n] = true);
-                }
-            }
-        }
-    }
+    let is_boundary: Vec<bool> = grids.shared[c]
+        .iter()
+        .zip(gid)
+        .map(|(&shared, g)| shared || gap_grids.contains(g))
+        .collect();
     let mut boundary = Vec::new();
     let mut keys = Vec::new();
     for (node, &b) in is_boundary.iter().enumerate() {
@@ -297,7 +325,10 @@ fn reduce_component(
         for k in 0..3 {
             if let Some(i) = dofs.free(node, k) {
                 boundary.push(i);
-                keys.push(DofKey { grid: gid[node], comp: k as u8 + 1 });
+                keys.push(DofKey {
+                    grid: gid[node],
+                    comp: k as u8 + 1,
+                });
             }
         }
     }
@@ -309,8 +340,13 @@ fn reduce_component(
     let check = if run_checks {
         let points = cb::dof_points(&mesh.nodes, dofs.n_free(), |i| dofs.dof_of(i));
         Some(
-            cb::check(&model, Some((&asm.k, &asm.m)), Some(&points), &CheckOptions::default())
-                .map_err(red_err("checks"))?,
+            cb::check(
+                &model,
+                Some((&asm.k, &asm.m)),
+                Some(&points),
+                &CheckOptions::default(),
+            )
+            .map_err(red_err("checks"))?,
         )
     } else {
         None
@@ -324,14 +360,21 @@ fn reduce_component(
             f.iter_mut().zip(&v).for_each(|(a, b)| *a += b);
         }
         for fs in loads.force.iter().filter(|f| f.component == name) {
-            let nodes = mesh.node_sets.get(&fs.nodes).ok_or_else(|| PipelineError::Scene {
-                field: "loads.force.nodes".into(),
-                message: format!(
-                    "component `{name}` has no node set `{}` (it has: {})",
-                    fs.nodes,
-                    mesh.node_sets.keys().cloned().collect::<Vec<_>>().join(", ")
-                ),
-            })?;
+            let nodes = mesh
+                .node_sets
+                .get(&fs.nodes)
+                .ok_or_else(|| PipelineError::Scene {
+                    field: "loads.force.nodes".into(),
+                    message: format!(
+                        "component `{name}` has no node set `{}` (it has: {})",
+                        fs.nodes,
+                        mesh.node_sets
+                            .keys()
+                            .cloned()
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                })?;
             let share = 1.0 / nodes.len().max(1) as Real;
             for &node in nodes {
                 for k in 0..3 {

@@ -33,7 +33,11 @@ pub struct Grids {
 impl Grids {
     /// Index of grid id → position in `grids`.
     pub fn index(&self) -> HashMap<u64, usize> {
-        self.grids.iter().enumerate().map(|(i, g)| (g.grid, i)).collect()
+        self.grids
+            .iter()
+            .enumerate()
+            .map(|(i, g)| (g.grid, i))
+            .collect()
     }
 }
 
@@ -60,9 +64,13 @@ pub fn merge(scene: &Scene, meshes: &[Mesh], tol: Real) -> Grids {
         base *= 10;
     }
     // Contact-face membership: face_nodes[c][pair] = flags of nodes of component c on pair's face.
-    let mut on_face: Vec<Vec<Option<Vec<bool>>>> = vec![vec![None; scene.contact.len()]; meshes.len()];
+    let mut on_face: Vec<Vec<Option<Vec<bool>>>> =
+        vec![vec![None; scene.contact.len()]; meshes.len()];
     for (p, pair) in scene.contact.iter().enumerate() {
-        for (comp, set) in [(&pair.pad, &pair.pad_faces), (&pair.rotor, &pair.rotor_faces)] {
+        for (comp, set) in [
+            (&pair.pad, &pair.pad_faces),
+            (&pair.rotor, &pair.rotor_faces),
+        ] {
             if let Some(c) = names.iter().position(|n| n == comp) {
                 let mut flags = vec![false; meshes[c].nodes.len()];
                 if let Some(nodes) = meshes[c].node_sets.get(set.as_str()) {
@@ -78,7 +86,8 @@ pub fn merge(scene: &Scene, meshes: &[Mesh], tol: Real) -> Grids {
             .iter()
             .enumerate()
             .filter(|(_, p)| {
-                (p.pad == names[a] && p.rotor == names[b]) || (p.pad == names[b] && p.rotor == names[a])
+                (p.pad == names[a] && p.rotor == names[b])
+                    || (p.pad == names[b] && p.rotor == names[a])
             })
             .map(|(i, _)| i)
             .collect()
@@ -95,7 +104,9 @@ pub fn merge(scene: &Scene, meshes: &[Mesh], tol: Real) -> Grids {
             'search: for di in -1..=1 {
                 for dj in -1..=1 {
                     for dk in -1..=1 {
-                        let Some(cands) = hash.get(&(i + di, j + dj, k + dk)) else { continue };
+                        let Some(cands) = hash.get(&(i + di, j + dj, k + dk)) else {
+                            continue;
+                        };
                         for &g in cands {
                             let y = grids[g].coords;
                             let d2 = (0..3).map(|a| (x[a] - y[a]).powi(2)).sum::<Real>();

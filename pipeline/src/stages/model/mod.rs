@@ -87,7 +87,12 @@ impl ReducedModel {
         let mut missing = Vec::new();
         for g in &self.gaps.gaps {
             for node in [g.pad_node, g.rotor_node] {
-                if (1..=3).all(|c| !index.contains_key(&DofKey { grid: node, comp: c })) {
+                if (1..=3).all(|c| {
+                    !index.contains_key(&DofKey {
+                        grid: node,
+                        comp: c,
+                    })
+                }) {
                     missing.push(node);
                 }
             }
@@ -99,9 +104,8 @@ impl ReducedModel {
                 "gap grids with no DOF in the reduced model: {missing:?}"
             )));
         }
-        self.gaps.assign_dofs(|grid| {
-            [1u8, 2, 3].map(|comp| index.get(&DofKey { grid, comp }).copied())
-        });
+        self.gaps
+            .assign_dofs(|grid| [1u8, 2, 3].map(|comp| index.get(&DofKey { grid, comp }).copied()));
         Ok(())
     }
 
@@ -127,7 +131,11 @@ pub(crate) fn symmetrise(a: &Mat<Real>) -> Mat<Real> {
 }
 
 /// Builds or reads the reduced model the scene describes.
-pub fn build(scene: &Scene, dir: &RunDir, progress: Progress) -> Result<ReducedModel, PipelineError> {
+pub fn build(
+    scene: &Scene,
+    dir: &RunDir,
+    progress: Progress,
+) -> Result<ReducedModel, PipelineError> {
     match scene.model.from {
         ModelSource::Mesh => build_from_mesh(scene, dir, progress),
         ModelSource::Op4 | ModelSource::Punch => load_stored(scene),

@@ -74,7 +74,8 @@ pub fn write_stored(model: &ReducedModel, dir: &RunDir) -> Result<StoredFiles, P
             .with_form(MatrixForm::Rectangular),
     );
     let refs: Vec<&NamedMatrix> = mats.iter().collect();
-    let op4_bytes = op4::write_bytes(&refs, &Op4WriteOptions::default()).map_err(red_err("writing reduced.op4".into()))?;
+    let op4_bytes = op4::write_bytes(&refs, &Op4WriteOptions::default())
+        .map_err(red_err("writing reduced.op4".into()))?;
     let op4_path = dir.write_bytes("reduced.op4", &op4_bytes)?;
 
     let rows = punch_dofs(&model.dofs);
@@ -83,14 +84,19 @@ pub fn write_stored(model: &ReducedModel, dir: &RunDir) -> Result<StoredFiles, P
         .map(|m| {
             let vector = m.ncols == 1;
             DmigMatrix {
-                matrix: if vector { m.clone().with_form(MatrixForm::PseudoIdentity) } else { m.clone() },
+                matrix: if vector {
+                    m.clone().with_form(MatrixForm::PseudoIdentity)
+                } else {
+                    m.clone()
+                },
                 rows: rows.clone(),
                 cols: if vector { vec![(1, 0)] } else { rows.clone() },
             }
         })
         .collect();
     let drefs: Vec<&DmigMatrix> = dmig.iter().collect();
-    let text = punch::write_string(&drefs, &PunchWriteOptions::default()).map_err(red_err("writing reduced.pch".into()))?;
+    let text = punch::write_string(&drefs, &PunchWriteOptions::default())
+        .map_err(red_err("writing reduced.pch".into()))?;
     let pch_path = dir.write_bytes("reduced.pch", text.as_bytes())?;
     let map_path = dir.write_json("dofmap.json", &model.dofs)?;
     let gaps_path = dir.write_json("gaps.json", &model.gaps)?;
@@ -113,7 +119,10 @@ fn read_text(path: &Path) -> Result<String, PipelineError> {
 /// with header `pad_grid,rotor_grid,x,y,z,nx,ny,nz,area,p0,temperature`.
 fn read_gaps(path: &Path) -> Result<Vec<Gap>, PipelineError> {
     let text = read_text(path)?;
-    let bad = |message: String| PipelineError::Input { path: path.to_path_buf(), message };
+    let bad = |message: String| PipelineError::Input {
+        path: path.to_path_buf(),
+        message,
+    };
     if path.extension().and_then(|e| e.to_str()) == Some("csv") {
         let mut gaps = Vec::new();
         for (ln, line) in text.lines().enumerate().skip(1) {
@@ -122,18 +131,39 @@ fn read_gaps(path: &Path) -> Result<Vec<Gap>, PipelineError> {
             }
             let f: Vec<&str> = line.split(',').map(str::trim).collect();
             if f.len() != 11 {
-                return Err(bad(format!("line {}: {} fields, expected 11", ln + 1, f.len())));
+                return Err(bad(format!(
+                    "line {}: {} fields, expected 11",
+                    ln + 1,
+                    f.len()
+                )));
             }
             let num = |i: usize| -> Result<Real, PipelineError> {
-                f[i].parse().map_err(|_| bad(format!("line {}: field {} = `{}` is not a number", ln + 1, i + 1, f[i])))
+                f[i].parse().map_err(|_| {
+                    bad(format!(
+                        "line {}: field {} = `{}` is not a number",
+                        ln + 1,
+                        i + 1,
+                        f[i]
+                    ))
+                })
             };
             let id = |i: usize| -> Result<u64, PipelineError> {
-                f[i].parse().map_err(|_| bad(format!("line {}: field {} = `{}` is not a grid id", ln + 1, i + 1, f[i])))
+                f[i].parse().map_err(|_| {
+                    bad(format!(
+                        "line {}: field {} = `{}` is not a grid id",
+                        ln + 1,
+                        i + 1,
+                        f[i]
+                    ))
+                })
             };
             let nrm = [num(5)?, num(6)?, num(7)?];
             let len = nrm.iter().map(|x| x * x).sum::<Real>().sqrt();
             if !(len > 0.0 && len.is_finite()) {
-                return Err(bad(format!("line {}: normal {nrm:?} is zero or not finite", ln + 1)));
+                return Err(bad(format!(
+                    "line {}: normal {nrm:?} is zero or not finite",
+                    ln + 1
+                )));
             }
             gaps.push(Gap {
                 pad_node: id(0)?,
@@ -153,7 +183,8 @@ fn read_gaps(path: &Path) -> Result<Vec<Gap>, PipelineError> {
     if let Ok(set) = serde_json::from_str::<GapSet>(&text) {
         return Ok(set.gaps);
     }
-    serde_json::from_str::<Vec<Gap>>(&text).map_err(|e| bad(format!("not a gap table (GapSet or list of gaps): {e}")))
+    serde_json::from_str::<Vec<Gap>>(&text)
+        .map_err(|e| bad(format!("not a gap table (GapSet or list of gaps): {e}")))
 }
 
 /// Reads a stored reduced model as the scene's `[model]` says; the scene's `[rotor]` sets the
@@ -161,10 +192,12 @@ fn read_gaps(path: &Path) -> Result<Vec<Gap>, PipelineError> {
 pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
     let spec = &scene.model;
     let need = |p: &Option<std::path::PathBuf>, f: &str| {
-        p.as_ref().map(|p| scene.resolve(p)).ok_or_else(|| PipelineError::Scene {
-            field: format!("model.{f}"),
-            message: "required for a stored model".into(),
-        })
+        p.as_ref()
+            .map(|p| scene.resolve(p))
+            .ok_or_else(|| PipelineError::Scene {
+                field: format!("model.{f}"),
+                message: "required for a stored model".into(),
+            })
     };
     let mpath = need(&spec.matrices, "matrices")?;
     let dpath = need(&spec.dofmap, "dofmap")?;
@@ -191,21 +224,33 @@ pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
         _ => {
             let expected = punch_dofs(&dofs);
             // Rows are sorted by (id, comp) in the file; map them back to map order.
-            let pos: HashMap<(u64, u8), usize> = expected.iter().enumerate().map(|(i, &d)| (d, i)).collect();
+            let pos: HashMap<(u64, u8), usize> =
+                expected.iter().enumerate().map(|(i, &d)| (d, i)).collect();
             for d in punch::read(&mpath).map_err(red_err("reading the stored model".into()))? {
-                let a = d.matrix.as_real().cloned().ok_or_else(|| PipelineError::Input {
-                    path: mpath.clone(),
-                    message: format!("DMIG {} is complex", d.matrix.name),
-                })?;
+                let a = d
+                    .matrix
+                    .as_real()
+                    .cloned()
+                    .ok_or_else(|| PipelineError::Input {
+                        path: mpath.clone(),
+                        message: format!("DMIG {} is complex", d.matrix.name),
+                    })?;
                 let map_idx = |dof: &(u64, u8)| {
                     pos.get(dof).copied().ok_or_else(|| PipelineError::Input {
                         path: mpath.clone(),
-                        message: format!("DMIG {}: DOF ({}, {}) is not in the DOF map", d.matrix.name, dof.0, dof.1),
+                        message: format!(
+                            "DMIG {}: DOF ({}, {}) is not in the DOF map",
+                            d.matrix.name, dof.0, dof.1
+                        ),
                     })
                 };
                 let ri: Vec<usize> = d.rows.iter().map(map_idx).collect::<Result<_, _>>()?;
                 let vector = d.cols.len() == 1 && d.cols[0].1 == 0 && !pos.contains_key(&d.cols[0]);
-                let ci: Vec<usize> = if vector { vec![0] } else { d.cols.iter().map(map_idx).collect::<Result<_, _>>()? };
+                let ci: Vec<usize> = if vector {
+                    vec![0]
+                } else {
+                    d.cols.iter().map(map_idx).collect::<Result<_, _>>()?
+                };
                 let mut full = Mat::zeros(n, if vector { 1 } else { n });
                 for (i, &r) in ri.iter().enumerate() {
                     for (j, &c) in ci.iter().enumerate() {
@@ -235,7 +280,9 @@ pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
     let k = take("KR", true)?.unwrap_or_else(|| Mat::zeros(n, n));
     let m = take("MR", true)?.unwrap_or_else(|| Mat::zeros(n, n));
     let b = take("BR", false)?;
-    let p_brake = take("PBRAKE", false)?.map(|p| (0..n).map(|i| p[(i, 0)]).collect()).unwrap_or_else(|| vec![0.0; n]);
+    let p_brake = take("PBRAKE", false)?
+        .map(|p| (0..n).map(|i| p[(i, 0)]).collect())
+        .unwrap_or_else(|| vec![0.0; n]);
 
     let mut gaps = match &spec.gaps {
         Some(p) => read_gaps(&scene.resolve(p))?,
@@ -259,9 +306,11 @@ pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
         }
     }
     let friction = scene.friction.clone().unwrap_or_default();
-    let gaps = GapSet::new(gaps, friction.law, friction.vtol).map_err(|source| PipelineError::Contact {
-        what: "friction".into(),
-        source,
+    let gaps = GapSet::new(gaps, friction.law, friction.vtol).map_err(|source| {
+        PipelineError::Contact {
+            what: "friction".into(),
+            source,
+        }
     })?;
     let mut model = ReducedModel {
         k: symmetrise(&k),

@@ -11,7 +11,9 @@ use squeal_solver::bdf::{BdfOptions, InitialConditionOptions};
 use squeal_solver::bsql::SteadyOptions;
 
 fn mat_npy(dir: &RunDir, name: &str, a: &Mat<f64>) -> Result<(), PipelineError> {
-    let data: Vec<f64> = (0..a.nrows()).flat_map(|i| (0..a.ncols()).map(move |j| a[(i, j)])).collect();
+    let data: Vec<f64> = (0..a.nrows())
+        .flat_map(|i| (0..a.ncols()).map(move |j| a[(i, j)]))
+        .collect();
     write_npy(&dir.path(name), &data, a.ncols())
 }
 
@@ -75,8 +77,16 @@ pub fn export(
     mat_npy(dir, "K.npy", &p.k)?;
     mat_npy(dir, "G.npy", &p.g)?;
     let n = p.m.nrows();
-    let pre = if p.load.p_pre.is_empty() { vec![0.0; n] } else { p.load.p_pre.clone() };
-    let brake = if p.load.p_brake.is_empty() { vec![0.0; n] } else { p.load.p_brake.clone() };
+    let pre = if p.load.p_pre.is_empty() {
+        vec![0.0; n]
+    } else {
+        p.load.p_pre.clone()
+    };
+    let brake = if p.load.p_brake.is_empty() {
+        vec![0.0; n]
+    } else {
+        p.load.p_brake.clone()
+    };
     write_npy(&dir.path("p_pre.npy"), &pre, 1)?;
     write_npy(&dir.path("p_brake.npy"), &brake, 1)?;
     dir.write_json("gaps.json", gaps)?;

@@ -21,7 +21,10 @@ use crate::stages::model;
 use indicatif::{ProgressBar, ProgressStyle};
 use restart::RestartFile;
 use serde::Serialize;
-use squeal_solver::bdf::{consistent_initial_conditions, Bdf, BdfOptions, BdfStats, IcStats, InitialConditionOptions, Status};
+use squeal_solver::bdf::{
+    consistent_initial_conditions, Bdf, BdfOptions, BdfStats, IcStats, InitialConditionOptions,
+    Status,
+};
 use squeal_solver::bsql::{steady_state, BsqlStats, EnergyBalance, SteadyOptions};
 use squeal_solver::SolverError;
 use std::io::Write;
@@ -82,16 +85,26 @@ pub struct SteadySummary {
 }
 
 fn solver_err(what: &str) -> impl FnOnce(SolverError) -> PipelineError + '_ {
-    move |source| PipelineError::Solver { what: what.to_string(), source }
+    move |source| PipelineError::Solver {
+        what: what.to_string(),
+        source,
+    }
 }
 
-fn effects(scene: &Scene, model: &model::ReducedModel, p: &system::Problem) -> (Vec<String>, Vec<String>) {
+fn effects(
+    scene: &Scene,
+    model: &model::ReducedModel,
+    p: &system::Problem,
+) -> (Vec<String>, Vec<String>) {
     let mut on = Vec::new();
     let mut ignored = Vec::new();
     let law = &model.gaps.law;
     if !model.gaps.is_empty() {
         on.push(format!("contact ({} gaps)", model.gaps.len()));
-        on.push(format!("friction law {}", serde_json::to_string(law).unwrap_or_default()));
+        on.push(format!(
+            "friction law {}",
+            serde_json::to_string(law).unwrap_or_default()
+        ));
         if law.depends_on_speed() {
             on.push("friction: speed dependence dmu/dv".into());
         }
@@ -101,19 +114,29 @@ fn effects(scene: &Scene, model: &model::ReducedModel, p: &system::Problem) -> (
         if law.depends_on_temperature() {
             on.push("friction: temperature lookups".into());
         } else if model.gaps.gaps.iter().any(|g| g.temperature != 0.0) {
-            ignored.push("gap temperatures: the friction law does not depend on temperature".into());
+            ignored
+                .push("gap temperatures: the friction law does not depend on temperature".into());
         }
         if model.gaps.gaps.iter().any(|g| g.p0 != 0.0) {
             on.push("preload P0".into());
         }
-        if model.gaps.gaps.iter().any(|g| g.v_slide.iter().any(|&v| v != 0.0)) {
+        if model
+            .gaps
+            .gaps
+            .iter()
+            .any(|g| g.v_slide.iter().any(|&v| v != 0.0))
+        {
             on.push("rotor sliding velocity".into());
         }
     } else if scene.friction.is_some() {
         ignored.push("[friction]: the model has no gaps".into());
     }
     if p.load.p_brake.iter().any(|&x| x != 0.0) {
-        on.push(if p.load.step { "brake load (step)".into() } else { format!("brake load (ramp over {})", p.load.t_load) });
+        on.push(if p.load.step {
+            "brake load (step)".into()
+        } else {
+            format!("brake load (ramp over {})", p.load.t_load)
+        });
     }
     if let Some(d) = &scene.damping {
         if d.overall_factor() != 0.0 {
@@ -135,7 +158,12 @@ fn effects(scene: &Scene, model: &model::ReducedModel, p: &system::Problem) -> (
 }
 
 /// Runs the transient; `export_dae` also writes the problem as data into that folder.
-pub fn run(scene: &Scene, dir: &RunDir, progress: Progress, export_dae: Option<&Path>) -> Result<TransientReport, PipelineError> {
+pub fn run(
+    scene: &Scene,
+    dir: &RunDir,
+    progress: Progress,
+    export_dae: Option<&Path>,
+) -> Result<TransientReport, PipelineError> {
     let wall = Instant::now();
     let spec = scene.transient.clone().unwrap_or_default();
     dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
@@ -152,11 +180,25 @@ pub fn run(scene: &Scene, dir: &RunDir, progress: Progress, export_dae: Option<&
         max_steps: spec.max_steps,
         ..BdfOptions::default()
     };
-    let ic_opts = InitialConditionOptions { tol: spec.tolint, ..Default::default() };
-    let steady_opts = SteadyOptions { tol: spec.tolint, ..Default::default() };
+    let ic_opts = InitialConditionOptions {
+        tol: spec.tolint,
+        ..Default::default()
+    };
+    let steady_opts = SteadyOptions {
+        tol: spec.tolint,
+        ..Default::default()
+    };
     if let Some(d) = export_dae {
         let edir = RunDir::create(d)?;
-        export::export(&edir, &problem, &model.gaps, &bdf_opts, &ic_opts, &steady_opts, spec.tfinal)?;
+        export::export(
+            &edir,
+            &problem,
+            &model.gaps,
+            &bdf_opts,
+            &ic_opts,
+            &steady_opts,
+            spec.tfinal,
+        )?;
         progress.info(format!("exported the DAE to {}", d.display()));
     }
 
@@ -165,19 +207,26 @@ pub fn run(scene: &Scene, dir: &RunDir, progress: Progress, export_dae: Option<&
         Some(p) => {
             let path = scene.resolve(p);
             let r = RestartFile::read(&path, &model_hash, n, ng)?;
-            let bdf = Bdf::from_state(bdf_opts.clone(), r.state).map_err(solver_err("restart state"))?;
+            let bdf =
+                Bdf::from_state(bdf_opts.clone(), r.state).map_err(solver_err("restart state"))?;
             (bdf, None, None, Some(path.display().to_string()))
         }
         None => {
             // t = −1 < 0: the ramp is 0, so the state is the sliding equilibrium under P0 alone.
-            let ss = steady_state(&mut sys, -1.0, &steady_opts).map_err(solver_err("steady state"))?;
+            let ss =
+                steady_state(&mut sys, -1.0, &steady_opts).map_err(solver_err("steady state"))?;
             let (mut y0, mut yp0) = ss.initial_values();
-            let ic = consistent_initial_conditions(&mut sys, 0.0, &mut y0, &mut yp0, None, &ic_opts)
-                .map_err(solver_err("consistent initial conditions"))?;
-            let bdf = Bdf::new(bdf_opts.clone(), 0.0, &y0, &yp0).map_err(solver_err("integrator"))?;
+            let ic =
+                consistent_initial_conditions(&mut sys, 0.0, &mut y0, &mut yp0, None, &ic_opts)
+                    .map_err(solver_err("consistent initial conditions"))?;
+            let bdf =
+                Bdf::new(bdf_opts.clone(), 0.0, &y0, &yp0).map_err(solver_err("integrator"))?;
             (
                 bdf,
-                Some(SteadySummary { iterations: ss.iterations, residual_norm: ss.residual_norm }),
+                Some(SteadySummary {
+                    iterations: ss.iterations,
+                    residual_norm: ss.residual_norm,
+                }),
                 Some(ic),
                 None,
             )
@@ -193,12 +242,32 @@ pub fn run(scene: &Scene, dir: &RunDir, progress: Progress, export_dae: Option<&
 
     // Outputs.
     let cols = records::columns(scene, &model)?;
-    dir.write_json("history_map.json", &HistoryMap { n_columns: cols.len(), noutpt: spec.noutpt, columns: cols.clone() })?;
+    dir.write_json(
+        "history_map.json",
+        &HistoryMap {
+            n_columns: cols.len(),
+            noutpt: spec.noutpt,
+            columns: cols.clone(),
+        },
+    )?;
     let mut history = NpyAppender::create(&dir.path("history.npy"), cols.len())?;
     let energy_path = dir.path("energy.csv");
-    let mut energy = std::io::BufWriter::new(std::fs::File::create(&energy_path).map_err(|source| PipelineError::Io { path: energy_path.clone(), source })?);
-    let eio = |source| PipelineError::Io { path: energy_path.clone(), source };
-    writeln!(energy, "t,kinetic,strain,damping_dissipation,friction_work,external_work,constraint_work,balance").map_err(eio)?;
+    let mut energy =
+        std::io::BufWriter::new(std::fs::File::create(&energy_path).map_err(|source| {
+            PipelineError::Io {
+                path: energy_path.clone(),
+                source,
+            }
+        })?);
+    let eio = |source| PipelineError::Io {
+        path: energy_path.clone(),
+        source,
+    };
+    writeln!(
+        energy,
+        "t,kinetic,strain,damping_dissipation,friction_work,external_work,constraint_work,balance"
+    )
+    .map_err(eio)?;
     let vel_cols: Vec<(usize, usize)> = cols
         .iter()
         .filter(|c| c.kind == RecordKind::Velocity)
@@ -206,15 +275,30 @@ pub fn run(scene: &Scene, dir: &RunDir, progress: Progress, export_dae: Option<&
         .collect();
     let resp_dof: Option<usize> = match &scene.output.response {
         Some(r) => {
-            let comp = match r.dof.as_str() { "x" => 1, "y" => 2, _ => 3 };
-            Some(*model.grid_index().get(&squeal_reduction::superelement::DofKey { grid: r.grid, comp }).ok_or_else(|| PipelineError::Scene {
-                field: "output.response".into(),
-                message: format!("grid {} {} is not a DOF of the reduced model", r.grid, r.dof),
-            })?)
+            let comp = match r.dof.as_str() {
+                "x" => 1,
+                "y" => 2,
+                _ => 3,
+            };
+            Some(
+                *model
+                    .grid_index()
+                    .get(&squeal_reduction::superelement::DofKey { grid: r.grid, comp })
+                    .ok_or_else(|| PipelineError::Scene {
+                        field: "output.response".into(),
+                        message: format!(
+                            "grid {} {} is not a DOF of the reduced model",
+                            r.grid, r.dof
+                        ),
+                    })?,
+            )
         }
         None => None,
     };
-    let resp_dofs: Vec<usize> = match resp_dof { Some(d) => vec![d], None => vel_cols.iter().map(|c| c.1).collect() };
+    let resp_dofs: Vec<usize> = match resp_dof {
+        Some(d) => vec![d],
+        None => vel_cols.iter().map(|c| c.1).collect(),
+    };
     let mut resp_t: Vec<f64> = Vec::new();
     let mut resp_v: Vec<Vec<f64>> = vec![Vec::new(); resp_dofs.len()];
 
@@ -226,9 +310,12 @@ pub fn run(scene: &Scene, dir: &RunDir, progress: Progress, export_dae: Option<&
     // The initial point.
     {
         let (y, yp) = (bdf.y().to_vec(), bdf.yp().to_vec());
-        let p = sys.observe(t_start, &y, &yp).map_err(solver_err("energy"))?;
+        let p = sys
+            .observe(t_start, &y, &yp)
+            .map_err(solver_err("energy"))?;
         balance.push(&p);
-        records::fill_row(&cols, &gaps, n, t_start, &y, &yp, &mut row).map_err(PipelineError::Model)?;
+        records::fill_row(&cols, &gaps, n, t_start, &y, &yp, &mut row)
+            .map_err(PipelineError::Model)?;
         history.push(&row)?;
         resp_t.push(t_start);
         for (k, &d) in resp_dofs.iter().enumerate() {
@@ -237,7 +324,10 @@ pub fn run(scene: &Scene, dir: &RunDir, progress: Progress, export_dae: Option<&
     }
     let bar = (!progress.quiet).then(|| {
         let b = ProgressBar::new(1000);
-        b.set_style(ProgressStyle::with_template("{bar:40} {msg} [{elapsed}]").unwrap_or_else(|_| ProgressStyle::default_bar()));
+        b.set_style(
+            ProgressStyle::with_template("{bar:40} {msg} [{elapsed}]")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
         b
     });
     let restart_path = dir.path("restart.json");
@@ -292,8 +382,14 @@ pub fn run(scene: &Scene, dir: &RunDir, progress: Progress, export_dae: Option<&
                 Ok(in_chunk < CHUNK && !restart_due)
             })
             .map_err(|source| match out_err.take() {
-                Some(m) => PipelineError::Output { path: dir.path("history.npy"), message: m },
-                None => PipelineError::Solver { what: "integration".into(), source },
+                Some(m) => PipelineError::Output {
+                    path: dir.path("history.npy"),
+                    message: m,
+                },
+                None => PipelineError::Solver {
+                    what: "integration".into(),
+                    source,
+                },
             });
         let st = match st {
             Ok(st) => st,
@@ -306,8 +402,16 @@ pub fn run(scene: &Scene, dir: &RunDir, progress: Progress, export_dae: Option<&
         history.flush()?;
         energy.flush().map_err(eio)?;
         if let Some(b) = &bar {
-            b.set_position((1000.0 * (bdf.t() - t_start) / (spec.tfinal - t_start)).clamp(0.0, 1000.0) as u64);
-            b.set_message(format!("t = {:.4e}, h = {:.2e}, order {}, steps {}", bdf.t(), bdf.state().h, bdf.state().order, steps_done));
+            b.set_position(
+                (1000.0 * (bdf.t() - t_start) / (spec.tfinal - t_start)).clamp(0.0, 1000.0) as u64,
+            );
+            b.set_message(format!(
+                "t = {:.4e}, h = {:.2e}, order {}, steps {}",
+                bdf.t(),
+                bdf.state().h,
+                bdf.state().order,
+                steps_done
+            ));
         }
         match st {
             Status::Interrupted { .. } => {
@@ -324,7 +428,8 @@ pub fn run(scene: &Scene, dir: &RunDir, progress: Progress, export_dae: Option<&
     write_restart(&bdf)?;
     if status.is_success() {
         let (y, yp) = (bdf.y().to_vec(), bdf.yp().to_vec());
-        records::fill_row(&cols, &gaps, n, spec.tfinal, &y, &yp, &mut row).map_err(PipelineError::Model)?;
+        records::fill_row(&cols, &gaps, n, spec.tfinal, &y, &yp, &mut row)
+            .map_err(PipelineError::Model)?;
         history.push(&row)?;
         history.flush()?;
     } else {
@@ -337,7 +442,11 @@ pub fn run(scene: &Scene, dir: &RunDir, progress: Progress, export_dae: Option<&
         .iter()
         .enumerate()
         .map(|(k, v)| {
-            let peak = resp_t.iter().zip(v).filter(|(t, _)| **t > t_after).fold(0.0f64, |m, (_, x)| m.max(x.abs()));
+            let peak = resp_t
+                .iter()
+                .zip(v)
+                .filter(|(t, _)| **t > t_after)
+                .fold(0.0f64, |m, (_, x)| m.max(x.abs()));
             (k, peak)
         })
         .max_by(|a, b| a.1.total_cmp(&b.1))
@@ -346,7 +455,10 @@ pub fn run(scene: &Scene, dir: &RunDir, progress: Progress, export_dae: Option<&
     let response = match pick {
         Some(k) => {
             let d = resp_dofs[k];
-            cols.iter().find(|c| c.kind == RecordKind::Velocity && c.dof == Some(d)).map(|c| c.name.clone()).unwrap_or_else(|| format!("v_dof{d}"))
+            cols.iter()
+                .find(|c| c.kind == RecordKind::Velocity && c.dof == Some(d))
+                .map(|c| c.name.clone())
+                .unwrap_or_else(|| format!("v_dof{d}"))
         }
         None => "none".into(),
     };
@@ -360,7 +472,9 @@ pub fn run(scene: &Scene, dir: &RunDir, progress: Progress, export_dae: Option<&
         steps: stats.steps,
         cpu_s: stats.cpu_s,
         wall_s: wall.elapsed().as_secs_f64(),
-        squeal: verdict.growth_rate_per_s.is_some_and(|g| g > scene.output.squeal_growth_threshold),
+        squeal: verdict
+            .growth_rate_per_s
+            .is_some_and(|g| g > scene.output.squeal_growth_threshold),
         growth_rate_per_s: verdict.growth_rate_per_s,
         dominant_frequency_hz: verdict.dominant_frequency_hz,
         response,

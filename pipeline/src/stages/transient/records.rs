@@ -40,7 +40,14 @@ pub fn columns(scene: &Scene, model: &ReducedModel) -> Result<Vec<Column>, Pipel
     let mut missing = Vec::new();
     for &grid in &grids {
         let dofs: Vec<(usize, usize)> = (0..3)
-            .filter_map(|c| index.get(&DofKey { grid, comp: c as u8 + 1 }).map(|&i| (c, i)))
+            .filter_map(|c| {
+                index
+                    .get(&DofKey {
+                        grid,
+                        comp: c as u8 + 1,
+                    })
+                    .map(|&i| (c, i))
+            })
             .collect();
         if dofs.is_empty() {
             missing.push(grid);
@@ -73,7 +80,11 @@ pub fn columns(scene: &Scene, model: &ReducedModel) -> Result<Vec<Column>, Pipel
         });
     }
     let ng = model.gaps.len();
-    let gaps: Vec<usize> = scene.output.gaps.clone().unwrap_or_else(|| (0..ng).collect());
+    let gaps: Vec<usize> = scene
+        .output
+        .gaps
+        .clone()
+        .unwrap_or_else(|| (0..ng).collect());
     if let Some(&bad) = gaps.iter().find(|&&g| g >= ng) {
         return Err(PipelineError::Scene {
             field: "output.gaps".into(),
@@ -103,7 +114,15 @@ pub fn columns(scene: &Scene, model: &ReducedModel) -> Result<Vec<Column>, Pipel
 }
 
 /// Values of every column at (t, y, y'), y = {v, λ, u}; `row` gets one value per column.
-pub fn fill_row(cols: &[Column], gaps: &GapSet, n: usize, t: Real, y: &[Real], yp: &[Real], row: &mut Vec<Real>) -> Result<(), String> {
+pub fn fill_row(
+    cols: &[Column],
+    gaps: &GapSet,
+    n: usize,
+    t: Real,
+    y: &[Real],
+    yp: &[Real],
+    row: &mut Vec<Real>,
+) -> Result<(), String> {
     let ng = gaps.len();
     let v = &y[..n];
     let u = &y[n + ng..];

@@ -14,10 +14,19 @@ pub struct GapFriction {
 }
 
 impl FrictionForces for GapFriction {
-    fn add_forces(&mut self, t: Real, v: &[Real], lambda_dot: &[Real], f: &mut [Real]) -> Result<(), SolverError> {
+    fn add_forces(
+        &mut self,
+        t: Real,
+        v: &[Real],
+        lambda_dot: &[Real],
+        f: &mut [Real],
+    ) -> Result<(), SolverError> {
         self.set
             .add_forces(v, lambda_dot, f)
-            .map_err(|e| SolverError::Callback { t, message: e.to_string() })
+            .map_err(|e| SolverError::Callback {
+                t,
+                message: e.to_string(),
+            })
     }
     fn add_tangents(
         &mut self,
@@ -29,7 +38,10 @@ impl FrictionForces for GapFriction {
     ) -> Result<(), SolverError> {
         self.set
             .add_tangents(v, lambda_dot, d_dlam, d_dv)
-            .map_err(|e| SolverError::Callback { t, message: e.to_string() })
+            .map_err(|e| SolverError::Callback {
+                t,
+                message: e.to_string(),
+            })
     }
 }
 
@@ -62,8 +74,12 @@ pub fn damping_matrix(scene: &Scene, model: &ReducedModel) -> Result<Mat<Real>, 
         }
     }
     if d.modal_ratio > 0.0 {
-        let (vals, phi) = squeal_reduction::cb::dense_generalized_eigen(model.k.as_ref(), model.m.as_ref())
-            .map_err(|source| PipelineError::Reduction { what: "modal damping: modes of the reduced model".into(), source })?;
+        let (vals, phi) =
+            squeal_reduction::cb::dense_generalized_eigen(model.k.as_ref(), model.m.as_ref())
+                .map_err(|source| PipelineError::Reduction {
+                    what: "modal damping: modes of the reduced model".into(),
+                    source,
+                })?;
         let lmax = vals.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let mphi = &model.m * &phi;
         for (q, &l) in vals.iter().enumerate() {
@@ -85,10 +101,13 @@ pub fn damping_matrix(scene: &Scene, model: &ReducedModel) -> Result<Mat<Real>, 
 /// Assembles the problem from the model and the scene's loads, damping and options.
 pub fn problem(scene: &Scene, model: &ReducedModel) -> Result<Problem, PipelineError> {
     let n = model.n();
-    let g = model.gaps.constraint_matrix(n).map_err(|source| PipelineError::Contact {
-        what: "constraint matrix G".into(),
-        source,
-    })?;
+    let g = model
+        .gaps
+        .constraint_matrix(n)
+        .map_err(|source| PipelineError::Contact {
+            what: "constraint matrix G".into(),
+            source,
+        })?;
     let loads = scene.loads.clone().unwrap_or_default();
     let t = scene.transient.clone().unwrap_or_default();
     let load = LoadHistory {
@@ -121,7 +140,10 @@ impl Problem {
             GapFriction { set: gaps },
             self.bsql.clone(),
         )
-        .map_err(|source| PipelineError::Solver { what: "building the BSQL system".into(), source })
+        .map_err(|source| PipelineError::Solver {
+            what: "building the BSQL system".into(),
+            source,
+        })
     }
 
     /// FNV-1a hash of n, ng and M, K, G (values rounded to 12 significant digits): a restart

@@ -45,7 +45,11 @@ pub fn analyse(t: &[Real], x: &[Real], t_after: Real) -> Verdict {
     let pk = peaks(t, x);
     let (pt, pv): (Vec<Real>, Vec<Real>) = pk.iter().map(|&(a, b)| (a, b.ln())).unzip();
     let growth = if pk.len() >= 3 { slope(&pt, &pv) } else { None };
-    let mean = if x.is_empty() { 0.0 } else { x.iter().sum::<Real>() / x.len() as Real };
+    let mean = if x.is_empty() {
+        0.0
+    } else {
+        x.iter().sum::<Real>() / x.len() as Real
+    };
     let mut crossings = Vec::new();
     for i in 1..x.len() {
         let (a, b) = (x[i - 1] - mean, x[i] - mean);
@@ -63,7 +67,10 @@ pub fn analyse(t: &[Real], x: &[Real], t_after: Real) -> Verdict {
         growth_rate_per_s: growth,
         dominant_frequency_hz: freq,
         n_peaks: pk.len(),
-        window: [t.first().copied().unwrap_or(0.0), t.last().copied().unwrap_or(0.0)],
+        window: [
+            t.first().copied().unwrap_or(0.0),
+            t.last().copied().unwrap_or(0.0),
+        ],
     }
 }
 
@@ -76,10 +83,19 @@ mod tests {
     fn growth_and_frequency_of_a_growing_sine() {
         let (sigma, f) = (3.0, 50.0);
         let t: Vec<Real> = (0..20000).map(|i| i as Real * 1e-5).collect();
-        let x: Vec<Real> = t.iter().map(|&s| (sigma * s).exp() * (2.0 * std::f64::consts::PI * f * s).sin()).collect();
+        let x: Vec<Real> = t
+            .iter()
+            .map(|&s| (sigma * s).exp() * (2.0 * std::f64::consts::PI * f * s).sin())
+            .collect();
         let v = analyse(&t, &x, 0.0);
-        assert!((v.growth_rate_per_s.unwrap() - sigma).abs() < 0.01 * sigma, "{v:?}");
-        assert!((v.dominant_frequency_hz.unwrap() - f).abs() < 1e-3 * f, "{v:?}");
+        assert!(
+            (v.growth_rate_per_s.unwrap() - sigma).abs() < 0.01 * sigma,
+            "{v:?}"
+        );
+        assert!(
+            (v.dominant_frequency_hz.unwrap() - f).abs() < 1e-3 * f,
+            "{v:?}"
+        );
         let flat = analyse(&t[..5], &x[..5], 0.0);
         assert!(flat.growth_rate_per_s.is_none());
     }
