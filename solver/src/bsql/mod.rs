@@ -13,7 +13,7 @@
 
 pub mod energy;
 pub mod jacobian;
-mod lu;
+
 pub mod residual;
 pub mod steady;
 
@@ -152,7 +152,7 @@ pub struct BsqlSystem<F: FrictionForces> {
     pub(crate) d_dlam: Mat<Real>,
     pub(crate) d_dv: Mat<Real>,
     pub(crate) rhs: Vec<Real>,
-    pub(crate) lu: lu::DenseLu,
+    pub(crate) lu: crate::linalg::lu::DenseLu,
     factored: Factored,
 }
 
@@ -216,7 +216,7 @@ impl<F: FrictionForces> BsqlSystem<F> {
             d_dlam: Mat::zeros(n, ng),
             d_dv,
             rhs: vec![0.0; n + ng],
-            lu: lu::DenseLu::new(n + ng),
+            lu: crate::linalg::lu::DenseLu::new(n + ng),
             factored: Factored::None,
         })
     }

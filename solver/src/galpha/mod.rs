@@ -32,7 +32,7 @@
 //! - [`spectral`]: amplification matrix and algorithmic damping (the theory the tests check).
 
 pub mod initial;
-mod lu;
+
 pub mod options;
 pub mod spectral;
 pub mod step;

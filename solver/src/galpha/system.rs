@@ -7,8 +7,8 @@
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 
-use super::lu::DenseLu;
 use crate::bsql::{FrictionForces, LoadHistory};
+use crate::linalg::lu::DenseLu;
 use crate::{Real, SolverError};
 
 /// y ← β·y + α·A x (β = 0 for `Accum::Replace`, 1 for `Accum::Add`).

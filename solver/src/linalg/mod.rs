@@ -1,0 +1,3 @@
+//! Dense linear-algebra kernels shared by the integrators.
+
+pub(crate) mod lu;
