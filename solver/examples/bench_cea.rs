@@ -10,8 +10,6 @@
 //!     [--exact-points 4] [--f-max-hz 0.6] [--cutoff-factor 2.5] [--n-basis 100 | --n-basis 0]
 //! ```
 //! (`--n-basis 0`: no count limit, the cutoff alone decides.)
-//! ```text
-//! ```
 
 use faer::Mat;
 use serde_json::{json, Value};
