@@ -31,7 +31,7 @@ impl Axis {
     }
 
     /// The value at position `f` (inverse of [`Axis::frac`]).
-    pub fn from_frac(&self, f: f64) -> f64 {
+    pub fn value_at(&self, f: f64) -> f64 {
         let (a, b) = (self.t(self.lo), self.t(self.hi));
         let s = a + f * (b - a);
         if self.log {
@@ -205,7 +205,7 @@ fn linear_ticks(lo: f64, hi: f64, max_n: usize) -> (Vec<f64>, f64) {
 }
 
 fn multiples(lo: f64, hi: f64, step: f64) -> Vec<f64> {
-    if !(step > 0.0) || !step.is_finite() {
+    if step.is_nan() || step <= 0.0 || !step.is_finite() {
         return Vec::new();
     }
     let k0 = (lo / step - 1e-9).ceil() as i64;
@@ -284,7 +284,7 @@ mod tests {
         assert_eq!(t.len(), 6); // 1e-6 .. 1e-1
         assert_eq!(a.format_tick(t[0]), "10⁻⁶");
         assert!((a.frac(1e-6) - (1e-6f64 / 3e-7).log10() / (2e-1f64 / 3e-7).log10()).abs() < 1e-12);
-        assert!((a.from_frac(a.frac(1e-3)) - 1e-3).abs() < 1e-15);
+        assert!((a.value_at(a.frac(1e-3)) - 1e-3).abs() < 1e-15);
     }
 
     #[test]

@@ -7,7 +7,7 @@ use super::axis::Axis;
 /// frame (Liang–Barsky per segment, in axis-fraction space so log axes clip correctly).
 pub(crate) fn clip_polyline(x: &[f64], y: &[f64], xa: &Axis, ya: &Axis) -> Vec<Vec<(f64, f64)>> {
     let to_frac = |i: usize| (xa.frac(x[i]), ya.frac(y[i]));
-    let back = |(u, v): (f64, f64)| (xa.from_frac(u), ya.from_frac(v));
+    let back = |(u, v): (f64, f64)| (xa.value_at(u), ya.value_at(v));
     let mut pieces: Vec<Vec<(f64, f64)>> = Vec::new();
     let mut current: Vec<(f64, f64)> = Vec::new();
     let n = x.len().min(y.len());

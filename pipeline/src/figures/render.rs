@@ -316,7 +316,11 @@ fn legend_corner(fig: &Figure, xa: &Axis, ya: &Axis) -> SeriesLabelPosition {
     let n_labels = fig.series.iter().filter(|s| !s.label.is_empty()).count() as f64;
     let (w, h) = (0.35, (0.07 * n_labels + 0.05).min(0.6));
     let corners = [
-        (SeriesLabelPosition::UpperRight, (1.0 - w, 1.0), (1.0 - h, 1.0)),
+        (
+            SeriesLabelPosition::UpperRight,
+            (1.0 - w, 1.0),
+            (1.0 - h, 1.0),
+        ),
         (SeriesLabelPosition::UpperLeft, (0.0, w), (1.0 - h, 1.0)),
         (SeriesLabelPosition::LowerRight, (1.0 - w, 1.0), (0.0, h)),
         (SeriesLabelPosition::LowerLeft, (0.0, w), (0.0, h)),
@@ -326,7 +330,10 @@ fn legend_corner(fig: &Figure, xa: &Axis, ya: &Axis) -> SeriesLabelPosition {
             let (u, v) = (xa.frac(*x), ya.frac(*y));
             u >= u0 && u <= u1 && v >= v0 && v <= v1
         };
-        fig.series.iter().map(|s| s.x.iter().zip(&s.y).filter(|p| inside(*p)).count()).sum::<usize>()
+        fig.series
+            .iter()
+            .map(|s| s.x.iter().zip(&s.y).filter(|p| inside(*p)).count())
+            .sum::<usize>()
     };
     let mut best = (usize::MAX, SeriesLabelPosition::UpperRight);
     for (pos, xr, yr) in corners {

@@ -4,7 +4,10 @@
 //! Hann window; zero padding to `zero_pad ×` the next power of two; radix-2 FFT
 //! ([`super::fft_in_place`]); single-sided amplitude scaled so that a sine of amplitude `A` at a
 //! bin centre reads `A`; peaks = local maxima, refined by a parabola through the logarithms of
-//! the three highest bins (exact for a Gaussian lobe, close for Hann's).
+//! the three highest bins (exact for a Gaussian lobe, close for Hann's); a peak that may be a
+//! side lobe of a larger one (within 2 resolution bins `1/T` of it, or under 3× Hann's
+//! side-lobe envelope 0.0266·(2.36/δ)³ at δ bins) is dropped. Two components closer than about
+//! 2.4/T cannot be told apart.
 //!
 //! Linear interpolation attenuates a sine of angular frequency ω sampled at step `h` by at most
 //! about (ωh)²/8: sample the signal at ≥ 20 points per period of the highest frequency wanted.
@@ -26,9 +29,8 @@ pub struct SpectrumOptions {
     pub zero_pad: usize,
     /// Number of peaks reported, largest first (default: 5).
     pub n_peaks: usize,
-    /// Peaks below this fraction of the largest are not reported (default: 0.03, just above
-    /// the Hann window's highest side lobe, −31.5 dB = 0.0266, so that side lobes of a strong
-    /// peak are not taken for peaks).
+    /// Peaks below this fraction of the largest are not reported (default: 1e-3, −60 dB).
+    /// Side lobes of a larger peak are never reported (see [`amplitude_spectrum`]).
     pub min_peak_ratio: f64,
     /// Highest frequency searched for peaks and plotted (default: `None`, the Nyquist frequency).
     pub f_max_hz: Option<f64>,
@@ -40,7 +42,7 @@ impl Default for SpectrumOptions {
             n_samples: None,
             zero_pad: 4,
             n_peaks: 5,
-            min_peak_ratio: 0.03,
+            min_peak_ratio: 1e-3,
             f_max_hz: None,
         }
     }
@@ -167,7 +169,8 @@ pub fn amplitude_spectrum(
         })
         .collect();
     let f_max = options.f_max_hz.unwrap_or(f64::INFINITY);
-    let peaks = find_peaks(&amplitude, df_hz, f_max, options);
+    let resolution_hz = 1.0 / (n as f64 * dt);
+    let peaks = find_peaks(&amplitude, df_hz, resolution_hz, f_max, options);
     Ok(Spectrum {
         freq_hz,
         amplitude,
@@ -179,7 +182,14 @@ pub fn amplitude_spectrum(
     })
 }
 
-fn find_peaks(a: &[f64], df: f64, f_max: f64, options: &SpectrumOptions) -> Vec<Peak> {
+/// Local maxima of `a` up to `f_max`, refined, largest first, side lobes removed.
+fn find_peaks(
+    a: &[f64],
+    df: f64,
+    resolution_hz: f64,
+    f_max: f64,
+    options: &SpectrumOptions,
+) -> Vec<Peak> {
     let last = a.len().saturating_sub(1).min((f_max / df).floor() as usize);
     let top = a[..=last].iter().copied().fold(0.0f64, f64::max);
     let mut peaks: Vec<Peak> = (1..last)
@@ -207,8 +217,33 @@ fn find_peaks(a: &[f64], df: f64, f_max: f64, options: &SpectrumOptions) -> Vec<
         })
         .collect();
     peaks.sort_by(|p, q| q.amplitude.total_cmp(&p.amplitude));
-    peaks.truncate(options.n_peaks);
-    peaks
+    let mut kept: Vec<Peak> = Vec::with_capacity(options.n_peaks);
+    for q in peaks {
+        if kept.len() == options.n_peaks {
+            break;
+        }
+        if !kept.iter().any(|p| is_side_lobe(q, *p, resolution_hz)) {
+            kept.push(q);
+        }
+    }
+    kept
+}
+
+/// Highest side lobe of the Hann window relative to its main lobe (−31.5 dB)...
+const HANN_SIDE_LOBE: f64 = 0.0266;
+/// ...at this distance from the main lobe's centre, in resolution bins `1/T`.
+const HANN_SIDE_LOBE_BINS: f64 = 2.36;
+/// Margin over the side-lobe envelope (non-stationary signals, interpolation errors).
+const SIDE_LOBE_MARGIN: f64 = 3.0;
+
+/// Whether `q` may be a side lobe of the larger peak `p`: within the main lobe (2 resolution
+/// bins), or below `SIDE_LOBE_MARGIN ×` Hann's side-lobe envelope, which falls off as δ⁻³
+/// (18 dB per octave) with the distance δ in resolution bins.
+fn is_side_lobe(q: Peak, p: Peak, resolution_hz: f64) -> bool {
+    let d = (q.freq_hz - p.freq_hz).abs() / resolution_hz;
+    d < 2.0
+        || q.amplitude
+            < SIDE_LOBE_MARGIN * HANN_SIDE_LOBE * (HANN_SIDE_LOBE_BINS / d).powi(3) * p.amplitude
 }
 
 /// The spectrum figure of `y(t)` (amplitude vs frequency up to `f_max_hz`, peaks marked) and
