@@ -22,6 +22,16 @@ fn peak_rss_mb() -> Option<f64> {
     Some(kb / 1024.0)
 }
 
+/// User + system CPU seconds of the process so far (all threads), from /proc/self/stat
+/// (assumes 100 clock ticks per second).
+fn cpu_s() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let rest = &s[s.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
 /// Resets VmHWM to the current RSS (Linux ≥ 4.0); false if not possible.
 fn reset_peak_rss() -> bool {
     std::fs::write("/proc/self/clear_refs", "5").is_ok()
@@ -99,6 +109,27 @@ fn main() -> anyhow::Result<()> {
         ],
     };
 
+    if args.iter().any(|a| a == "--fill-only") {
+        // Symbolic factorisations only: fill and flops of AMD and of ND per leaf size.
+        let t = Instant::now();
+        let amd = squeal_fe::ordering::cholesky_fill(asm.k.symbolic(), None)?;
+        let mut rows = vec![serde_json::json!({"ordering": "amd", "fill": amd,
+                                               "symbolic_s": t.elapsed().as_secs_f64()})];
+        for leaf in [16, 32, 64, 96, 128, 192, 256, 384] {
+            let o = NestedDissectionOptions {
+                leaf_nodes: leaf,
+                ..base.nested_dissection
+            };
+            let (p, nd) = nested_dissection(asm.k.symbolic(), &coords, &o)?;
+            let fill = squeal_fe::ordering::cholesky_fill(asm.k.symbolic(), Some(&p))?;
+            rows.push(
+                serde_json::json!({"ordering": "nested_dissection", "leaf_nodes": leaf,
+                                         "fill": fill, "nd": nd}),
+            );
+        }
+        println!("{}", serde_json::to_string_pretty(&rows)?);
+        return Ok(());
+    }
     let mut runs = Vec::new();
     let mut freqs: Vec<(String, Vec<f64>)> = Vec::new();
     for r in 0..repeat {
@@ -112,14 +143,21 @@ fn main() -> anyhow::Result<()> {
                 ..base.clone()
             };
             let rss_reset = reset_peak_rss();
-            let t = Instant::now();
+            let (t, c0) = (Instant::now(), cpu_s());
             let modes = solve_modes_with(&asm.k, &asm.m, &opts, Some(&coords))?;
             let solve_total = t.elapsed().as_secs_f64();
+            let cpu = c0.zip(cpu_s()).map(|(a, b)| b - a);
             let s = &modes.stats;
             eprintln!(
                 "repeat {r} {name}: nnz(L) {} factor {:.2} s lanczos {:.2} s (solves {:.2} s) \
-                 total {:.2} s, residual {:.1e}",
-                s.factor_nnz, s.factor_s, s.lanczos_s, s.solve_s, solve_total, s.max_residual
+                 total {:.2} s (cpu {:.2} s), residual {:.1e}",
+                s.factor_nnz,
+                s.factor_s,
+                s.lanczos_s,
+                s.solve_s,
+                solve_total,
+                cpu.unwrap_or(f64::NAN),
+                s.max_residual
             );
             runs.push(serde_json::json!({
                 "repeat": r,
@@ -130,6 +168,7 @@ fn main() -> anyhow::Result<()> {
                 "lanczos_s": s.lanczos_s,
                 "solve_s": s.solve_s,
                 "total_s": solve_total,
+                "cpu_s": cpu,
                 "peak_rss_mb": if rss_reset { peak_rss_mb() } else { None },
                 "status": modes.status,
                 "modal": modes.stats,
@@ -153,6 +192,7 @@ fn main() -> anyhow::Result<()> {
         "lanczos_s",
         "solve_s",
         "total_s",
+        "cpu_s",
         "peak_rss_mb",
     ];
     for (name, _) in &orderings {

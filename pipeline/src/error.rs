@@ -48,6 +48,12 @@ pub enum PipelineError {
         #[source]
         source: squeal_solver::SolverError,
     },
+    #[error("cea stage ({what}): {source}")]
+    Cea {
+        what: String,
+        #[source]
+        source: squeal_solver::cea::CeaError,
+    },
     #[error("model: {0}")]
     Model(String),
     #[error("{path}: {message}")]

@@ -5,9 +5,10 @@
 //! T = Vᵀ M Op V is kept explicitly (block tridiagonal, arrowhead after a restart).
 
 use super::factor::Factor;
+use super::spmm::sym_matmul;
+use super::tall;
 use crate::Real;
 use faer::linalg::matmul::matmul;
-use faer::sparse::linalg::matmul::sparse_dense_matmul;
 use faer::sparse::SparseColMatRef;
 use faer::{Accum, Mat, MatMut, MatRef, Par, Side};
 
@@ -42,18 +43,30 @@ impl Rng {
     }
 }
 
+/// Dot product with 8 independent partial sums (vectorisable).
 fn dot(a: &[Real], b: &[Real]) -> Real {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
+    let mut acc = [0.0; 8];
+    let (ca, cb) = (a.chunks_exact(8), b.chunks_exact(8));
+    let tail: Real = ca
+        .remainder()
+        .iter()
+        .zip(cb.remainder())
+        .map(|(x, y)| x * y)
+        .sum();
+    for (x, y) in ca.zip(cb) {
+        for k in 0..8 {
+            acc[k] += x[k] * y[k];
+        }
+    }
+    acc.iter().sum::<Real>() + tail
 }
 
 struct Ctx<'a> {
     op: &'a Factor,
     m: SparseColMatRef<'a, usize, Real>,
-    /// Parallelism of the dense tall-skinny products (sequential: faer's parallel split of
-    /// these shapes was erratic, up to 20× slower, on a loaded 2-core machine).
+    /// Parallelism of the small dense products (the tall-skinny ones go through
+    /// [`tall`], which splits rows over the threads itself).
     par: Par,
-    /// Parallelism of the sparse products with M.
-    par_sparse: Par,
     rng: Rng,
     solves: usize,
     m_products: usize,
@@ -62,14 +75,7 @@ struct Ctx<'a> {
 
 impl Ctx<'_> {
     fn m_times(&mut self, x: MatRef<'_, Real>, mut out: MatMut<'_, Real>) {
-        sparse_dense_matmul(
-            out.as_mut(),
-            Accum::Replace,
-            self.m,
-            x,
-            1.0,
-            self.par_sparse,
-        );
+        sym_matmul(self.m, x, out.as_mut());
         self.m_products += x.ncols();
     }
 
@@ -85,16 +91,8 @@ impl Ctx<'_> {
             return h;
         }
         for _ in 0..2 {
-            let mut c = Mat::<Real>::zeros(v.ncols(), w.ncols());
-            matmul(
-                c.as_mut(),
-                Accum::Replace,
-                mv.transpose(),
-                w.as_ref(),
-                1.0,
-                self.par,
-            );
-            matmul(w.as_mut(), Accum::Add, v, c.as_ref(), -1.0, self.par);
+            let c = tall::tn(mv, w.as_ref());
+            tall::nn(w.as_mut(), true, v, c.as_ref(), -1.0);
             h += &c;
         }
         h
@@ -177,7 +175,6 @@ pub(crate) fn lanczos(
         op,
         m,
         par: Par::Seq,
-        par_sparse: Par::rayon(0),
         rng: Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1),
         solves: 0,
         m_products: 0,
@@ -303,13 +300,12 @@ pub(crate) fn lanczos(
                 None => count,
             };
             let mut x = Mat::<Real>::zeros(n, count);
-            matmul(
+            tall::nn(
                 x.as_mut(),
-                Accum::Replace,
+                false,
                 v.as_ref().subcols(0, cur),
                 y.as_ref().subcols(0, count),
                 1.0,
-                ctx.par,
             );
             return LanczosOut {
                 x,
@@ -330,13 +326,12 @@ pub(crate) fn lanczos(
         if restarts >= max_restarts {
             let count = want.n_modes.unwrap_or(converged).min(theta.len());
             let mut x = Mat::<Real>::zeros(n, count);
-            matmul(
+            tall::nn(
                 x.as_mut(),
-                Accum::Replace,
+                false,
                 v.as_ref().subcols(0, cur),
                 y.as_ref().subcols(0, count),
                 1.0,
-                ctx.par,
             );
             return LanczosOut {
                 x,
@@ -368,22 +363,8 @@ pub(crate) fn lanczos(
         let yk = y.as_ref().subcols(0, keep);
         let mut x = Mat::<Real>::zeros(n, keep);
         let mut mx = Mat::<Real>::zeros(n, keep);
-        matmul(
-            x.as_mut(),
-            Accum::Replace,
-            v.as_ref().subcols(0, cur),
-            yk,
-            1.0,
-            ctx.par,
-        );
-        matmul(
-            mx.as_mut(),
-            Accum::Replace,
-            mv.as_ref().subcols(0, cur),
-            yk,
-            1.0,
-            ctx.par,
-        );
+        tall::nn(x.as_mut(), false, v.as_ref().subcols(0, cur), yk, 1.0);
+        tall::nn(mx.as_mut(), false, mv.as_ref().subcols(0, cur), yk, 1.0);
         let resid_v = v.as_ref().subcols(cur, b).to_owned();
         let resid_mv = mv.as_ref().subcols(cur, b).to_owned();
         let mut coupling = Mat::<Real>::zeros(b, keep);

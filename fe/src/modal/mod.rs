@@ -10,6 +10,8 @@ mod factor;
 mod lanczos;
 mod options;
 mod solve;
+mod spmm;
+mod tall;
 
 pub use options::{FactorKind, ModalOptions, ModalStats, ModalStatus, Modes};
 pub use solve::{solve_modes, solve_modes_with};

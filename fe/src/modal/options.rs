@@ -134,6 +134,9 @@ pub struct ModalStats {
     pub factor_nnz: usize,
     /// Whether the Cholesky factor is supernodal (else simplicial).
     pub supernodal: bool,
+    /// Multiply–adds of the numeric factorisation, Σ_j n_j² over the columns of L
+    /// (supernodal factors only, else 0).
+    pub factor_flops: Real,
     /// Block Lanczos steps (one block solve each).
     pub iterations: usize,
     /// Thick restarts.

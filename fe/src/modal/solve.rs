@@ -4,11 +4,11 @@ use super::dense::dense_eigen;
 use super::factor::factorise;
 use super::lanczos::{lanczos, Want};
 use super::options::{FactorKind, ModalOptions, ModalStats, ModalStatus, Modes};
+use super::spmm::sym_matmul;
 use crate::ordering::{nested_dissection, FillOrdering, AUTO_ND_MIN_DOFS};
 use crate::{FeError, Real};
-use faer::sparse::linalg::matmul::sparse_dense_matmul;
 use faer::sparse::{SparseColMat, SparseColMatRef};
-use faer::{Accum, Mat, Par};
+use faer::Mat;
 use std::f64::consts::PI;
 use std::time::Instant;
 
@@ -123,6 +123,7 @@ pub fn solve_modes_with(
         nested_dissection: None,
         factor_nnz: 0,
         supernodal: false,
+        factor_flops: 0.0,
         iterations: 0,
         restarts: 0,
         factorisations: 0,
@@ -166,6 +167,7 @@ pub fn solve_modes_with(
         stats.factor_s = t1.elapsed().as_secs_f64();
         stats.factor_kind = f.kind;
         stats.supernodal = f.supernodal;
+        stats.factor_flops = f.factor_flops;
         if f.kind != FactorKind::Lu {
             stats.ordering = Some(if use_nd {
                 FillOrdering::NestedDissection
@@ -209,12 +211,11 @@ pub fn solve_modes_with(
     };
 
     // Rayleigh quotients, M-normalisation and explicit residuals.
-    let par = Par::rayon(0);
     let nm = x.ncols();
     let mut kx = Mat::<Real>::zeros(n, nm);
     let mut mx = Mat::<Real>::zeros(n, nm);
-    sparse_dense_matmul(kx.as_mut(), Accum::Replace, k, x.as_ref(), 1.0, par);
-    sparse_dense_matmul(mx.as_mut(), Accum::Replace, m, x.as_ref(), 1.0, par);
+    sym_matmul(k, x.as_ref(), kx.as_mut());
+    sym_matmul(m, x.as_ref(), mx.as_mut());
     let mut modes: Vec<(Real, usize, Real)> = Vec::with_capacity(nm);
     for j in 0..nm {
         let (xs, ks, ms) = (x.col_as_slice(j), kx.col_as_slice(j), mx.col_as_slice(j));

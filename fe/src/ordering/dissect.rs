@@ -98,7 +98,9 @@ impl Dissection<'_> {
         // side that balances the halves better (a node plane is then kept whole).
         let (lo, hi) = proj
             .iter()
-            .fold((Real::INFINITY, Real::NEG_INFINITY), |(a, b), &p| (a.min(p), b.max(p)));
+            .fold((Real::INFINITY, Real::NEG_INFINITY), |(a, b), &p| {
+                (a.min(p), b.max(p))
+            });
         let tol = 1e-9 * (hi - lo);
         let below = proj.iter().filter(|&&p| p < med - tol).count();
         let upto = proj.iter().filter(|&&p| p <= med + tol).count();
@@ -114,7 +116,11 @@ impl Dissection<'_> {
         self.next_id += 1;
         let mut n0 = 0;
         for (&v, &p) in nodes.iter().zip(&proj) {
-            let left = if strict { p < med - tol } else { p <= med + tol };
+            let left = if strict {
+                p < med - tol
+            } else {
+                p <= med + tol
+            };
             self.marks.stamp[v] = id;
             self.marks.side[v] = if left { 0 } else { 1 };
             n0 += usize::from(left);
@@ -175,7 +181,8 @@ fn principal_axis(g: &NodeGraph, nodes: &[usize]) -> Option<[Real; 3]> {
             }
         }
     }
-    if !(cov.trace() > 0.0) {
+    let trace = cov.trace();
+    if trace.is_nan() || trace <= 0.0 {
         return None;
     }
     let e = SymmetricEigen::new(cov);

@@ -15,11 +15,13 @@
 //! separator on any mesh; the coordinates only choose where to cut.
 
 mod dissect;
+mod fill;
 mod graph;
 mod leaf;
 mod separator;
 
 pub use dissect::nested_dissection;
+pub use fill::{cholesky_fill, CholeskyFill};
 pub use graph::dof_coordinates;
 
 use crate::{FeError, Real};
@@ -46,7 +48,7 @@ pub const AUTO_ND_MIN_DOFS: usize = 20_000;
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct NestedDissectionOptions {
-    /// Node sets with at most this many nodes are not split further (default: 96).
+    /// Node sets with at most this many nodes are not split further (default: 32).
     pub leaf_nodes: usize,
     /// Order the leaves by AMD (default: true); natural order otherwise.
     pub leaf_amd: bool,
@@ -55,7 +57,7 @@ pub struct NestedDissectionOptions {
 impl Default for NestedDissectionOptions {
     fn default() -> Self {
         NestedDissectionOptions {
-            leaf_nodes: 96,
+            leaf_nodes: 32,
             leaf_amd: true,
         }
     }

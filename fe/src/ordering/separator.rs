@@ -73,9 +73,7 @@ pub(crate) fn min_cover_separator(
     // cover = (left \ Z) ∪ (right ∩ Z).
     let mut zl = vec![false; left.len()];
     let mut zr = vec![false; right.len()];
-    let mut queue: Vec<usize> = (0..left.len())
-        .filter(|&l| match_l[l] == NONE)
-        .collect();
+    let mut queue: Vec<usize> = (0..left.len()).filter(|&l| match_l[l] == NONE).collect();
     for &l in &queue {
         zl[l] = true;
     }

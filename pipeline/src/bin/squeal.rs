@@ -65,6 +65,23 @@ enum Verb {
         #[arg(long, value_name = "DIR")]
         export_dae: Option<PathBuf>,
     },
+    /// Complex eigenvalue analysis about the steady sliding state (or a restart file's state):
+    /// cea.json, stability_map.{png,svg}, cea_modes.vtu, summary.json; with a friction sweep
+    /// (`[cea] sweep` or --mu) also cea.sweep.json and root_locus*.{png,svg}.
+    Cea {
+        #[command(flatten)]
+        run: RunArgs,
+        /// Friction sweep FIRST:LAST:COUNT (e.g. 0.1:0.9:41), overriding `[cea] sweep`.
+        #[arg(long, value_name = "A:B:N")]
+        mu: Option<String>,
+        /// Also write the eigenproblem's matrices at the state as tangents.op4 and tangents.pch.
+        #[arg(long)]
+        export_tangents: bool,
+    },
+    /// Work–precision study of the scene's transient: BDF at a ladder of RTOL1 × MAXORD and
+    /// generalized-α at a ladder of fixed steps against a tight reference run: accuracy.json,
+    /// accuracy.md, work_precision.{png,svg}, summary.json (ladders in `[accuracy]`).
+    Accuracy(RunArgs),
     /// Extract records of a transient run's time-history database to a CSV table.
     Plotit {
         /// The transient run folder (holds history.npy and history_map.json).
@@ -75,6 +92,25 @@ enum Verb {
         /// Output CSV file.
         #[arg(long)]
         out: PathBuf,
+    },
+    /// The paper's sample-brake study: run the cases of a study file (default:
+    /// examples/sample-brake/study.toml) and write cases.json, cases.md, figures and report.md.
+    Reproduce {
+        /// Study file: base scene + table of cases.
+        #[arg(default_value = "examples/sample-brake/study.toml")]
+        study: PathBuf,
+        /// Output folder (default: out/reproduce).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Run only these cases, e.g. 1,2,5.
+        #[arg(long, value_delimiter = ',')]
+        cases: Option<Vec<u32>>,
+        /// Override a base-scene value for every case: dotted.key=value (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Cases run at the same time (default: the available cores).
+        #[arg(long)]
+        jobs: Option<usize>,
     },
     /// List the matrices of a NASTRAN OP4 or punch (DMIG) file: name, shape, form, precision,
     /// nnz, Frobenius norm, sum, symmetry.
@@ -151,6 +187,43 @@ fn run(cli: Cli) -> Result<()> {
                 );
             }
         }
+        Verb::Cea {
+            run,
+            mu,
+            export_tangents,
+        } => {
+            let scene = Scene::load(&run.scene.scene, &run.scene.set)?;
+            let mu = mu
+                .as_deref()
+                .map(squeal_pipeline::scene::cea::parse_mu_range)
+                .transpose()?;
+            let dir = run_dir(&run)?;
+            let args = stages::cea::CeaArgs {
+                mu,
+                export_tangents,
+            };
+            let r = stages::cea::run(&scene, &dir, progress, &args)?;
+            let mut lines = format!(
+                "{} modes, {} unstable (max Re p = {:?})",
+                r.n_modes_reported, r.n_unstable, r.max_real_part
+            );
+            for m in &r.unstable_modes {
+                lines.push_str(&format!(
+                    "\n  unstable: {:.2} Hz, Re p = {:.4e} 1/s, zeta = {:?}",
+                    m.frequency_hz, m.real_part, m.damping_ratio
+                ));
+            }
+            if let Some(mu) = r.lowest_critical_mu {
+                lines.push_str(&format!("\n  lowest critical mu = {mu:.6}"));
+            }
+            progress.info(lines);
+        }
+        Verb::Accuracy(args) => {
+            let scene = Scene::load(&args.scene.scene, &args.scene.set)?;
+            let dir = run_dir(&args)?;
+            let r = stages::accuracy::run(&scene, &dir, progress)?;
+            progress.info(stages::accuracy::markdown(&r.runs));
+        }
         Verb::Plotit {
             run_dir,
             records,
@@ -158,6 +231,23 @@ fn run(cli: Cli) -> Result<()> {
         } => {
             let (rows, cols) = stages::plotit::run(&run_dir, &records, &out)?;
             progress.info(format!("{}: {rows} rows, {cols} columns", out.display()));
+        }
+        Verb::Reproduce {
+            study,
+            out,
+            cases,
+            set,
+            jobs,
+        } => {
+            let dir = RunDir::create(&out.unwrap_or_else(|| PathBuf::from("out/reproduce")))?;
+            let args = stages::reproduce::ReproduceArgs { cases, set, jobs };
+            let r = stages::reproduce::run(&study, &dir, progress, &args)?;
+            progress.info(format!(
+                "{} cases in {:.1} s; report: {}",
+                r.cases.len(),
+                r.wall_s,
+                dir.path("report.md").display()
+            ));
         }
         Verb::Inspect { file, json } => {
             let summaries = squeal_reduction::inspect::inspect(&file)?;

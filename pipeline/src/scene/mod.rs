@@ -4,15 +4,17 @@
 //! so a typo is an error naming the key. Only what the scene names is computed.
 
 mod brake;
+pub mod cea;
 pub mod contact;
 mod overrides;
 pub mod reduction;
 pub mod transient;
 
+pub use cea::{CeaSpec, CeaState, CeaSweepSpec, SweepVary};
 pub use contact::{ContactPair, FrictionSpec, RotorSpec};
 pub use overrides::apply_override;
 pub use reduction::{ModelSource, ModelSpec, ReductionSpec};
-pub use transient::{DampingSpec, LoadsSpec, OutputSpec, TransientSpec};
+pub use transient::{DampingSpec, Integrator, LoadsSpec, OutputSpec, TransientSpec};
 
 use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
@@ -64,9 +66,16 @@ pub struct Scene {
     /// Transient controls; its presence asks for `squeal transient` (default: absent).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub transient: Option<TransientSpec>,
+    /// Complex eigenvalue analysis; its presence asks for `squeal cea` (default: absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cea: Option<CeaSpec>,
     /// Recorded grids and gaps, squeal verdict (default: see [`OutputSpec`]).
     #[serde(default)]
     pub output: OutputSpec,
+    /// Work–precision study ladders, read by `squeal accuracy` (default: absent = the defaults
+    /// of [`crate::stages::accuracy::AccuracySpec`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub accuracy: Option<crate::stages::accuracy::AccuracySpec>,
     /// Folder that relative paths in the scene are resolved against (not read from the file).
     #[serde(skip)]
     pub base_dir: PathBuf,
@@ -304,7 +313,13 @@ impl Scene {
         if let Some(t) = &self.transient {
             t.validate()?;
         }
+        if let Some(c) = &self.cea {
+            c.validate()?;
+        }
         self.output.validate()?;
+        if let Some(a) = &self.accuracy {
+            a.validate()?;
+        }
         Ok(())
     }
 

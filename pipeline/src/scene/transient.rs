@@ -229,6 +229,25 @@ pub struct TransientSpec {
     pub friction_damping_in_jacobian: bool,
     /// Maximum number of steps (default: 500000).
     pub max_steps: usize,
+    /// Time integrator: `bdf` (DASSL-style, the paper's) or `generalized_alpha` (Chung–Hulbert,
+    /// a cross-check of the BDF growth rates) (default: bdf).
+    pub integrator: Integrator,
+    /// Generalized-α step size: fixed when given, otherwise adaptive with RTOL1/ATOL1 starting
+    /// from `h0` or TFINAL/1000 (default: none = adaptive).
+    pub galpha_h: Option<Real>,
+    /// Generalized-α spectral radius at infinite frequency ρ∞ (default: 0.9).
+    pub rho_inf: Real,
+}
+
+/// Time integrator of `squeal transient`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Integrator {
+    /// Variable-order, variable-step BDF in residual form (orders 1..=MAXORD).
+    #[default]
+    Bdf,
+    /// Generalized-α (second order, numerical damping set by ρ∞).
+    GeneralizedAlpha,
 }
 
 impl Default for TransientSpec {
@@ -248,6 +267,9 @@ impl Default for TransientSpec {
             restart: None,
             friction_damping_in_jacobian: false,
             max_steps: 500_000,
+            integrator: Integrator::Bdf,
+            galpha_h: None,
+            rho_inf: 0.9,
         }
     }
 }
@@ -291,6 +313,15 @@ impl TransientSpec {
         if let Some(h) = self.h_max {
             pos("h_max", h)?;
         }
+        if let Some(h) = self.galpha_h {
+            pos("galpha_h", h)?;
+        }
+        if !(0.0..=1.0).contains(&self.rho_inf) {
+            return Err(scene_err(
+                "transient.rho_inf",
+                format!("{} must be in [0, 1]", self.rho_inf),
+            ));
+        }
         Ok(())
     }
 }
@@ -322,6 +353,9 @@ pub struct OutputSpec {
     /// Growth rate of the response envelope above which the run counts as squeal, per unit
     /// time (default: 0).
     pub squeal_growth_threshold: Real,
+    /// Write the time-history database `history.npy` and `energy.csv` (default: true; false =
+    /// no history writes, only `summary.json`, the verdict and the energy totals).
+    pub history: bool,
 }
 
 impl Default for OutputSpec {
@@ -331,6 +365,7 @@ impl Default for OutputSpec {
             gaps: None,
             response: None,
             squeal_growth_threshold: 0.0,
+            history: true,
         }
     }
 }

@@ -1,8 +1,11 @@
 //! One module per verb; each takes a typed scene and a run folder.
 
+pub mod accuracy;
+pub mod cea;
 pub mod mesh;
 pub mod model;
 pub mod modes;
 pub mod plotit;
 pub mod reduce;
+pub mod reproduce;
 pub mod transient;

@@ -6,6 +6,7 @@
 //! `summary.json` with every statistic and the squeal verdict.
 
 pub mod export;
+mod galpha_run;
 mod records;
 pub mod restart;
 pub mod system;
@@ -57,7 +58,13 @@ pub struct TransientReport {
     /// ‖G v‖∞ at the last step and its maximum.
     pub constraint_drift: f64,
     pub max_constraint_drift: f64,
+    /// `bdf` or `generalized_alpha`.
+    pub integrator: &'static str,
+    /// BDF counters (zero for generalized-α runs).
     pub bdf_stats: BdfStats,
+    /// Generalized-α counters (generalized-α runs only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub galpha_stats: Option<squeal_solver::galpha::GalphaStats>,
     pub bsql_stats: BsqlStats,
     pub steady_state: Option<SteadySummary>,
     pub initial_conditions: Option<IcStats>,
@@ -111,6 +118,9 @@ fn effects(
         if law.depends_on_pressure() {
             on.push("friction: pressure dependence dmu/dp".into());
         }
+        if !law.depends_on_speed() && !law.depends_on_pressure() {
+            on.push("friction: constant mu, no derivatives of mu evaluated".into());
+        }
         if law.depends_on_temperature() {
             on.push("friction: temperature lookups".into());
         } else if model.gaps.gaps.iter().any(|g| g.temperature != 0.0) {
@@ -154,6 +164,29 @@ fn effects(
     if p.bsql.include_friction_damping {
         on.push("friction damping C_f in the iteration matrix".into());
     }
+    let spec = scene.transient.clone().unwrap_or_default();
+    on.push(match spec.integrator {
+        crate::scene::Integrator::Bdf => format!("integrator: BDF, MAXORD {}", spec.maxord),
+        crate::scene::Integrator::GeneralizedAlpha => format!(
+            "integrator: generalized-alpha, rho_inf {}, {}",
+            spec.rho_inf,
+            spec.galpha_h
+                .map_or("adaptive step".to_string(), |h| format!("fixed step {h}"))
+        ),
+    });
+    if spec.integrator == crate::scene::Integrator::GeneralizedAlpha {
+        on.push("no history writes (the generalized-alpha path writes summary.json only)".into());
+    } else if scene.output.history {
+        on.push(format!(
+            "history database + energy.csv (every {} steps)",
+            spec.noutpt
+        ));
+    } else {
+        on.push("no history writes (output.history = false)".into());
+    }
+    if scene.cea.is_some() {
+        ignored.push("[cea]: not run by `squeal transient` (use `squeal cea`)".into());
+    }
     (on, ignored)
 }
 
@@ -169,6 +202,16 @@ pub fn run(
     dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
     let model = model::build(scene, dir, progress)?;
     let problem = system::problem(scene, &model)?;
+    if spec.integrator == crate::scene::Integrator::GeneralizedAlpha {
+        if export_dae.is_some() || spec.restart.is_some() {
+            return Err(PipelineError::Scene {
+                field: "transient.integrator".into(),
+                message: "generalized_alpha has no DAE export or restart; use bdf".into(),
+            });
+        }
+        let (on, ignored) = effects(scene, &model, &problem);
+        return galpha_run::run(scene, dir, progress, &model, &problem, wall, on, ignored);
+    }
     let mut sys = problem.system(model.gaps.clone())?;
     let (n, ng) = (model.n(), model.gaps.len());
     let model_hash = problem.model_hash();
@@ -242,32 +285,44 @@ pub fn run(
 
     // Outputs.
     let cols = records::columns(scene, &model)?;
-    dir.write_json(
-        "history_map.json",
-        &HistoryMap {
-            n_columns: cols.len(),
-            noutpt: spec.noutpt,
-            columns: cols.clone(),
-        },
-    )?;
-    let mut history = NpyAppender::create(&dir.path("history.npy"), cols.len())?;
+    if scene.output.history {
+        dir.write_json(
+            "history_map.json",
+            &HistoryMap {
+                n_columns: cols.len(),
+                noutpt: spec.noutpt,
+                columns: cols.clone(),
+            },
+        )?;
+    }
+    // Effects on demand: `output.history = false` opens no history or energy file.
+    let mut history = match scene.output.history {
+        true => Some(NpyAppender::create(&dir.path("history.npy"), cols.len())?),
+        false => None,
+    };
     let energy_path = dir.path("energy.csv");
-    let mut energy =
-        std::io::BufWriter::new(std::fs::File::create(&energy_path).map_err(|source| {
-            PipelineError::Io {
-                path: energy_path.clone(),
-                source,
-            }
-        })?);
     let eio = |source| PipelineError::Io {
         path: energy_path.clone(),
         source,
     };
-    writeln!(
-        energy,
-        "t,kinetic,strain,damping_dissipation,friction_work,external_work,constraint_work,balance"
-    )
-    .map_err(eio)?;
+    let mut energy = match scene.output.history {
+        true => {
+            let mut e =
+                std::io::BufWriter::new(std::fs::File::create(&energy_path).map_err(|source| {
+                    PipelineError::Io {
+                        path: energy_path.clone(),
+                        source,
+                    }
+                })?);
+            writeln!(
+                e,
+                "t,kinetic,strain,damping_dissipation,friction_work,external_work,constraint_work,balance"
+            )
+            .map_err(eio)?;
+            Some(e)
+        }
+        false => None,
+    };
     let vel_cols: Vec<(usize, usize)> = cols
         .iter()
         .filter(|c| c.kind == RecordKind::Velocity)
@@ -314,9 +369,11 @@ pub fn run(
             .observe(t_start, &y, &yp)
             .map_err(solver_err("energy"))?;
         balance.push(&p);
-        records::fill_row(&cols, &gaps, n, t_start, &y, &yp, &mut row)
-            .map_err(PipelineError::Model)?;
-        history.push(&row)?;
+        if let Some(h) = history.as_mut() {
+            records::fill_row(&cols, &gaps, n, t_start, &y, &yp, &mut row)
+                .map_err(PipelineError::Model)?;
+            h.push(&row)?;
+        }
         resp_t.push(t_start);
         for (k, &d) in resp_dofs.iter().enumerate() {
             resp_v[k].push(y[d]);
@@ -356,7 +413,11 @@ pub fn run(
                 for (k, &d) in resp_dofs.iter().enumerate() {
                     resp_v[k].push(y[d]);
                 }
-                if steps_done % spec.noutpt == 0 {
+                if let (true, Some(history), Some(energy)) = (
+                    steps_done % spec.noutpt == 0,
+                    history.as_mut(),
+                    energy.as_mut(),
+                ) {
                     let res = records::fill_row(&cols, &gaps, n, t, y, yp, &mut row)
                         .and_then(|_| history.push(&row).map_err(|e| e.to_string()))
                         .and_then(|_| {
@@ -394,13 +455,21 @@ pub fn run(
         let st = match st {
             Ok(st) => st,
             Err(e) => {
-                let _ = history.flush();
-                let _ = energy.flush();
+                if let Some(h) = history.as_mut() {
+                    let _ = h.flush();
+                }
+                if let Some(e) = energy.as_mut() {
+                    let _ = e.flush();
+                }
                 return Err(e);
             }
         };
-        history.flush()?;
-        energy.flush().map_err(eio)?;
+        if let Some(h) = history.as_mut() {
+            h.flush()?;
+        }
+        if let Some(e) = energy.as_mut() {
+            e.flush().map_err(eio)?;
+        }
         if let Some(b) = &bar {
             b.set_position(
                 (1000.0 * (bdf.t() - t_start) / (spec.tfinal - t_start)).clamp(0.0, 1000.0) as u64,
@@ -426,13 +495,14 @@ pub fn run(
         b.finish();
     }
     write_restart(&bdf)?;
-    if status.is_success() {
+    if let (true, Some(h)) = (status.is_success(), history.as_mut()) {
         let (y, yp) = (bdf.y().to_vec(), bdf.yp().to_vec());
         records::fill_row(&cols, &gaps, n, spec.tfinal, &y, &yp, &mut row)
             .map_err(PipelineError::Model)?;
-        history.push(&row)?;
-        history.flush()?;
-    } else {
+        h.push(&row)?;
+        h.flush()?;
+    }
+    if !status.is_success() {
         progress.info(format!("integration stopped: {status:?}"));
     }
 
@@ -481,7 +551,9 @@ pub fn run(
         verdict,
         constraint_drift: bs.constraint_drift,
         max_constraint_drift: bs.max_constraint_drift,
+        integrator: "bdf",
         bdf_stats: stats,
+        galpha_stats: None,
         bsql_stats: bs,
         steady_state: steady,
         initial_conditions: ic,
@@ -491,7 +563,7 @@ pub fn run(
         t_end: bdf.t(),
         n_dofs: n,
         n_gaps: ng,
-        history_rows: history.rows(),
+        history_rows: history.as_ref().map_or(0, |h| h.rows()),
         active_effects,
         ignored,
         model_hash,

@@ -1,0 +1,311 @@
+//! One transient run of a prepared problem with either integrator, sampled on a time grid:
+//! the engine of the work–precision study, of the hard-case suite and of the effects
+//! benchmark (and of `squeal transient` with `integrator = "generalized_alpha"`).
+//!
+//! Nothing is written to disk: the only per-step work besides the integrator is the energy
+//! bookkeeping, and only when asked for.
+
+use crate::error::PipelineError;
+use crate::scene::TransientSpec;
+use crate::stages::transient::system::{GapFriction, Problem};
+use serde::Serialize;
+use squeal_contact::GapSet;
+use squeal_solver::bdf::Status;
+use squeal_solver::bdf::{consistent_initial_conditions, Bdf, BdfOptions, InitialConditionOptions};
+use squeal_solver::bsql::{steady_state, EnergyBalance, SteadyOptions};
+use squeal_solver::galpha::{self, Galpha, GalphaOptions, GalphaSystem};
+use squeal_solver::SolverError;
+
+type Real = f64;
+
+/// Integrator and accuracy setting of one run.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "integrator", rename_all = "snake_case")]
+pub enum Method {
+    /// BDF with RTOL1 = `rtol` (ATOL1 scaled by rtol / scene RTOL1) and MAXORD.
+    Bdf { rtol: Real, max_order: usize },
+    /// Generalized-α: fixed step `h`, or adaptive with `rtol` when `h` is None.
+    GeneralizedAlpha {
+        h: Option<Real>,
+        rtol: Real,
+        rho_inf: Real,
+    },
+}
+
+/// What one run gave.
+#[derive(Debug, Clone, Serialize)]
+pub struct RunOutcome {
+    pub method: Method,
+    /// `reached`, or the integrator's status with t, h and order (2 for generalized-α).
+    pub status: Status,
+    pub reached: bool,
+    /// Time reached.
+    pub t_end: Real,
+    pub steps: u64,
+    pub newton_iterations: u64,
+    pub factorisations: u64,
+    pub residual_evals: u64,
+    pub rejected_steps: u64,
+    /// Seconds inside the integrator (its own `cpu_s` counter).
+    pub cpu_s: Real,
+    /// Largest ‖G v − G v₀‖∞ over the steps.
+    pub max_constraint_drift: Real,
+    /// Energy balance (only when asked for).
+    pub energy: Option<EnergyBalance>,
+    /// True when a sample is NaN or infinite.
+    pub non_finite: bool,
+    /// Sample times (the grid up to `t_end`).
+    #[serde(skip)]
+    pub t: Vec<Real>,
+    /// Velocities of the chosen DOFs at the sample times: `v[k][j]` = DOF j at t[k].
+    #[serde(skip)]
+    pub v: Vec<Vec<Real>>,
+}
+
+fn solver_err(what: &str) -> impl FnOnce(SolverError) -> PipelineError + '_ {
+    move |source| PipelineError::Solver {
+        what: what.to_string(),
+        source,
+    }
+}
+
+/// Steady sliding state before the load and consistent y'(0), as `squeal transient` starts.
+pub fn initial_state(
+    problem: &Problem,
+    gaps: &GapSet,
+    tolint: Real,
+) -> Result<(Vec<Real>, Vec<Real>), PipelineError> {
+    let mut sys = problem.system(gaps.clone())?;
+    let ss = steady_state(
+        &mut sys,
+        -1.0,
+        &SteadyOptions {
+            tol: tolint,
+            ..Default::default()
+        },
+    )
+    .map_err(solver_err("steady state"))?;
+    let (mut y0, mut yp0) = ss.initial_values();
+    consistent_initial_conditions(
+        &mut sys,
+        0.0,
+        &mut y0,
+        &mut yp0,
+        None,
+        &InitialConditionOptions {
+            tol: tolint,
+            ..Default::default()
+        },
+    )
+    .map_err(solver_err("consistent initial conditions"))?;
+    Ok((y0, yp0))
+}
+
+/// Integrates from (y0, y0') at t = 0 to the last grid time with `method`, sampling the
+/// velocities of `dofs` at every grid time; `energy` also keeps the energy balance.
+#[allow(clippy::too_many_arguments)]
+pub fn integrate(
+    problem: &Problem,
+    gaps: &GapSet,
+    spec: &TransientSpec,
+    method: Method,
+    y0: &[Real],
+    yp0: &[Real],
+    grid: &[Real],
+    dofs: &[usize],
+    energy: bool,
+) -> Result<RunOutcome, PipelineError> {
+    let n = problem.m.nrows();
+    let ng = problem.g.nrows();
+    let mut obs = problem.system(gaps.clone())?;
+    let scale = |rtol: Real| rtol / spec.rtol1;
+    let galpha_tol =
+        |rtol: Real| obs.tolerances(rtol, spec.atol1 * scale(rtol), spec.rtol2, spec.atol2);
+    let (tol_adaptive, tol_fixed) = match method {
+        Method::GeneralizedAlpha { rtol, .. } => (Some(galpha_tol(rtol)), Some(galpha_tol(1e-10))),
+        Method::Bdf { .. } => (None, None),
+    };
+    let mut balance = EnergyBalance::new();
+    let mut drift: Real = 0.0;
+    let gv0: Vec<Real> = (0..ng)
+        .map(|k| (0..n).map(|j| problem.g[(k, j)] * y0[j]).sum())
+        .collect();
+    if energy {
+        balance.push(&obs.observe(0.0, y0, yp0).map_err(solver_err("energy"))?);
+    }
+    let mut per_step = |t: Real, y: &[Real], yp: &[Real]| -> Result<bool, SolverError> {
+        if energy {
+            balance.push(&obs.observe(t, y, yp)?);
+        }
+        if ng > 0 {
+            for (k, g0) in gv0.iter().enumerate() {
+                let mut gv = 0.0;
+                for j in 0..n {
+                    gv += problem.g[(k, j)] * y[j];
+                }
+                drift = drift.max((gv - g0).abs());
+            }
+        }
+        Ok(true)
+    };
+    let mut t_s = Vec::with_capacity(grid.len());
+    let mut v_s = Vec::with_capacity(grid.len());
+    let sample = |y: &[Real]| dofs.iter().map(|&d| y[d]).collect::<Vec<Real>>();
+    let mut out = match method {
+        Method::Bdf { rtol, max_order } => {
+            let mut sys = problem.system(gaps.clone())?;
+            let opts = BdfOptions {
+                max_order,
+                tolerances: sys.tolerances(rtol, spec.atol1 * scale(rtol), spec.rtol2, spec.atol2),
+                h0: spec.h0,
+                h_max: spec.h_max,
+                max_steps: spec.max_steps,
+                ..BdfOptions::default()
+            };
+            let mut bdf = Bdf::new(opts, 0.0, y0, yp0).map_err(solver_err("integrator"))?;
+            let mut status = None;
+            for &tk in grid {
+                if tk <= 0.0 {
+                    t_s.push(tk);
+                    v_s.push(sample(y0));
+                    continue;
+                }
+                let st = bdf
+                    .step_to(&mut sys, tk, |_, t, y, yp| per_step(t, y, yp))
+                    .map_err(solver_err("integration"))?;
+                if !st.is_success() {
+                    status = Some(st);
+                    break;
+                }
+                t_s.push(tk);
+                v_s.push(sample(bdf.y()));
+            }
+            let s = bdf.stats();
+            let bs = sys.stats();
+            RunOutcome {
+                method,
+                reached: status.is_none(),
+                status: status.unwrap_or(Status::Reached {
+                    t: grid.last().copied().unwrap_or(0.0),
+                }),
+                t_end: bdf.t(),
+                steps: s.steps,
+                newton_iterations: s.newton_iterations,
+                factorisations: bs.factorisations,
+                residual_evals: s.residual_evals,
+                rejected_steps: s.error_test_failures,
+                cpu_s: s.cpu_s,
+                max_constraint_drift: 0.0,
+                energy: None,
+                non_finite: false,
+                t: Vec::new(),
+                v: Vec::new(),
+            }
+        }
+        Method::GeneralizedAlpha { h, rtol, rho_inf } => {
+            let _ = rtol;
+            let mut sys = GalphaSystem::new(
+                problem.m.clone(),
+                problem.b.clone(),
+                problem.k.clone(),
+                problem.g.clone(),
+                problem.load.clone(),
+                GapFriction { set: gaps.clone() },
+            )
+            .map_err(solver_err("building the generalized-alpha system"))?;
+            let tf = grid.last().copied().unwrap_or(0.0);
+            let opts = GalphaOptions {
+                rho_inf,
+                h: h.or(spec.h0).unwrap_or(tf / 1000.0),
+                adaptive: h.is_none(),
+                // Fixed steps: the tolerances only set Newton's test; make it tight.
+                tolerances: if h.is_some() { tol_fixed } else { tol_adaptive }
+                    .unwrap_or(squeal_solver::bdf::Tolerances::Scalar { rtol, atol: 1e-12 }),
+                h_max: spec.h_max,
+                max_steps: spec.max_steps,
+                include_friction_damping: spec.friction_damping_in_jacobian,
+                ..GalphaOptions::default()
+            };
+            let mut ga = Galpha::new(opts, &mut sys, 0.0, y0, yp0)
+                .map_err(solver_err("generalized-alpha start"))?;
+            let mut status = None;
+            for &tk in grid {
+                if tk <= 0.0 {
+                    t_s.push(tk);
+                    v_s.push(sample(y0));
+                    continue;
+                }
+                let st = ga
+                    .step_to(&mut sys, tk, |_, t, y, yp| per_step(t, y, yp))
+                    .map_err(solver_err("integration"))?;
+                if !st.is_success() {
+                    status = Some(as_bdf_status(st));
+                    break;
+                }
+                t_s.push(tk);
+                v_s.push(sample(ga.y()));
+            }
+            let s = ga.stats();
+            RunOutcome {
+                method,
+                reached: status.is_none(),
+                status: status.unwrap_or(Status::Reached {
+                    t: grid.last().copied().unwrap_or(0.0),
+                }),
+                t_end: ga.t(),
+                steps: s.steps,
+                newton_iterations: s.newton_iterations,
+                factorisations: s.factorisations,
+                residual_evals: s.residual_evals,
+                rejected_steps: s.rejected_steps,
+                cpu_s: s.cpu_s,
+                max_constraint_drift: 0.0,
+                energy: None,
+                non_finite: false,
+                t: Vec::new(),
+                v: Vec::new(),
+            }
+        }
+    };
+    out.max_constraint_drift = drift;
+    out.energy = energy.then_some(balance);
+    out.non_finite = v_s.iter().flatten().any(|x| !x.is_finite());
+    out.t = t_s;
+    out.v = v_s;
+    Ok(out)
+}
+
+/// The generalized-α status in the BDF's terms (order 2: the method's order).
+pub fn as_bdf_status(st: galpha::Status) -> Status {
+    match st {
+        galpha::Status::Reached { t } => Status::Reached { t },
+        galpha::Status::ConvergenceFailures {
+            t,
+            h,
+            residual_norm,
+        } => Status::ConvergenceFailures {
+            t,
+            h,
+            order: 2,
+            residual_norm,
+        },
+        galpha::Status::ErrorTestFailures { t, h, error_norm } => Status::ErrorTestFailures {
+            t,
+            h,
+            order: 2,
+            error_norm,
+        },
+        galpha::Status::StepSizeTooSmall {
+            t,
+            h,
+            residual_norm,
+        } => Status::StepSizeTooSmall {
+            t,
+            h,
+            order: 2,
+            residual_norm,
+        },
+        galpha::Status::MaxSteps { t, steps } => Status::MaxSteps { t, steps },
+        galpha::Status::Interrupted { t } => Status::Interrupted { t },
+    }
+}

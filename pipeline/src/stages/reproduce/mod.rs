@@ -1,0 +1,259 @@
+//! `squeal reproduce`: the paper's sample-brake study (section 3, its table of eight cases).
+//!
+//! study.toml (base scene + per-case RTOL1, TLOAD, μ, G, W3, P0, TF) → for every case
+//! `squeal transient` (and `squeal cea` at the steady sliding state) in `caseN/` → `cases.json`,
+//! `cases.md` (the table with our columns), figures analogous to the paper's Figs. 3–8 and a
+//! spectrum of a squealing response ([`report`]), `report.md` that embeds them and states which
+//! of the paper's findings reproduce.
+//!
+//! Cases run `jobs` at a time (rayon). Each case rebuilds its reduced model (the mesh, FE and
+//! reduction of the base scene are the same for every case; caching them is not done yet).
+
+pub mod report;
+pub mod study;
+
+use crate::error::PipelineError;
+use crate::output::RunDir;
+use crate::progress::Progress;
+use crate::scene::Scene;
+use crate::stages::{cea, transient};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::path::Path;
+use std::time::Instant;
+pub use study::{CaseSpec, FigureSpec, StudySpec};
+
+type Real = f64;
+
+/// What the command line adds.
+#[derive(Debug, Clone, Default)]
+pub struct ReproduceArgs {
+    /// Run only these cases (default: all).
+    pub cases: Option<Vec<u32>>,
+    /// Overrides applied to the base scene of every case (before the case's own).
+    pub set: Vec<String>,
+    /// Cases run at the same time (default: the available cores).
+    pub jobs: Option<usize>,
+}
+
+/// An unstable complex mode of a case.
+#[derive(Debug, Clone, Serialize)]
+pub struct UnstableMode {
+    pub frequency_hz: Real,
+    pub real_part: Real,
+}
+
+/// One object of `cases.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct CaseResult {
+    pub case: u32,
+    /// μ as the paper writes it.
+    pub mu: String,
+    pub rtol1: Real,
+    pub tload: Real,
+    pub g: Real,
+    pub w3: Real,
+    pub p0: Real,
+    pub tf: Real,
+    /// Accepted BDF steps (NS).
+    pub steps: u64,
+    /// Seconds in the integrator.
+    pub cpu_s: Real,
+    /// Seconds of the whole case (model build, transient, CEA).
+    pub wall_s: Real,
+    /// Time reached (= tf unless the run stopped early).
+    pub t_end: Real,
+    /// How the integration ended.
+    pub status: String,
+    pub squeal: bool,
+    pub growth_rate_per_s: Option<Real>,
+    pub dominant_frequency_hz: Option<Real>,
+    /// History column of the verdict's response.
+    pub response: String,
+    /// First time the response velocity exceeds the study's onset level.
+    pub onset_s: Option<Real>,
+    pub n_dofs: usize,
+    pub n_gaps: usize,
+    /// Unstable complex modes at the steady sliding state (None: CEA not run or failed).
+    pub cea_unstable_modes: Option<Vec<UnstableMode>>,
+    /// Why the CEA failed, if it did.
+    pub cea_error: Option<String>,
+}
+
+/// Summary of a study run.
+#[derive(Debug, Clone, Serialize)]
+pub struct ReproduceReport {
+    pub verb: &'static str,
+    pub version: &'static str,
+    pub wall_s: Real,
+    pub jobs: usize,
+    pub cases: Vec<CaseResult>,
+    pub findings: Vec<report::Finding>,
+    pub files: Vec<String>,
+}
+
+/// Runs the study's cases into `dir/caseN/` and writes the table, figures and report.
+pub fn run(
+    study_path: &Path,
+    dir: &RunDir,
+    progress: Progress,
+    args: &ReproduceArgs,
+) -> Result<ReproduceReport, PipelineError> {
+    let wall = Instant::now();
+    let study = StudySpec::load(study_path)?;
+    let base_path = study.base_path();
+    let base = Scene::load(&base_path, &args.set)?;
+    let n_contact = base.contact.len();
+    let h_max = base.transient.as_ref().and_then(|t| t.h_max);
+    let selected: Vec<&CaseSpec> = match &args.cases {
+        Some(list) => {
+            if let Some(c) = list
+                .iter()
+                .find(|c| !study.cases.iter().any(|s| s.case == **c))
+            {
+                return Err(PipelineError::Scene {
+                    field: "--cases".into(),
+                    message: format!("the study has no case {c}"),
+                });
+            }
+            study
+                .cases
+                .iter()
+                .filter(|s| list.contains(&s.case))
+                .collect()
+        }
+        None => study.cases.iter().collect(),
+    };
+    // Each case's scene, checked before anything runs.
+    let mut scenes = Vec::new();
+    for c in &selected {
+        let mut sets = args.set.clone();
+        sets.extend(c.overrides(n_contact)?);
+        let mut scene = Scene::load(&base_path, &sets)?;
+        if let (Some(h), Some(t)) = (h_max, scene.transient.as_mut()) {
+            t.max_steps = (study.step_cap * t.tfinal / h).ceil() as usize + 100;
+        }
+        scenes.push(((*c).clone(), scene));
+    }
+    let jobs = args
+        .jobs
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .clamp(1, scenes.len().max(1));
+    progress.info(format!(
+        "reproduce: {} cases of {}, {jobs} at a time",
+        scenes.len(),
+        study_path.display()
+    ));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs)
+        .build()
+        .map_err(|e| PipelineError::Output {
+            path: dir.path(""),
+            message: format!("thread pool: {e}"),
+        })?;
+    let quiet = Progress { quiet: true };
+    let results: Vec<Result<CaseResult, PipelineError>> = pool.install(|| {
+        scenes
+            .par_iter()
+            .map(|(c, scene)| {
+                let r = run_case(c, scene, &study, dir, quiet);
+                match &r {
+                    Ok(r) => progress.info(format!(
+                        "case {}: {} steps, {:.1} s, t_end {:.4e}, squeal = {}, growth {:?} /s, f {:?} Hz",
+                        r.case, r.steps, r.cpu_s, r.t_end, r.squeal, r.growth_rate_per_s, r.dominant_frequency_hz
+                    )),
+                    Err(e) => progress.info(format!("case {}: error: {e}", c.case)),
+                }
+                r
+            })
+            .collect()
+    });
+    let cases: Vec<CaseResult> = results.into_iter().collect::<Result<_, _>>()?;
+    let (findings, files) = report::write(&study, &cases, dir, &base)?;
+    let rep = ReproduceReport {
+        verb: "reproduce",
+        version: crate::VERSION,
+        wall_s: wall.elapsed().as_secs_f64(),
+        jobs,
+        cases,
+        findings,
+        files,
+    };
+    dir.write_json("summary.json", &rep)?;
+    Ok(rep)
+}
+
+fn run_case(
+    c: &CaseSpec,
+    scene: &Scene,
+    study: &StudySpec,
+    dir: &RunDir,
+    quiet: Progress,
+) -> Result<CaseResult, PipelineError> {
+    let wall = Instant::now();
+    let cdir = RunDir::create(&dir.path(&format!("case{}", c.case)))?;
+    let r = transient::run(scene, &cdir, quiet, None)?;
+    let (cea_unstable_modes, cea_error) = if study.cea {
+        let mut cs = scene.clone();
+        if cs.cea.is_none() {
+            cs.cea = Some(Default::default());
+        }
+        let cea_dir = RunDir::create(&cdir.path("cea"))?;
+        match cea::run(&cs, &cea_dir, quiet, &cea::CeaArgs::default()) {
+            Ok(rep) => (
+                Some(
+                    rep.unstable_modes
+                        .iter()
+                        .map(|m| UnstableMode {
+                            frequency_hz: m.frequency_hz,
+                            real_part: m.real_part,
+                        })
+                        .collect(),
+                ),
+                None,
+            ),
+            Err(e) => (None, Some(e.to_string())),
+        }
+    } else {
+        (None, None)
+    };
+    let tr = scene.transient.clone().unwrap_or_default();
+    let loads = scene.loads.clone().unwrap_or_default();
+    let damping = scene.damping.clone().unwrap_or_default();
+    let law = scene.friction.clone().unwrap_or_default().law;
+    let onset_s = report::onset_time(&cdir, &r.response, study.onset_level)
+        .ok()
+        .flatten();
+    Ok(CaseResult {
+        case: c.case,
+        mu: study::mu_label(&law),
+        rtol1: tr.rtol1,
+        tload: loads.tload,
+        g: damping.g,
+        w3: damping.w3,
+        p0: scene.contact.first().map_or(0.0, |p| p.p0),
+        tf: tr.tfinal,
+        steps: r.steps,
+        cpu_s: r.cpu_s,
+        wall_s: wall.elapsed().as_secs_f64(),
+        t_end: r.t_end,
+        status: status_text(&r.status),
+        squeal: r.squeal,
+        growth_rate_per_s: r.growth_rate_per_s,
+        dominant_frequency_hz: r.dominant_frequency_hz,
+        response: r.response.clone(),
+        onset_s,
+        n_dofs: r.n_dofs,
+        n_gaps: r.n_gaps,
+        cea_unstable_modes,
+        cea_error,
+    })
+}
+
+fn status_text(s: &squeal_solver::bdf::Status) -> String {
+    if s.is_success() {
+        "reached TF".into()
+    } else {
+        format!("{s:?}")
+    }
+}

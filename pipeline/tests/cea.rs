@@ -1,0 +1,381 @@
+//! System tests of `squeal cea`: every output on the tiny brake scene, the friction sweep and
+//! its critical μ on a Hoffmann-type 2-DOF contact model (stored matrices + a gap table), and
+//! transient ↔ CEA agreement on the same model just above μc.
+
+use squeal_reduction::matrix::{MatrixForm, NamedMatrix};
+use squeal_reduction::op4::{self, Op4WriteOptions};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn squeal() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_squeal"))
+}
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(cmd: &mut Command) -> (bool, String) {
+    let out = cmd.output().expect("run squeal");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn json(p: &Path) -> serde_json::Value {
+    serde_json::from_str(
+        &std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display())),
+    )
+    .unwrap()
+}
+
+/// The tiny brake scene with a `[cea]` table appended.
+fn tiny_brake_with(dir: &Path, cea: &str) -> PathBuf {
+    let text = std::fs::read_to_string(root().join("examples/transient/tiny-brake.toml")).unwrap();
+    let p = dir.join("tiny-cea.toml");
+    std::fs::write(&p, format!("{text}\n{cea}\n")).unwrap();
+    p
+}
+
+#[test]
+fn cea_on_the_tiny_brake_writes_every_output() {
+    let d = tmp("cea-tiny");
+    let scene = tiny_brake_with(&d, "[cea]\nmax_frequency_hz = 2000.0\n");
+    let out = d.join("run");
+    let (ok, stderr) = run(squeal()
+        .args(["-q", "cea"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out)
+        .args(["--export-tangents", "--mu", "0.1:0.5:5"]));
+    assert!(ok, "{stderr}");
+    for f in [
+        "cea.json",
+        "summary.json",
+        "scene.resolved.toml",
+        "stability_map.png",
+        "stability_map.svg",
+        "cea_modes.vtu",
+        "tangents.op4",
+        "tangents.pch",
+        "cea.sweep.json",
+        "root_locus.png",
+        "root_locus.svg",
+        "root_locus_mu.png",
+        "root_locus_mu.svg",
+    ] {
+        let p = out.join(f);
+        assert!(
+            p.metadata().map(|m| m.len() > 0).unwrap_or(false),
+            "{f} missing or empty"
+        );
+    }
+    let cea = json(&out.join("cea.json"));
+    let modes = cea["modes"].as_array().unwrap();
+    assert!(!modes.is_empty());
+    for m in modes {
+        let (f, re) = (
+            m["frequency_hz"].as_f64().unwrap(),
+            m["real_part"].as_f64().unwrap(),
+        );
+        assert!((0.0..=2000.0).contains(&f), "{m}");
+        // ζ = −2 Re p/|Im p| (the issue's definition), where Im p = 2πf.
+        if let Some(z) = m["damping_ratio"].as_f64() {
+            let expect = -2.0 * re / (2.0 * std::f64::consts::PI * f);
+            assert!((z - expect).abs() <= 1e-9 * expect.abs().max(1.0), "{m}");
+        }
+        if m["unstable"].as_bool().unwrap() {
+            assert!(re > 0.0, "{m}");
+        }
+    }
+    // The state: full brake load (PMAX = 2 on a unit pad pressure over a unit face = total
+    // normal force 2 from the load, as the scene says), sliding.
+    let st = &cea["steady_state"];
+    assert_eq!(st["source"]["kind"], "steady_state");
+    assert!((st["source"]["load_factor"].as_f64().unwrap() - 1.0).abs() < 1e-12);
+    assert!(st["contact"]["min_slip_speed"].as_f64().unwrap() > 0.0);
+    assert!(
+        st["contact"]["min_pressure"].as_f64().unwrap() >= 1.0,
+        "{st}"
+    );
+    // No spurious roots: as many modes as reduced DOFs minus constraints (none above 2 kHz here).
+    let stats = &cea["stats"];
+    assert_eq!(
+        stats["n_reduced"].as_u64().unwrap(),
+        stats["n"].as_u64().unwrap() - stats["n_constraints"].as_u64().unwrap()
+    );
+    // The unstable modes are written to the VTU as real/imaginary point arrays.
+    let unstable = cea["unstable"].as_array().unwrap();
+    assert!(
+        !unstable.is_empty(),
+        "the tiny brake at mu ≈ 0.45–0.5 has unstable modes"
+    );
+    let vtu = std::fs::read_to_string(out.join("cea_modes.vtu")).unwrap();
+    let k = unstable[0].as_u64().unwrap();
+    assert!(
+        vtu.contains(&format!("Name=\"mode{k}_re\""))
+            && vtu.contains(&format!("Name=\"mode{k}_im\""))
+    );
+    // The exported tangents hold the named matrices with the model's sizes.
+    let mats = op4::read(out.join("tangents.op4")).unwrap();
+    let n = stats["n"].as_u64().unwrap() as usize;
+    let ng = stats["n_constraints"].as_u64().unwrap() as usize;
+    for (name, r, c) in [
+        ("KR", n, n),
+        ("MR", n, n),
+        ("GC", ng, n),
+        ("DFDL", n, ng),
+        ("CF", n, n),
+        ("HT", n, ng),
+    ] {
+        let m = mats
+            .iter()
+            .find(|m| m.name == name)
+            .unwrap_or_else(|| panic!("{name}"));
+        assert_eq!((m.nrows, m.ncols), (r, c), "{name}");
+    }
+    let sweep = json(&out.join("cea.sweep.json"));
+    assert_eq!(sweep["mu"].as_array().unwrap().len(), 5);
+    let summary = json(&out.join("summary.json"));
+    assert_eq!(summary["verb"], "cea");
+    assert_eq!(
+        summary["n_unstable"].as_u64().unwrap() as usize,
+        unstable.len()
+    );
+
+    // No [cea] and no --mu: an error that says how to ask.
+    let plain = root().join("examples/transient/tiny-brake.toml");
+    let (ok, stderr) = run(squeal()
+        .args(["-q", "cea"])
+        .arg(&plain)
+        .arg("--out")
+        .arg(d.join("none")));
+    assert!(
+        !ok && stderr.contains("[cea]") && stderr.contains("--mu"),
+        "{stderr}"
+    );
+}
+
+/// Hoffmann-type 2-DOF mode-coupling model written as a stored reduced model: a pad point
+/// (grid 1: tangential x, normal z) with springs k11 (x), k22 − k3 (z) and coupling k12,
+/// pressed on a (nearly) massless rotor point (grid 2: z) held by a normal spring k3. The gap ties the
+/// normal displacements, so the contact force is k3·z and friction (sliding along ±x) enters
+/// the x-row as ∓μ k3 z: K = [[k11, k12 ∓ μk3], [k21, k22]] on (x, z), the issue's model.
+/// Stiffnesses are scaled by `S` (frequencies × √S), damping by √S (so μc is unchanged).
+const S: f64 = 1.0e4;
+
+fn hoffmann(dir: &Path, c1: f64, c2: f64, pbrake_z: f64) {
+    let (k11, k12, k22, k3) = (1.0, 0.3, 1.2, 1.0);
+    let k = faer::Mat::from_fn(3, 3, |i, j| {
+        S * [[k11, k12, 0.0], [k12, k22 - k3, 0.0], [0.0, 0.0, k3]][i][j]
+    });
+    // Normal mass split between the pad (1 − ε) and the rotor point (ε): the constrained
+    // system has M = I; ε only adds μ·ε·z̈ to the friction force (μc moves by O(ε)).
+    let eps = 1e-6;
+    let m = faer::Mat::from_fn(3, 3, |i, j| {
+        if i == j {
+            [1.0, 1.0 - eps, eps][i]
+        } else {
+            0.0
+        }
+    });
+    let b = faer::Mat::from_fn(3, 3, |i, j| {
+        if i == j && i < 2 {
+            S.sqrt() * [c1, c2][i]
+        } else {
+            0.0
+        }
+    });
+    let p = faer::Mat::from_fn(3, 1, |i, _| if i == 1 { pbrake_z } else { 0.0 });
+    let mats = [
+        NamedMatrix::real("KR", k),
+        NamedMatrix::real("MR", m),
+        NamedMatrix::real("BR", b),
+        NamedMatrix::real("PBRAKE", p).with_form(MatrixForm::Rectangular),
+    ];
+    let refs: Vec<&NamedMatrix> = mats.iter().collect();
+    std::fs::write(
+        dir.join("hoffmann.op4"),
+        op4::write_bytes(&refs, &Op4WriteOptions::default()).unwrap(),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("dofmap.json"),
+        r#"{"dofs": [
+            {"component": "pad", "kind": "grid", "grid": 1, "comp": 1},
+            {"component": "pad", "kind": "grid", "grid": 1, "comp": 3},
+            {"component": "rotor", "kind": "grid", "grid": 2, "comp": 3}]}"#,
+    )
+    .unwrap();
+    // The gap at (0, −1, 0): the rotor turning about +z slides it along +x.
+    std::fs::write(
+        dir.join("gaps.csv"),
+        "pad_grid,rotor_grid,x,y,z,nx,ny,nz,area,p0,temperature\n1,2,0,-1,0,0,0,1,1,1,0\n",
+    )
+    .unwrap();
+}
+
+fn hoffmann_scene(dir: &Path, name: &str, mu: f64, extra: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(
+        &p,
+        format!(
+            r#"
+[model]
+from = "op4"
+matrices = "hoffmann.op4"
+dofmap = "dofmap.json"
+gaps = "gaps.csv"
+
+[friction]
+law = {{ kind = "constant", mu = {mu} }}
+vtol = 1e-6
+
+[rotor]
+rpm = 9549.296585513720    # |ω| = 1000 rad/s: |V_t| = 1000 = 1e9 VTOL (friction saturated)
+axis = [0.0, 0.0, 1.0]
+
+[loads]
+pmax = 1.0
+tload = 0.0
+
+{extra}
+"#
+        ),
+    )
+    .unwrap();
+    p
+}
+
+fn lowest_critical(out: &Path) -> (f64, serde_json::Value) {
+    let s = json(&out.join("cea.sweep.json"));
+    let c = s["couplings"][0].clone();
+    (s["lowest_critical_mu"].as_f64().unwrap(), c)
+}
+
+/// Sweep on the Hoffmann model through squeal's contact formulation: the critical μ and the
+/// merging pair. References (issue 5, analytic for this model): undamped μc = 1/3 with lock-in
+/// ω = 1.048809 (× √S here); equal damping c = 0.05: μc = 0.34250; c1 = 0.1, c2 = 0: μc = 0.30000.
+#[test]
+fn sweep_finds_hoffmann_critical_mu_and_merging_pair() {
+    let d = tmp("cea-hoffmann-sweep");
+    for (c1, c2, mu_c) in [
+        (0.0, 0.0, 1.0 / 3.0),
+        (0.05, 0.05, 0.34250),
+        (0.1, 0.0, 0.30000),
+    ] {
+        hoffmann(&d, c1, c2, 0.0);
+        let scene = hoffmann_scene(
+            &d,
+            "sweep.toml",
+            0.1,
+            "[cea]\nfriction_damping = true\nsweep = { mu = [0.1, 0.6, 11] }\n",
+        );
+        let out = d.join(format!("run-{c1}-{c2}"));
+        let (ok, stderr) = run(squeal()
+            .args(["-q", "cea"])
+            .arg(&scene)
+            .arg("--out")
+            .arg(&out));
+        assert!(ok, "{stderr}");
+        let (mu, c) = lowest_critical(&out);
+        assert!(
+            (mu - mu_c).abs() < 1e-4,
+            "c = ({c1}, {c2}): mu_c = {mu}, expected {mu_c}: {c}"
+        );
+        // The merging pair: two tracks whose frequencies approach each other.
+        assert!(c["partner"].is_u64(), "{c}");
+        if c1 == 0.0 && c2 == 0.0 {
+            let f_lock = 1.048809 * S.sqrt() / (2.0 * std::f64::consts::PI);
+            let f = c["frequency_hz"].as_f64().unwrap();
+            assert!(
+                (f - f_lock).abs() < 1e-4 * f_lock,
+                "lock-in {f} Hz, expected {f_lock}"
+            );
+            let before = c["pair_frequencies_before_hz"].as_array().unwrap();
+            let (fa, fb) = (before[0].as_f64().unwrap(), before[1].as_f64().unwrap());
+            assert!((fa - fb).abs() < 0.1 * f_lock && fa != fb, "{c}");
+        }
+    }
+}
+
+/// Transient ↔ CEA: the Hoffmann model just above μc (undamped μc = 1/3; μ = 0.36) in the
+/// linear regime (constant μ, saturated friction direction, bilateral contact: the BSQL
+/// equations are linear in the perturbation), excited by a step normal load. The transient's
+/// envelope growth rate equals the largest Re p within 2 % and its dominant frequency Im p/2π
+/// within 0.5 % (issue 5, item 5).
+#[test]
+fn transient_growth_and_frequency_match_the_unstable_eigenvalue() {
+    let d = tmp("cea-hoffmann-transient");
+    hoffmann(&d, 0.0, 0.0, 1.0);
+    let mu = 0.36;
+    let scene = hoffmann_scene(
+        &d,
+        "above.toml",
+        mu,
+        "[cea]\n\n[transient]\ntfinal = 2.0\nrtol1 = 1e-8\natol1 = 1e-12\nnoutpt = 1\nnrstrt = 0\n\n[output]\ngrids = [1]\n",
+    );
+    let (ok, stderr) = run(squeal()
+        .args(["-q", "cea"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(d.join("cea")));
+    assert!(ok, "{stderr}");
+    let cea = json(&d.join("cea").join("cea.json"));
+    let top = &cea["modes"][cea["unstable"][0].as_u64().unwrap() as usize];
+    let (re, f) = (
+        top["real_part"].as_f64().unwrap(),
+        top["frequency_hz"].as_f64().unwrap(),
+    );
+    assert_eq!(cea["unstable"].as_array().unwrap().len(), 1, "{cea}");
+    let (ok, stderr) = run(squeal()
+        .args(["-q", "transient"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(d.join("tr")));
+    assert!(ok, "{stderr}");
+    let s = json(&d.join("tr").join("summary.json"));
+    let g = s["growth_rate_per_s"].as_f64().unwrap();
+    // Dominant frequency of the verdict's response (a velocity, zero mean about the steady
+    // state) from its zero crossings over the second half of the run, when the stable partner
+    // of the coalesced pair (Re p = −σ) has decayed by e^{−σ T/2}. The summary's
+    // `dominant_frequency_hz` counts crossings of x − mean(x), which is biased on a growing
+    // signal (its mean is O(σ/ω) of the last amplitude): 16.83 Hz here, +0.8 %.
+    let (rows, cols, data) =
+        squeal_pipeline::history::npy::read_npy(&d.join("tr").join("history.npy")).unwrap();
+    let map = json(&d.join("tr").join("history_map.json"));
+    let col = map["columns"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["name"] == s["response"])
+        .unwrap()["column"]
+        .as_u64()
+        .unwrap() as usize;
+    let (t, x): (Vec<f64>, Vec<f64>) = (0..rows)
+        .map(|r| (data[r * cols], data[r * cols + col]))
+        .filter(|&(t, _)| t > 1.0)
+        .unzip();
+    let crossings: Vec<f64> = (1..x.len())
+        .filter(|&i| x[i - 1] * x[i] < 0.0)
+        .map(|i| t[i - 1] + (t[i] - t[i - 1]) * x[i - 1] / (x[i - 1] - x[i]))
+        .collect();
+    let ft = (crossings.len() - 1) as f64 / (2.0 * (crossings[crossings.len() - 1] - crossings[0]));
+    eprintln!(
+        "CEA: Re p = {re}, f = {f}; transient: growth = {g}, f = {ft} (summary: {})",
+        s["dominant_frequency_hz"]
+    );
+    assert!((g - re).abs() < 0.02 * re, "growth {g} vs Re p {re}");
+    assert!((ft - f).abs() < 0.005 * f, "frequency {ft} vs {f}");
+}
