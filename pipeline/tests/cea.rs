@@ -350,8 +350,9 @@ fn transient_growth_and_frequency_match_the_unstable_eigenvalue() {
     // Dominant frequency of the verdict's response (a velocity, zero mean about the steady
     // state) from its zero crossings over the second half of the run, when the stable partner
     // of the coalesced pair (Re p = −σ) has decayed by e^{−σ T/2}. The summary's
-    // `dominant_frequency_hz` counts crossings of x − mean(x), which is biased on a growing
-    // signal (its mean is O(σ/ω) of the last amplitude): 16.83 Hz here, +0.8 %.
+    // `dominant_frequency_hz` (spacing of the response's extremes over the whole window after
+    // the ramp) is checked too; it once counted crossings of x − mean(x), biased on a growing
+    // signal by O(σ/ω) (16.83 Hz here, +0.8 %).
     let (rows, cols, data) =
         squeal_pipeline::history::npy::read_npy(&d.join("tr").join("history.npy")).unwrap();
     let map = json(&d.join("tr").join("history_map.json"));
@@ -378,4 +379,6 @@ fn transient_growth_and_frequency_match_the_unstable_eigenvalue() {
     );
     assert!((g - re).abs() < 0.02 * re, "growth {g} vs Re p {re}");
     assert!((ft - f).abs() < 0.005 * f, "frequency {ft} vs {f}");
+    let fs = s["dominant_frequency_hz"].as_f64().unwrap();
+    assert!((fs - f).abs() < 0.005 * f, "summary frequency {fs} vs {f}");
 }

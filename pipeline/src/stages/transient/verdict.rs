@@ -7,11 +7,17 @@ type Real = f64;
 /// Verdict on one response history (after the load ramp).
 #[derive(Debug, Clone, Serialize)]
 pub struct Verdict {
-    /// Growth rate σ of the envelope, fit of ln(peaks of |x|) = a + σ t (None: < 3 peaks).
+    /// Growth rate σ of the envelope: least-squares fit of ln h_k = a + σ t_k over the half
+    /// peak-to-peak amplitudes h_k = |x_{k+1} − x_k|/2 of consecutive extremes, placed at their
+    /// mid-times (None: < 3 of them). For c + A e^{σt} sin(ωt + φ) these are exactly
+    /// proportional to e^{σ t_k}, whatever the static offset c.
     pub growth_rate_per_s: Option<Real>,
-    /// Dominant frequency from the zero crossings of x − mean(x) (None: < 3 crossings).
+    /// Dominant frequency from the spacing of the extremes of x, i.e. the zero crossings of
+    /// dx/dt (None: < 3 crossings). The extremes of c + e^{σt} sin(ωt + φ) are exactly π/ω
+    /// apart whatever the offset c and growth σ, which the crossings of x − mean(x) are not
+    /// (on a growing signal the window mean is biased by ≈ σ/ω of the last amplitude).
     pub dominant_frequency_hz: Option<Real>,
-    /// Peaks used in the fit.
+    /// Half peak-to-peak amplitudes used in the fit.
     pub n_peaks: usize,
     /// Window [t_start, t_end] analysed.
     pub window: [Real; 2],
@@ -30,31 +36,26 @@ pub fn slope(x: &[Real], y: &[Real]) -> Option<Real> {
     (sxx > 0.0).then(|| sxy / sxx)
 }
 
-/// Local maxima of |x| (strict on the left), as (t, |x|).
-pub fn peaks(t: &[Real], x: &[Real]) -> Vec<(Real, Real)> {
-    (1..x.len().saturating_sub(1))
-        .filter(|&i| x[i].abs() > x[i - 1].abs() && x[i].abs() >= x[i + 1].abs() && x[i] != 0.0)
-        .map(|i| (t[i], x[i].abs()))
-        .collect()
-}
-
 /// Verdict of the samples with t > `t_after`.
 pub fn analyse(t: &[Real], x: &[Real], t_after: Real) -> Verdict {
     let start = t.iter().position(|&s| s > t_after).unwrap_or(t.len());
     let (t, x) = (&t[start..], &x[start..]);
-    let pk = peaks(t, x);
-    let (pt, pv): (Vec<Real>, Vec<Real>) = pk.iter().map(|&(a, b)| (a, b.ln())).unzip();
-    let growth = if pk.len() >= 3 { slope(&pt, &pv) } else { None };
-    let mean = if x.is_empty() {
-        0.0
-    } else {
-        x.iter().sum::<Real>() / x.len() as Real
-    };
+    // Slopes between samples, located at the interval midpoints; their sign changes are the
+    // extremes of x.
+    let slopes: Vec<(Real, Real)> = (1..x.len())
+        .filter(|&i| t[i] > t[i - 1])
+        .map(|i| {
+            (
+                0.5 * (t[i] + t[i - 1]),
+                (x[i] - x[i - 1]) / (t[i] - t[i - 1]),
+            )
+        })
+        .collect();
     let mut crossings = Vec::new();
-    for i in 1..x.len() {
-        let (a, b) = (x[i - 1] - mean, x[i] - mean);
+    for w in slopes.windows(2) {
+        let ((ta, a), (tb, b)) = (w[0], w[1]);
         if a * b < 0.0 || (a != 0.0 && b == 0.0) {
-            crossings.push(t[i - 1] + (t[i] - t[i - 1]) * a / (a - b));
+            crossings.push(ta + (tb - ta) * a / (a - b));
         }
     }
     let freq = if crossings.len() >= 3 {
@@ -63,10 +64,29 @@ pub fn analyse(t: &[Real], x: &[Real], t_after: Real) -> Verdict {
     } else {
         None
     };
+    // Extremes: the sample between two slopes of opposite sign.
+    let mut extremes: Vec<(Real, Real)> = Vec::new();
+    for i in 1..x.len().saturating_sub(1) {
+        let (a, b) = (x[i] - x[i - 1], x[i + 1] - x[i]);
+        if a * b < 0.0 || (a != 0.0 && b == 0.0) {
+            extremes.push((t[i], x[i]));
+        }
+    }
+    let (pt, pv): (Vec<Real>, Vec<Real>) = extremes
+        .windows(2)
+        .filter(|w| w[1].1 != w[0].1)
+        .map(|w| {
+            (
+                0.5 * (w[0].0 + w[1].0),
+                (0.5 * (w[1].1 - w[0].1).abs()).ln(),
+            )
+        })
+        .unzip();
+    let growth = if pt.len() >= 3 { slope(&pt, &pv) } else { None };
     Verdict {
         growth_rate_per_s: growth,
         dominant_frequency_hz: freq,
-        n_peaks: pk.len(),
+        n_peaks: pt.len(),
         window: [
             t.first().copied().unwrap_or(0.0),
             t.last().copied().unwrap_or(0.0),
@@ -94,6 +114,21 @@ mod tests {
         );
         assert!(
             (v.dominant_frequency_hz.unwrap() - f).abs() < 1e-3 * f,
+            "{v:?}"
+        );
+        // A static offset and a fast growth (σ/ω ≈ 0.1) do not bias the frequency.
+        let (sigma, f) = (30.0, 50.0);
+        let x: Vec<Real> = t
+            .iter()
+            .map(|&s| 5.0 + (sigma * s).exp() * (2.0 * std::f64::consts::PI * f * s + 0.3).sin())
+            .collect();
+        let v = analyse(&t, &x, 0.0);
+        assert!(
+            (v.dominant_frequency_hz.unwrap() - f).abs() < 1e-3 * f,
+            "{v:?}"
+        );
+        assert!(
+            (v.growth_rate_per_s.unwrap() - sigma).abs() < 0.01 * sigma,
             "{v:?}"
         );
         let flat = analyse(&t[..5], &x[..5], 0.0);
