@@ -4,6 +4,9 @@
 //! eigenvalues θ = 1/(ω² − σ) are the lowest ω². K − σM is positive definite for σ < 0 even
 //! for free-free models, so it is factorised once by sparse Cholesky (symbolic once, numeric
 //! once; LDLᵀ on the same symbolic structure, then LU, as fall-backs reported in the stats).
+//! The fill-reducing ordering is AMD or, given DOF coordinates ([`solve_modes_with`]),
+//! geometric nested dissection ([`crate::ordering`]); block solves are sequential, products
+//! with M and the tall-skinny orthogonalisation products are parallel over rows.
 
 mod dense;
 mod factor;
