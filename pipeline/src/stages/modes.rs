@@ -6,7 +6,7 @@ use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::{ComponentSpec, Scene};
 use serde::Serialize;
-use squeal_fe::modal::{solve_modes, ModalStats, ModalStatus};
+use squeal_fe::modal::{solve_modes_with, ModalStats, ModalStatus};
 use squeal_fe::{assemble, AssemblyOptions, AssemblyStats, DofMap};
 use squeal_meshes::{vtu, Mesh};
 use std::time::Instant;
@@ -98,7 +98,10 @@ pub fn run(
     let assembled = assemble(&mesh, &materials, &dofs, &asm_opts).map_err(fe_err)?;
     step.done(format!("assembled K, M ({} DOFs)", dofs.n_free()));
     let step = progress.step("shift-invert Lanczos");
-    let modes = solve_modes(&assembled.k, &assembled.m, &opts).map_err(fe_err)?;
+    // Node coordinates let the factorisation use nested dissection on large meshes.
+    let coords = squeal_fe::dof_coordinates(&mesh, &dofs);
+    let modes =
+        solve_modes_with(&assembled.k, &assembled.m, &opts, Some(&coords)).map_err(fe_err)?;
     step.done(format!(
         "{} modes in {:.2} s",
         modes.frequencies_hz.len(),

@@ -36,9 +36,23 @@ pub fn slope(x: &[Real], y: &[Real]) -> Option<Real> {
     (sxx > 0.0).then(|| sxy / sxx)
 }
 
-/// Verdict of the samples with t > `t_after`.
+/// Verdict of the later half of the samples with t > `t_after`.
+///
+/// Only the later half is analysed: right after the load ramp the response holds every excited
+/// mode, and a self-excited pair (σ ± iω) comes with a stable partner (−σ ± iω) of the same
+/// frequency whose beating biases an envelope fit; by the second half the partner has decayed
+/// by e^{−σT/2} relative to the growing mode.
 pub fn analyse(t: &[Real], x: &[Real], t_after: Real) -> Verdict {
-    let start = t.iter().position(|&s| s > t_after).unwrap_or(t.len());
+    let first = t.iter().position(|&s| s > t_after).unwrap_or(t.len());
+    let t_mid = match (t.get(first), t.last()) {
+        (Some(&a), Some(&b)) => 0.5 * (a + b),
+        _ => t_after,
+    };
+    let start = t
+        .iter()
+        .position(|&s| s >= t_mid)
+        .unwrap_or(t.len())
+        .max(first);
     let (t, x) = (&t[start..], &x[start..]);
     // Slopes between samples, located at the interval midpoints; their sign changes are the
     // extremes of x.
