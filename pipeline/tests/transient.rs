@@ -414,3 +414,39 @@ fn pad_face_off_the_rotor_lists_unmatched_nodes_with_coordinates() {
         "{stderr}"
     );
 }
+
+/// The step cap counts every step of the run, not the steps of one internal chunk: a capped
+/// run stops with a `max_steps` status, and what it wrote up to there is kept.
+#[test]
+fn max_steps_caps_the_whole_run_and_keeps_the_outputs() {
+    let d = tmp("tiny-max-steps");
+    let out = d.join("run");
+    let (ok, _, stderr) = run(squeal()
+        .args(["-q", "transient"])
+        .arg(scene())
+        .arg("--out")
+        .arg(&out)
+        .args([
+            "--set",
+            "transient.max_steps=120",
+            "--set",
+            "transient.noutpt=1",
+        ]));
+    // A run that ends early is an error for the shell, naming where it stopped.
+    assert!(!ok);
+    assert!(
+        stderr.contains("MaxSteps") && stderr.contains("t: "),
+        "{stderr}"
+    );
+    let s = json(&out.join("summary.json"));
+    assert_eq!(s["status"]["status"], "max_steps", "{s}");
+    let steps = s["steps"].as_u64().unwrap();
+    // The cap is checked between chunks of at most 50 steps.
+    assert!((120..=170).contains(&steps), "steps = {steps}");
+    let (rows, _, _) = read_npy(&out.join("history.npy")).unwrap();
+    assert!(
+        rows as u64 >= steps,
+        "history rows {rows} for {steps} steps"
+    );
+    assert!(out.join("energy.csv").is_file());
+}

@@ -9,6 +9,7 @@
 //! Cases run `jobs` at a time (rayon). Each case rebuilds its reduced model (the mesh, FE and
 //! reduction of the base scene are the same for every case; caching them is not done yet).
 
+pub mod drive;
 pub mod report;
 pub mod study;
 
@@ -129,11 +130,12 @@ pub fn run(
     for c in &selected {
         let mut sets = args.set.clone();
         sets.extend(c.overrides(n_contact)?);
-        let mut scene = Scene::load(&base_path, &sets)?;
-        if let (Some(h), Some(t)) = (h_max, scene.transient.as_mut()) {
-            t.max_steps = (study.step_cap * t.tfinal / h).ceil() as usize + 100;
-        }
-        scenes.push(((*c).clone(), scene));
+        let scene = Scene::load(&base_path, &sets)?;
+        let cap = match (h_max, scene.transient.as_ref()) {
+            (Some(h), Some(t)) => Some((study.step_cap * t.tfinal / h).ceil() as usize + 100),
+            _ => None,
+        };
+        scenes.push(((*c).clone(), scene, cap));
     }
     let jobs = args
         .jobs
@@ -155,8 +157,8 @@ pub fn run(
     let results: Vec<Result<CaseResult, PipelineError>> = pool.install(|| {
         scenes
             .par_iter()
-            .map(|(c, scene)| {
-                let r = run_case(c, scene, &study, dir, quiet);
+            .map(|(c, scene, cap)| {
+                let r = run_case(c, scene, *cap, &study, dir, quiet);
                 match &r {
                     Ok(r) => progress.info(format!(
                         "case {}: {} steps, {:.1} s, t_end {:.4e}, squeal = {}, growth {:?} /s, f {:?} Hz",
@@ -186,13 +188,46 @@ pub fn run(
 fn run_case(
     c: &CaseSpec,
     scene: &Scene,
+    cap: Option<usize>,
     study: &StudySpec,
     dir: &RunDir,
     quiet: Progress,
 ) -> Result<CaseResult, PipelineError> {
     let wall = Instant::now();
     let cdir = RunDir::create(&dir.path(&format!("case{}", c.case)))?;
-    let r = transient::run(scene, &cdir, quiet, None)?;
+    let t_load = scene.loads.as_ref().map_or(0.0, |l| l.tload);
+    let r = match cap {
+        Some(cap) => {
+            let file = cdir.write_bytes("case.toml", scene.resolved_toml().as_bytes())?;
+            drive::run_capped(
+                &file,
+                &cdir,
+                cap,
+                t_load,
+                scene
+                    .transient
+                    .as_ref()
+                    .and_then(|t| t.h_max)
+                    .unwrap_or(Real::INFINITY),
+                scene.output.squeal_growth_threshold,
+            )?
+        }
+        None => {
+            let r = transient::run(scene, &cdir, quiet, None)?;
+            drive::CappedRun {
+                steps: r.steps,
+                cpu_s: r.cpu_s,
+                t_end: r.t_end,
+                status: status_text(&r.status),
+                squeal: r.squeal,
+                growth_rate_per_s: r.growth_rate_per_s,
+                dominant_frequency_hz: r.dominant_frequency_hz,
+                response: r.response.clone(),
+                n_dofs: r.n_dofs,
+                n_gaps: r.n_gaps,
+            }
+        }
+    };
     let (cea_unstable_modes, cea_error) = if study.cea {
         let mut cs = scene.clone();
         if cs.cea.is_none() {
@@ -237,7 +272,7 @@ fn run_case(
         cpu_s: r.cpu_s,
         wall_s: wall.elapsed().as_secs_f64(),
         t_end: r.t_end,
-        status: status_text(&r.status),
+        status: r.status.clone(),
         squeal: r.squeal,
         growth_rate_per_s: r.growth_rate_per_s,
         dominant_frequency_hz: r.dominant_frequency_hz,

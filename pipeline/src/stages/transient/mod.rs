@@ -487,6 +487,13 @@ pub fn run(
                 if spec.nrstrt > 0 && steps_done % spec.nrstrt == 0 {
                     write_restart(&bdf)?;
                 }
+                // The integrator counts max_steps per call; the run's cap counts every step.
+                if steps_done >= spec.max_steps {
+                    break Status::MaxSteps {
+                        t: bdf.t(),
+                        steps: steps_done,
+                    };
+                }
             }
             other => break other,
         }
