@@ -169,31 +169,7 @@ impl<F: FrictionForces> BsqlSystem<F> {
         opts: BsqlOptions,
     ) -> Result<Self, SolverError> {
         opts.validate()?;
-        let n = M.nrows();
-        for (what, m) in [("M", &M), ("B", &B), ("K", &K)] {
-            if m.nrows() != n || m.ncols() != n {
-                return Err(SolverError::DimensionMismatch {
-                    what,
-                    expected: n,
-                    got: if m.nrows() != n { m.nrows() } else { m.ncols() },
-                });
-            }
-        }
-        if G.ncols() != n {
-            return Err(SolverError::DimensionMismatch {
-                what: "G (columns)",
-                expected: n,
-                got: G.ncols(),
-            });
-        }
-        load.validate(n)?;
-        let ng = G.nrows();
-        let mut g_scale: Real = 0.0;
-        for j in 0..n {
-            for i in 0..ng {
-                g_scale = g_scale.max(G[(i, j)].abs());
-            }
-        }
+        let (n, ng, g_scale) = check_matrices(&M, &B, &K, &G, &load)?;
         let d_dv = if opts.include_friction_damping {
             Mat::zeros(n, n)
         } else {
@@ -326,4 +302,42 @@ impl<F: FrictionForces> DaeSystem for BsqlSystem<F> {
         self.factored = Factored::Derivative { s };
         Ok(true)
     }
+}
+
+/// Checks the shapes of M, B, K (n × n), G (ng × n) and the loads (length n); returns
+/// (n, ng, max |G_ij|), the scale the saddle systems use to balance their blocks.
+#[allow(non_snake_case)]
+pub(crate) fn check_matrices(
+    M: &Mat<Real>,
+    B: &Mat<Real>,
+    K: &Mat<Real>,
+    G: &Mat<Real>,
+    load: &LoadHistory,
+) -> Result<(usize, usize, Real), SolverError> {
+    let n = M.nrows();
+    for (what, m) in [("M", M), ("B", B), ("K", K)] {
+        if m.nrows() != n || m.ncols() != n {
+            return Err(SolverError::DimensionMismatch {
+                what,
+                expected: n,
+                got: if m.nrows() != n { m.nrows() } else { m.ncols() },
+            });
+        }
+    }
+    if G.ncols() != n {
+        return Err(SolverError::DimensionMismatch {
+            what: "G (columns)",
+            expected: n,
+            got: G.ncols(),
+        });
+    }
+    load.validate(n)?;
+    let ng = G.nrows();
+    let mut g_scale: Real = 0.0;
+    for j in 0..n {
+        for i in 0..ng {
+            g_scale = g_scale.max(G[(i, j)].abs());
+        }
+    }
+    Ok((n, ng, g_scale))
 }

@@ -7,6 +7,7 @@
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 
+use crate::bsql::check_matrices;
 use crate::bsql::{FrictionForces, LoadHistory};
 use crate::linalg::lu::DenseLu;
 use crate::{Real, SolverError};
@@ -51,31 +52,7 @@ impl<F: FrictionForces> GalphaSystem<F> {
         load: LoadHistory,
         friction: F,
     ) -> Result<Self, SolverError> {
-        let n = M.nrows();
-        for (what, m) in [("M", &M), ("B", &B), ("K", &K)] {
-            if m.nrows() != n || m.ncols() != n {
-                return Err(SolverError::DimensionMismatch {
-                    what,
-                    expected: n,
-                    got: if m.nrows() != n { m.nrows() } else { m.ncols() },
-                });
-            }
-        }
-        if G.ncols() != n {
-            return Err(SolverError::DimensionMismatch {
-                what: "G (columns)",
-                expected: n,
-                got: G.ncols(),
-            });
-        }
-        load.validate(n)?;
-        let ng = G.nrows();
-        let mut g_scale: Real = 0.0;
-        for j in 0..n {
-            for i in 0..ng {
-                g_scale = g_scale.max(G[(i, j)].abs());
-            }
-        }
+        let (n, ng, g_scale) = check_matrices(&M, &B, &K, &G, &load)?;
         Ok(Self {
             M,
             B,
