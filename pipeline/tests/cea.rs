@@ -48,6 +48,65 @@ fn tiny_brake_with(dir: &Path, cea: &str) -> PathBuf {
     p
 }
 
+/// Base64 (standard alphabet, `=` padding) to bytes.
+fn base64_decode(text: &str) -> Vec<u8> {
+    let val = |c: u8| match c {
+        b'A'..=b'Z' => c - b'A',
+        b'a'..=b'z' => c - b'a' + 26,
+        b'0'..=b'9' => c - b'0' + 52,
+        b'+' => 62,
+        b'/' => 63,
+        _ => panic!("not base64: {c}"),
+    } as u32;
+    let clean: Vec<u8> = text.bytes().filter(|c| !c.is_ascii_whitespace()).collect();
+    let mut out = Vec::new();
+    for chunk in clean.chunks(4) {
+        let pad = chunk.iter().filter(|&&c| c == b'=').count();
+        let mut n = 0u32;
+        for (i, &c) in chunk.iter().enumerate() {
+            n |= (if c == b'=' { 0 } else { val(c) }) << (18 - 6 * i);
+        }
+        let bytes = [(n >> 16) as u8, (n >> 8) as u8, n as u8];
+        out.extend_from_slice(&bytes[..3 - pad]);
+    }
+    out
+}
+
+/// The text between the `<DataArray ... Name="name" ...>` tag and its `</DataArray>`.
+fn data_array_text<'a>(vtu: &'a str, name: &str) -> &'a str {
+    let at = vtu
+        .find(&format!("Name=\"{name}\""))
+        .unwrap_or_else(|| panic!("no array {name}"));
+    let start = at + vtu[at..].find('>').unwrap() + 1;
+    let end = start + vtu[start..].find("</DataArray>").unwrap();
+    &vtu[start..end]
+}
+
+/// A Float64 array of a binary VTU (squeal_meshes::vtu: base64 of a UInt64 byte count + data).
+fn binary_f64(vtu: &str, name: &str) -> Vec<f64> {
+    let bytes = base64_decode(data_array_text(vtu, name));
+    let len = u64::from_le_bytes(bytes[..8].try_into().unwrap()) as usize;
+    assert_eq!(len, bytes.len() - 8, "{name}: byte count");
+    bytes[8..]
+        .chunks(8)
+        .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+        .collect()
+}
+
+/// An ASCII array of a VTU.
+fn ascii_f64(vtu: &str, name: &str) -> Vec<f64> {
+    data_array_text(vtu, name)
+        .split_whitespace()
+        .map(|t| t.parse().unwrap())
+        .collect()
+}
+
+/// `NumberOfPoints` of a VTU piece.
+fn n_points(vtu: &str) -> usize {
+    let at = vtu.find("NumberOfPoints=\"").unwrap() + "NumberOfPoints=\"".len();
+    vtu[at..at + vtu[at..].find('"').unwrap()].parse().unwrap()
+}
+
 #[test]
 fn cea_on_the_tiny_brake_writes_every_output() {
     let d = tmp("cea-tiny");
@@ -67,6 +126,8 @@ fn cea_on_the_tiny_brake_writes_every_output() {
         "stability_map.png",
         "stability_map.svg",
         "cea_modes.vtu",
+        "cea_modes_rotor.vtu",
+        "cea_modes_pad.vtu",
         "tangents.op4",
         "tangents.pch",
         "cea.sweep.json",
@@ -127,6 +188,56 @@ fn cea_on_the_tiny_brake_writes_every_output() {
         vtu.contains(&format!("Name=\"mode{k}_re\""))
             && vtu.contains(&format!("Name=\"mode{k}_im\""))
     );
+    // The same shapes expanded to each component's full mesh: as many points as the mesh
+    // (a 2×2×1 hex8 block in the scene: 3·3·2 = 18 nodes), and at the nodes that are grid
+    // points of the reduced model the recovered values are the reduced eigenvector's (the
+    // Craig–Bampton transformation is the identity on boundary DOFs), while interior nodes
+    // carry the recovered motion: nonzero on the pad's free upper face, zero on the rotor's
+    // clamped base (`fixed = [{ set = "z0" }]`, its only non-contact nodes).
+    let grid_ids = ascii_f64(&vtu, "grid");
+    let freq = modes[k as usize]["frequency_hz"].as_f64().unwrap();
+    let stem = format!("mode{k}_{freq:.1}Hz");
+    for comp in ["rotor", "pad"] {
+        let full = std::fs::read_to_string(out.join(format!("cea_modes_{comp}.vtu"))).unwrap();
+        assert_eq!(n_points(&full), 18, "{comp}");
+        let grids = binary_f64(&full, "grid");
+        assert_eq!(grids.len(), 18, "{comp}");
+        let mut matched = 0;
+        let mut interior_motion = 0.0f64;
+        for part in ["re", "im"] {
+            let red = ascii_f64(&vtu, &format!("mode{k}_{part}"));
+            let vals = binary_f64(&full, &format!("{stem}_{part}"));
+            assert_eq!(vals.len(), 3 * 18, "{comp} {part}");
+            let scale = red.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            assert!(scale > 0.0);
+            for (node, &g) in grids.iter().enumerate() {
+                match grid_ids.iter().position(|&x| x == g) {
+                    Some(p) => {
+                        matched += 1;
+                        for c in 0..3 {
+                            let (a, b) = (vals[3 * node + c], red[3 * p + c]);
+                            assert!(
+                                (a - b).abs() <= 1e-12 * scale,
+                                "{comp} grid {g} comp {c} {part}: full {a} vs reduced {b}"
+                            );
+                        }
+                    }
+                    None => {
+                        for c in 0..3 {
+                            interior_motion = interior_motion.max(vals[3 * node + c].abs());
+                        }
+                    }
+                }
+            }
+        }
+        // Every contact face node (3·3 per component) is a grid point, in both parts.
+        assert_eq!(matched, 2 * 9, "{comp}");
+        if comp == "pad" {
+            assert!(interior_motion > 0.0, "pad: interior nodes not recovered");
+        } else {
+            assert_eq!(interior_motion, 0.0, "rotor: clamped base moves");
+        }
+    }
     // The exported tangents hold the named matrices with the model's sizes.
     let mats = op4::read(out.join("tangents.op4")).unwrap();
     let n = stats["n"].as_u64().unwrap() as usize;

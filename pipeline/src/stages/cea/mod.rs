@@ -5,16 +5,18 @@
 //! steady sliding equilibrium under preload + PMAX·brake load, or a restart file's state →
 //! tangents D = ∂F_f/∂λ̇, C_f = ∂F_f/∂v ([`tangents`]) → `squeal_solver::cea::complex_eigen`
 //! (constraint eliminated, no spurious roots) → `cea.json`, `stability_map.{png,svg}`,
-//! `cea_modes.vtu` (unstable shapes), `summary.json`; with a sweep ([`sweep`]) also
+//! `cea_modes.vtu` and `cea_modes_<component>.vtu` (unstable shapes), `summary.json`; with a sweep ([`sweep`]) also
 //! `cea.sweep.json` and `root_locus*.{png,svg}`; with `--export-tangents`, `tangents.op4` and
 //! `tangents.pch` ([`outputs`]).
 //!
-//! **Mode shapes.** The builder keeps the assembled reduced model but not the per-component
-//! Craig–Bampton transformations, so the shapes are written at the grid points of the
-//! reduced model (every boundary/interface grid: contact nodes, joints), not at interior mesh
-//! nodes; modal (fixed-interface) coordinates are not expanded.
+//! **Mode shapes.** `cea_modes.vtu` holds the shapes at the grid points of the reduced model
+//! (every boundary/interface grid: contact nodes, joints). For a model built from meshes the
+//! builder also keeps each component's mesh, DOF map and Craig–Bampton model, and
+//! `cea_modes_<component>.vtu` holds the shapes expanded to the full mesh ([`shapes`]);
+//! stored reduced matrices (OP4/punch) have no mesh, so only the grid-point file is written.
 
 pub mod outputs;
+pub mod shapes;
 pub mod sweep;
 pub mod tangents;
 
@@ -97,6 +99,8 @@ pub struct CeaReport {
     pub lowest_critical_mu: Option<Real>,
     /// Points of `cea_modes.vtu` (0: not written).
     pub vtu_points: usize,
+    /// Full-mesh mode-shape files `cea_modes_<component>.vtu` (empty: stored matrices).
+    pub full_mesh_shapes: Vec<String>,
     pub mode_shapes_note: &'static str,
     pub files: Vec<String>,
     pub model_hash: String,
@@ -109,9 +113,9 @@ fn cea_err(what: &str) -> impl FnOnce(squeal_solver::cea::CeaError) -> PipelineE
     }
 }
 
-const SHAPES_NOTE: &str = "mode shapes at the grid points of the reduced model (contact and \
-interface grids); interior mesh nodes are not recovered (the model builder does not keep the \
-per-component Craig-Bampton transformations)";
+const SHAPES_NOTE: &str = "cea_modes.vtu: mode shapes at the grid points of the reduced model \
+(contact and interface grids); cea_modes_<component>.vtu: the shapes recovered with each \
+component's Craig-Bampton transformation on its full mesh (models built from meshes only)";
 
 /// Runs `squeal cea`.
 pub fn run(
@@ -208,15 +212,17 @@ pub fn run(
         files.push(format!("{stem}.png"));
         files.push(format!("{stem}.svg"));
     }
-    let shapes: Vec<(usize, &Mode)> = unstable
+    let shown: Vec<(usize, &Mode)> = unstable
         .iter()
         .take(spec.max_shapes)
         .map(|&i| (i, kept[i]))
         .collect();
-    let vtu_points = outputs::write_mode_shapes(dir, &model, &shapes)?;
+    let vtu_points = outputs::write_mode_shapes(dir, &model, &shown)?;
     if vtu_points > 0 {
         files.push(dir.path("cea_modes.vtu").display().to_string());
     }
+    let full_mesh_shapes = shapes::write_full_mode_shapes(dir, &model, &shown)?;
+    files.extend(full_mesh_shapes.iter().cloned());
     if args.export_tangents {
         files.extend(outputs::export_tangents(dir, &model, &problem, &lin)?);
     }
@@ -259,6 +265,7 @@ pub fn run(
         sweep_stats,
         lowest_critical_mu,
         vtu_points,
+        full_mesh_shapes,
         mode_shapes_note: SHAPES_NOTE,
         files,
         model_hash: problem.model_hash(),

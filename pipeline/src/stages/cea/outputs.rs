@@ -80,7 +80,8 @@ pub fn write_mode_shapes(
         return Ok(0);
     }
     let np = grids.len();
-    let f = |x: Real| format!("{x:.9e}");
+    // Shortest round-trip representation: the values read back are the computed ones.
+    let f = |x: Real| format!("{x:e}");
     let mut s = String::new();
     s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n  <UnstructuredGrid>\n");
     let _ = writeln!(

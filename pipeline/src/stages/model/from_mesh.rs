@@ -5,7 +5,7 @@
 
 use super::areas::pad_areas;
 use super::grids::{merge, Grids};
-use super::{symmetrise, ComponentReport, ReducedModel};
+use super::{symmetrise, ComponentRecovery, ComponentReport, ReducedModel};
 use crate::error::PipelineError;
 use crate::output::RunDir;
 use crate::progress::Progress;
@@ -27,6 +27,7 @@ type Real = f64;
 /// One reduced component before assembly.
 struct Reduced {
     cb: CbModel,
+    dofs: DofMap,
     keys: Vec<DofKey>,
     load: Vec<Real>,
     check: Option<CbCheck>,
@@ -262,6 +263,34 @@ pub fn build_from_mesh(
         .zip(reduced.iter())
         .filter_map(|(spec, r)| r.check.clone().map(|c| (spec.name.clone(), c)))
         .collect();
+    drop(comps);
+    let recovery = scene
+        .components
+        .iter()
+        .zip(reduced)
+        .zip(meshes)
+        .zip(&grids.grid_of)
+        .map(|(((spec, r), mesh), grid_of)| {
+            let nb = r.keys.len();
+            let assembled = (0..r.cb.n_reduced())
+                .map(|j| {
+                    if j < nb {
+                        grid_index.get(&r.keys[j]).copied()
+                    } else {
+                        modal_index.get(&(spec.name.as_str(), j - nb)).copied()
+                    }
+                })
+                .collect();
+            ComponentRecovery {
+                name: spec.name.clone(),
+                mesh,
+                dofs: r.dofs,
+                cb: r.cb,
+                grid_of: grid_of.clone(),
+                assembled,
+            }
+        })
+        .collect();
     gaps.gaps.iter_mut().for_each(|g| {
         g.pad_dofs = [None; 3];
         g.rotor_dofs = [None; 3];
@@ -276,6 +305,7 @@ pub fn build_from_mesh(
         grids: grids.grids.clone(),
         checks,
         components,
+        recovery,
         source: ModelSource::Mesh,
     };
     model.assign_gap_dofs()?;
@@ -404,6 +434,7 @@ fn reduce_component(
     }
     Ok(Reduced {
         cb: model,
+        dofs,
         keys,
         load,
         check,

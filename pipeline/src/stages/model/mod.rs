@@ -18,8 +18,11 @@ use crate::scene::{ModelSource, Scene};
 use faer::Mat;
 use serde::Serialize;
 use squeal_contact::GapSet;
+use squeal_fe::DofMap;
+use squeal_meshes::Mesh;
 use squeal_reduction::cb::CbCheck;
 use squeal_reduction::superelement::{DofKey, DofKind, ReducedDofMap};
+use squeal_reduction::CbModel;
 use std::collections::HashMap;
 
 type Real = f64;
@@ -36,6 +39,44 @@ pub struct ComponentReport {
     pub cb_stats: squeal_reduction::cb::CbStats,
     /// Viscous factor of this component's reduced stiffness in B (GE/W4).
     pub element_damping_factor: Real,
+}
+
+/// What it takes to expand a reduced vector to one component's full mesh (meshed models only):
+/// its mesh, free-DOF numbering and Craig–Bampton model, and where each of its reduced
+/// coordinates (boundary DOFs, then modal coordinates) sits in the assembled reduced vector.
+#[derive(Debug, Clone)]
+pub struct ComponentRecovery {
+    pub name: String,
+    pub mesh: Mesh,
+    /// Free-DOF numbering of the mesh (the rows of the Craig–Bampton model).
+    pub dofs: DofMap,
+    pub cb: CbModel,
+    /// Merged grid id of each mesh node.
+    pub grid_of: Vec<u64>,
+    /// Assembled reduced index of component-reduced coordinate j (`cb.n_reduced()` entries;
+    /// `None`: not in the assembled model).
+    pub assembled: Vec<Option<usize>>,
+}
+
+impl ComponentRecovery {
+    /// Nodal 3-vectors of the assembled reduced vector `x` on this component's mesh:
+    /// gather its reduced coordinates, recover the free DOFs with the Craig–Bampton
+    /// transformation, expand to the nodes (zeros at fixed DOFs).
+    pub fn expand(&self, x: &[Real]) -> Result<Vec<[Real; 3]>, PipelineError> {
+        let xr: Vec<Real> = self
+            .assembled
+            .iter()
+            .map(|i| i.and_then(|i| x.get(i)).copied().unwrap_or(0.0))
+            .collect();
+        let full = self
+            .cb
+            .recover(&xr)
+            .map_err(|source| PipelineError::Reduction {
+                what: format!("component `{}`: recovering a full vector", self.name),
+                source,
+            })?;
+        Ok(self.dofs.expand(&full))
+    }
 }
 
 /// The assembled reduced model with its contact and loads.
@@ -58,6 +99,8 @@ pub struct ReducedModel {
     /// Craig–Bampton checks per component (meshed models with `reduction.checks`).
     pub checks: Vec<(String, CbCheck)>,
     pub components: Vec<ComponentReport>,
+    /// Per-component recovery data (meshed models only; empty for stored matrices).
+    pub recovery: Vec<ComponentRecovery>,
     pub source: ModelSource,
 }
 

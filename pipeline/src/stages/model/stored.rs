@@ -322,6 +322,7 @@ pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
         grids: Vec::new(),
         checks: Vec::new(),
         components: Vec::new(),
+        recovery: Vec::new(),
         source: spec.from,
     };
     model.assign_gap_dofs()?;
