@@ -338,7 +338,7 @@ mod tests {
         assert_eq!(m.volumes[0].len(), 24);
         assert_eq!(m.node_sets["x0"].len(), 4 * 5);
         assert_eq!(m.faces["z1"].len(), 6);
-        assert_eq!(m.node_sets["z0_edges"].len(), 2 * 3 + 2 * 4 - 4 + 0 * 1);
+        assert_eq!(m.node_sets["z0_edges"].len(), 2 * 3 + 2 * 4 - 4); // perimeter of the 3 × 4 node grid of z = 0
         assert!(jac_sign_ok(&m));
         let m = box_mesh(1.0, 1.0, 1.0, 1, 1, 1, CellKind::Hex20);
         assert_eq!(m.nodes.len(), 20);

@@ -473,7 +473,7 @@ fn craig_bampton_of_the_sample_rotor_and_pads_is_within_half_a_percent() {
             let (Some(full), Some(red)) = (r["full_hz"].as_f64(), r["reduced_hz"].as_f64()) else {
                 continue;
             };
-            if full < 1.0 || full > 10_000.0 {
+            if !(1.0..=10_000.0).contains(&full) {
                 continue; // rigid-body modes, or above the frequency of interest
             }
             let err = (red - full) / full;

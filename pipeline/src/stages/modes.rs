@@ -91,10 +91,7 @@ pub fn run(
     let dofs = DofMap::new(mesh.nodes.len(), &fixed).map_err(fe_err)?;
     let materials = c.block_materials(&mesh)?;
     let step = progress.step(format!("assembling K, M ({} DOFs)", dofs.n_free()));
-    let asm_opts = AssemblyOptions {
-        hex8: c.hex8,
-        ..Default::default()
-    };
+    let asm_opts = AssemblyOptions { hex8: c.hex8 };
     let assembled = assemble(&mesh, &materials, &dofs, &asm_opts).map_err(fe_err)?;
     step.done(format!("assembled K, M ({} DOFs)", dofs.n_free()));
     let step = progress.step("shift-invert Lanczos");
