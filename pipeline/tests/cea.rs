@@ -2,43 +2,12 @@
 //! its critical μ on a Hoffmann-type 2-DOF contact model (stored matrices + a gap table), and
 //! transient ↔ CEA agreement on the same model just above μc.
 
+mod common;
+use common::{json, root, run, squeal, tmp};
+
 use squeal_reduction::matrix::{MatrixForm, NamedMatrix};
 use squeal_reduction::op4::{self, Op4WriteOptions};
 use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn squeal() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_squeal"))
-}
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn run(cmd: &mut Command) -> (bool, String) {
-    let out = cmd.output().expect("run squeal");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn json(p: &Path) -> serde_json::Value {
-    serde_json::from_str(
-        &std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display())),
-    )
-    .unwrap()
-}
 
 /// The tiny brake scene with a `[cea]` table appended.
 fn tiny_brake_with(dir: &Path, cea: &str) -> PathBuf {
@@ -112,7 +81,7 @@ fn cea_on_the_tiny_brake_writes_every_output() {
     let d = tmp("cea-tiny");
     let scene = tiny_brake_with(&d, "[cea]\nmax_frequency_hz = 2000.0\n");
     let out = d.join("run");
-    let (ok, stderr) = run(squeal()
+    let (ok, _, stderr) = run(squeal()
         .args(["-q", "cea"])
         .arg(&scene)
         .arg("--out")
@@ -267,7 +236,7 @@ fn cea_on_the_tiny_brake_writes_every_output() {
 
     // No [cea] and no --mu: an error that says how to ask.
     let plain = root().join("examples/transient/tiny-brake.toml");
-    let (ok, stderr) = run(squeal()
+    let (ok, _, stderr) = run(squeal()
         .args(["-q", "cea"])
         .arg(&plain)
         .arg("--out")
@@ -394,7 +363,7 @@ fn sweep_finds_hoffmann_critical_mu_and_merging_pair() {
             "[cea]\nfriction_damping = true\nsweep = { mu = [0.1, 0.6, 11] }\n",
         );
         let out = d.join(format!("run-{c1}-{c2}"));
-        let (ok, stderr) = run(squeal()
+        let (ok, _, stderr) = run(squeal()
             .args(["-q", "cea"])
             .arg(&scene)
             .arg("--out")
@@ -437,7 +406,7 @@ fn transient_growth_and_frequency_match_the_unstable_eigenvalue() {
         mu,
         "[cea]\n\n[transient]\ntfinal = 2.0\nrtol1 = 1e-8\natol1 = 1e-12\nnoutpt = 1\nnrstrt = 0\n\n[output]\ngrids = [1]\n",
     );
-    let (ok, stderr) = run(squeal()
+    let (ok, _, stderr) = run(squeal()
         .args(["-q", "cea"])
         .arg(&scene)
         .arg("--out")
@@ -450,7 +419,7 @@ fn transient_growth_and_frequency_match_the_unstable_eigenvalue() {
         top["frequency_hz"].as_f64().unwrap(),
     );
     assert_eq!(cea["unstable"].as_array().unwrap().len(), 1, "{cea}");
-    let (ok, stderr) = run(squeal()
+    let (ok, _, stderr) = run(squeal()
         .args(["-q", "transient"])
         .arg(&scene)
         .arg("--out")

@@ -1,34 +1,7 @@
 //! System tests: the `squeal` command end to end on tiny scenes.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn squeal() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_squeal"))
-}
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn run(cmd: &mut Command) -> (bool, String, String) {
-    let out = cmd.output().expect("run squeal");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+mod common;
+use common::{root, run, squeal, tmp};
 
 #[test]
 fn check_prints_the_resolved_scene_with_defaults() {

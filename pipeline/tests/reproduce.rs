@@ -2,22 +2,10 @@
 //! (`examples/sample-brake/base.toml` with fewer fixed-interface modes and a short TF): two of
 //! the paper's cases run and produce `cases.json`, the table, the figures and the report.
 
-use std::path::{Path, PathBuf};
+mod common;
+use common::{root, tmp};
+
 use std::process::Command;
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 /// Cases 2 (μ = 0.7 − 0.0005V) and 5 (μ = 0.3) of the paper's table, to TF = 0.0008 s.
 #[test]

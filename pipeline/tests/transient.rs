@@ -2,46 +2,14 @@
 //! scene `examples/transient/tiny-brake.toml` (a block rotor and a block pad with coincident
 //! contact-face nodes).
 
+mod common;
+use common::{json, root, run, squeal, tmp};
+
 use squeal_pipeline::history::npy::read_npy;
 use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn squeal() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_squeal"))
-}
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
 
 fn scene() -> PathBuf {
     root().join("examples/transient/tiny-brake.toml")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn run(cmd: &mut Command) -> (bool, String, String) {
-    let out = cmd.output().expect("run squeal");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn json(p: &Path) -> serde_json::Value {
-    serde_json::from_str(
-        &std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display())),
-    )
-    .unwrap()
 }
 
 fn transient(scene: &Path, out: &Path, sets: &[&str]) {
