@@ -578,13 +578,16 @@ fn failure_is_a_status_naming_t_h_and_residual() {
             Status::ConvergenceFailures {
                 t,
                 h,
+                order,
                 residual_norm,
             }
             | Status::StepSizeTooSmall {
                 t,
                 h,
+                order,
                 residual_norm,
             } => {
+                assert_eq!(order, 2);
                 assert!(t <= 0.5 && t > 0.5 - 0.011, "t = {t}");
                 assert!(h > 0.0 && h <= 0.01);
                 assert!(residual_norm.is_nan());

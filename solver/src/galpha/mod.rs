@@ -38,8 +38,6 @@ pub mod spectral;
 pub mod step;
 pub mod system;
 
-use serde::Serialize;
-
 pub use options::{GalphaCoeffs, GalphaOptions, GalphaStats};
 pub use spectral::{
     algorithmic_damping, amplification_matrix, principal_root, spectral_radius, AlgorithmicDamping,
@@ -49,63 +47,9 @@ pub use system::GalphaSystem;
 use crate::bsql::FrictionForces;
 use crate::{Real, SolverError};
 
-/// How a `step_to` call ended. Failures to converge are statuses, not errors.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[serde(tag = "status", rename_all = "snake_case")]
-pub enum Status {
-    /// The output time was reached; `y()`/`yp()` hold the solution there.
-    Reached {
-        /// The output time.
-        t: Real,
-    },
-    /// Newton did not converge with a fresh iteration matrix (fixed step), or too many
-    /// failures on one step (adaptive).
-    ConvergenceFailures {
-        /// Time at the start of the failed step.
-        t: Real,
-        /// Step size tried last.
-        h: Real,
-        /// ‖F‖∞ at the last residual evaluation (NaN if not finite).
-        residual_norm: Real,
-    },
-    /// Too many error-test failures on one step (adaptive).
-    ErrorTestFailures {
-        /// Time at the start of the failed step.
-        t: Real,
-        /// Step size tried last.
-        h: Real,
-        /// Weighted local error estimate (≤ 1 passes).
-        error_norm: Real,
-    },
-    /// The step size fell below `h_min` (adaptive).
-    StepSizeTooSmall {
-        /// Time at the start of the failed step.
-        t: Real,
-        /// Step size that was too small.
-        h: Real,
-        /// ‖F‖∞ at the last residual evaluation (NaN if not finite).
-        residual_norm: Real,
-    },
-    /// `max_steps` steps were taken in this call.
-    MaxSteps {
-        /// Time reached.
-        t: Real,
-        /// Steps taken in this call.
-        steps: usize,
-    },
-    /// The per-step callback asked to stop; `y()`/`yp()` hold the last step's solution.
-    Interrupted {
-        /// Time of the last accepted step.
-        t: Real,
-    },
-}
-
-impl Status {
-    /// True for `Reached`.
-    pub fn is_success(&self) -> bool {
-        matches!(self, Status::Reached { .. })
-    }
-}
+/// How a `step_to` call ended: the BDF's [`Status`](crate::bdf::Status), with `order` = 2 (the
+/// method's order of accuracy) in the failure variants, so callers can swap integrators.
+pub use crate::bdf::Status;
 
 /// Solution at one step point: everything the next step and the output need.
 #[derive(Debug, Clone)]

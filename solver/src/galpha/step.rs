@@ -297,6 +297,7 @@ impl Galpha {
                 return Ok(Some(Status::StepSizeTooSmall {
                     t,
                     h,
+                    order: 2,
                     residual_norm: self.w.last_res_norm,
                 }));
             }
@@ -308,6 +309,7 @@ impl Galpha {
                     return Ok(Some(Status::ConvergenceFailures {
                         t,
                         h,
+                        order: 2,
                         residual_norm: self.w.last_res_norm,
                     }));
                 }
@@ -323,6 +325,7 @@ impl Galpha {
                         return Ok(Some(Status::ErrorTestFailures {
                             t,
                             h,
+                            order: 2,
                             error_norm: err,
                         }));
                     }

@@ -13,7 +13,7 @@ use squeal_contact::GapSet;
 use squeal_solver::bdf::Status;
 use squeal_solver::bdf::{consistent_initial_conditions, Bdf, BdfOptions, InitialConditionOptions};
 use squeal_solver::bsql::{steady_state, EnergyBalance, SteadyOptions};
-use squeal_solver::galpha::{self, Galpha, GalphaOptions, GalphaSystem};
+use squeal_solver::galpha::{Galpha, GalphaOptions, GalphaSystem};
 use squeal_solver::SolverError;
 
 type Real = f64;
@@ -239,7 +239,7 @@ pub fn integrate(
                     .step_to(&mut sys, tk, |_, t, y, yp| per_step(t, y, yp))
                     .map_err(solver_err("integration"))?;
                 if !st.is_success() {
-                    status = Some(as_bdf_status(st));
+                    status = Some(st);
                     break;
                 }
                 t_s.push(tk);
@@ -273,39 +273,4 @@ pub fn integrate(
     out.t = t_s;
     out.v = v_s;
     Ok(out)
-}
-
-/// The generalized-α status in the BDF's terms (order 2: the method's order).
-pub fn as_bdf_status(st: galpha::Status) -> Status {
-    match st {
-        galpha::Status::Reached { t } => Status::Reached { t },
-        galpha::Status::ConvergenceFailures {
-            t,
-            h,
-            residual_norm,
-        } => Status::ConvergenceFailures {
-            t,
-            h,
-            order: 2,
-            residual_norm,
-        },
-        galpha::Status::ErrorTestFailures { t, h, error_norm } => Status::ErrorTestFailures {
-            t,
-            h,
-            order: 2,
-            error_norm,
-        },
-        galpha::Status::StepSizeTooSmall {
-            t,
-            h,
-            residual_norm,
-        } => Status::StepSizeTooSmall {
-            t,
-            h,
-            order: 2,
-            residual_norm,
-        },
-        galpha::Status::MaxSteps { t, steps } => Status::MaxSteps { t, steps },
-        galpha::Status::Interrupted { t } => Status::Interrupted { t },
-    }
 }
