@@ -101,6 +101,31 @@ pub fn initial_state(
     Ok((y0, yp0))
 }
 
+/// Advances through the grid times, recording the sampled values `advance` returns at each;
+/// times ≤ 0 take `first` (the initial state). Returns the first status that is not `Reached`.
+fn walk_grid(
+    grid: &[Real],
+    first: Vec<Real>,
+    t_s: &mut Vec<Real>,
+    v_s: &mut Vec<Vec<Real>>,
+    mut advance: impl FnMut(Real) -> Result<(Status, Vec<Real>), PipelineError>,
+) -> Result<Option<Status>, PipelineError> {
+    for &tk in grid {
+        if tk <= 0.0 {
+            t_s.push(tk);
+            v_s.push(first.clone());
+            continue;
+        }
+        let (st, v) = advance(tk)?;
+        if !st.is_success() {
+            return Ok(Some(st));
+        }
+        t_s.push(tk);
+        v_s.push(v);
+    }
+    Ok(None)
+}
+
 /// Integrates from (y0, y0') at t = 0 to the last grid time with `method`, sampling the
 /// velocities of `dofs` at every grid time; `energy` also keeps the energy balance.
 #[allow(clippy::too_many_arguments)]
@@ -163,23 +188,12 @@ pub fn integrate(
                 ..BdfOptions::default()
             };
             let mut bdf = Bdf::new(opts, 0.0, y0, yp0).map_err(solver_err("integrator"))?;
-            let mut status = None;
-            for &tk in grid {
-                if tk <= 0.0 {
-                    t_s.push(tk);
-                    v_s.push(sample(y0));
-                    continue;
-                }
+            let status = walk_grid(grid, sample(y0), &mut t_s, &mut v_s, |tk| {
                 let st = bdf
                     .step_to(&mut sys, tk, |_, t, y, yp| per_step(t, y, yp))
                     .map_err(solver_err("integration"))?;
-                if !st.is_success() {
-                    status = Some(st);
-                    break;
-                }
-                t_s.push(tk);
-                v_s.push(sample(bdf.y()));
-            }
+                Ok((st, sample(bdf.y())))
+            })?;
             let s = bdf.stats();
             let bs = sys.stats();
             RunOutcome {
@@ -228,23 +242,12 @@ pub fn integrate(
             };
             let mut ga = Galpha::new(opts, &mut sys, 0.0, y0, yp0)
                 .map_err(solver_err("generalized-alpha start"))?;
-            let mut status = None;
-            for &tk in grid {
-                if tk <= 0.0 {
-                    t_s.push(tk);
-                    v_s.push(sample(y0));
-                    continue;
-                }
+            let status = walk_grid(grid, sample(y0), &mut t_s, &mut v_s, |tk| {
                 let st = ga
                     .step_to(&mut sys, tk, |_, t, y, yp| per_step(t, y, yp))
                     .map_err(solver_err("integration"))?;
-                if !st.is_success() {
-                    status = Some(st);
-                    break;
-                }
-                t_s.push(tk);
-                v_s.push(sample(ga.y()));
-            }
+                Ok((st, sample(ga.y())))
+            })?;
             let s = ga.stats();
             RunOutcome {
                 method,
