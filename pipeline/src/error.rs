@@ -14,6 +14,8 @@ pub enum PipelineError {
     SceneParse { path: PathBuf, message: String },
     #[error("scene field `{field}`: {message}")]
     Scene { field: String, message: String },
+    #[error("{option}: {message}")]
+    Option { option: String, message: String },
     #[error("--set {assignment}: {reason}")]
     Override { assignment: String, reason: String },
     #[error("mesh stage (component `{component}`): {source}")]

@@ -39,6 +39,25 @@ struct RunArgs {
     out: Option<PathBuf>,
 }
 
+/// The model cache: `--cache DIR`, else the environment variable `SQUEAL_CACHE`.
+#[derive(Args)]
+struct CacheArgs {
+    /// Read/store reduced models in this cache folder, keyed by the scene values that
+    /// determine them (default: $SQUEAL_CACHE; unset = no cache).
+    #[arg(long, value_name = "DIR")]
+    cache: Option<PathBuf>,
+}
+
+impl CacheArgs {
+    fn dir(&self) -> Option<PathBuf> {
+        self.cache.clone().or_else(|| {
+            std::env::var_os("SQUEAL_CACHE")
+                .filter(|v| !v.is_empty())
+                .map(PathBuf::from)
+        })
+    }
+}
+
 #[derive(Subcommand)]
 enum Verb {
     /// Validate a scene and print it resolved (every default filled in).
@@ -64,6 +83,8 @@ enum Verb {
         /// Also write the assembled DAE (M, B, K, G, loads, gap table, solver options) here.
         #[arg(long, value_name = "DIR")]
         export_dae: Option<PathBuf>,
+        #[command(flatten)]
+        cache: CacheArgs,
     },
     /// Complex eigenvalue analysis about the steady sliding state (or a restart file's state):
     /// cea.json, stability_map.{png,svg}, cea_modes.vtu, summary.json; with a friction sweep
@@ -77,6 +98,31 @@ enum Verb {
         /// Also write the eigenproblem's matrices at the state as tangents.op4 and tangents.pch.
         #[arg(long)]
         export_tangents: bool,
+        #[command(flatten)]
+        cache: CacheArgs,
+    },
+    /// Design iterations: run CEA and/or the transient for each value of one scene parameter,
+    /// rebuilding the reduced model only when the value changes it (model cache): per-value
+    /// folders, sweep.json, sweep.md, sweep_indicators.{png,svg}, sweep_frequencies.{png,svg}.
+    Sweep {
+        #[command(flatten)]
+        run: RunArgs,
+        /// The parameter: a dotted scene key as --set writes it (e.g. friction.law.mu0,
+        /// components.0.geometry.thickness, contact.0.p0, rotor.rpm).
+        #[arg(long, value_name = "DOTTED.KEY")]
+        param: String,
+        /// Values, comma-separated (TOML values: 0.4, 32, hex8).
+        #[arg(long, value_name = "A,B,...")]
+        values: Option<String>,
+        /// Evenly spaced values FIRST:LAST:COUNT (after --values when both are given).
+        #[arg(long, value_name = "A:B:N")]
+        values_range: Option<String>,
+        /// What runs for each value.
+        #[arg(long, default_value = "cea", value_parser = ["cea", "transient", "both"])]
+        analysis: String,
+        /// Model cache folder (default: $SQUEAL_CACHE, else .squeal-cache beside the --out folder).
+        #[arg(long, value_name = "DIR")]
+        cache: Option<PathBuf>,
     },
     /// Work–precision study of the scene's transient: BDF at a ladder of RTOL1 × MAXORD and
     /// generalized-α at a ladder of fixed steps against a tight reference run: accuracy.json,
@@ -111,6 +157,8 @@ enum Verb {
         /// Cases run at the same time (default: the available cores).
         #[arg(long)]
         jobs: Option<usize>,
+        #[command(flatten)]
+        cache: CacheArgs,
     },
     /// List the matrices of a NASTRAN OP4 or punch (DMIG) file: name, shape, form, precision,
     /// nnz, Frobenius norm, sum, symmetry.
@@ -172,10 +220,21 @@ fn run(cli: Cli) -> Result<()> {
             let report = stages::reduce::run(&scene, &dir, progress)?;
             progress.info(report.table());
         }
-        Verb::Transient { run, export_dae } => {
+        Verb::Transient {
+            run,
+            export_dae,
+            cache,
+        } => {
             let scene = Scene::load(&run.scene.scene, &run.scene.set)?;
             let dir = run_dir(&run)?;
-            let r = stages::transient::run(&scene, &dir, progress, export_dae.as_deref())?;
+            let cache = cache.dir().map(stages::model::ModelCache::new);
+            let r = stages::transient::run_cached(
+                &scene,
+                &dir,
+                progress,
+                export_dae.as_deref(),
+                cache.as_ref(),
+            )?;
             progress.info(format!(
                 "{} steps, {:.2} s: squeal = {}, growth rate {:?} /s, dominant frequency {:?} Hz ({})",
                 r.steps, r.cpu_s, r.squeal, r.growth_rate_per_s, r.dominant_frequency_hz, r.response
@@ -191,6 +250,7 @@ fn run(cli: Cli) -> Result<()> {
             run,
             mu,
             export_tangents,
+            cache,
         } => {
             let scene = Scene::load(&run.scene.scene, &run.scene.set)?;
             let mu = mu
@@ -201,6 +261,7 @@ fn run(cli: Cli) -> Result<()> {
             let args = stages::cea::CeaArgs {
                 mu,
                 export_tangents,
+                cache: cache.dir().map(stages::model::ModelCache::new),
             };
             let r = stages::cea::run(&scene, &dir, progress, &args)?;
             let mut lines = format!(
@@ -217,6 +278,43 @@ fn run(cli: Cli) -> Result<()> {
                 lines.push_str(&format!("\n  lowest critical mu = {mu:.6}"));
             }
             progress.info(lines);
+        }
+        Verb::Sweep {
+            run,
+            param,
+            values,
+            values_range,
+            analysis,
+            cache,
+        } => {
+            let values =
+                stages::sweep::values::parse_values(values.as_deref(), values_range.as_deref())?;
+            let out = run.out.clone().unwrap_or_else(|| {
+                let stem = run
+                    .scene
+                    .scene
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| "run".into());
+                PathBuf::from("out").join(format!("{stem}-sweep"))
+            });
+            let dir = RunDir::create(&out)?;
+            let args = stages::sweep::SweepArgs {
+                param,
+                values,
+                set: run.scene.set.clone(),
+                analysis: stages::sweep::Analysis::parse(&analysis)?,
+                cache: CacheArgs { cache }.dir(),
+            };
+            let r = stages::sweep::run(&run.scene.scene, &dir, progress, &args)?;
+            progress.info(format!(
+                "{} values in {:.1} s (models built {}, read from the cache {}); table: {}",
+                r.points.len(),
+                r.wall_s,
+                r.n_built,
+                r.n_cached,
+                dir.path("sweep.md").display()
+            ));
         }
         Verb::Accuracy(args) => {
             let scene = Scene::load(&args.scene.scene, &args.scene.set)?;
@@ -238,9 +336,15 @@ fn run(cli: Cli) -> Result<()> {
             cases,
             set,
             jobs,
+            cache,
         } => {
             let dir = RunDir::create(&out.unwrap_or_else(|| PathBuf::from("out/reproduce")))?;
-            let args = stages::reproduce::ReproduceArgs { cases, set, jobs };
+            let args = stages::reproduce::ReproduceArgs {
+                cases,
+                set,
+                jobs,
+                cache: cache.dir(),
+            };
             let r = stages::reproduce::run(&study, &dir, progress, &args)?;
             progress.info(format!(
                 "{} cases in {:.1} s; report: {}",

@@ -8,4 +8,5 @@ pub mod modes;
 pub mod plotit;
 pub mod reduce;
 pub mod reproduce;
+pub mod sweep;
 pub mod transient;

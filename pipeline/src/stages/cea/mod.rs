@@ -40,6 +40,8 @@ pub struct CeaArgs {
     pub mu: Option<(Real, Real, usize)>,
     /// `--export-tangents`: write `tangents.op4` and `tangents.pch`.
     pub export_tangents: bool,
+    /// `--cache DIR`: read/store the reduced model in this cache ([`model::ModelCache`]).
+    pub cache: Option<model::ModelCache>,
 }
 
 /// One mode in `cea.json`.
@@ -92,6 +94,10 @@ pub struct CeaReport {
     pub n_unstable: usize,
     /// Largest Re p among the reported modes.
     pub max_real_part: Option<Real>,
+    /// Frequency of the mode with the largest Re p.
+    pub max_real_part_frequency_hz: Option<Real>,
+    /// Smallest damping ratio ζ among the reported modes (negative: unstable).
+    pub min_damping_ratio: Option<Real>,
     /// The unstable modes, most unstable first.
     pub unstable_modes: Vec<ModeOut>,
     pub cea_stats: CeaStats,
@@ -104,6 +110,9 @@ pub struct CeaReport {
     pub mode_shapes_note: &'static str,
     pub files: Vec<String>,
     pub model_hash: String,
+    /// How the reduced model came through the cache (`--cache` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model_cache: Option<model::CacheUse>,
 }
 
 fn cea_err(what: &str) -> impl FnOnce(squeal_solver::cea::CeaError) -> PipelineError + '_ {
@@ -117,7 +126,8 @@ const SHAPES_NOTE: &str = "cea_modes.vtu: mode shapes at the grid points of the 
 (contact and interface grids); cea_modes_<component>.vtu: the shapes recovered with each \
 component's Craig-Bampton transformation on its full mesh (models built from meshes only)";
 
-/// Runs `squeal cea`.
+/// Runs `squeal cea`: builds the reduced model (through `args.cache` when given) and
+/// [`run_on_model`].
 pub fn run(
     scene: &Scene,
     dir: &RunDir,
@@ -125,6 +135,14 @@ pub fn run(
     args: &CeaArgs,
 ) -> Result<CeaReport, PipelineError> {
     let wall = Instant::now();
+    spec_of(scene, args)?;
+    dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
+    let (model, cache_use) = model::build_cached(scene, dir, progress, args.cache.as_ref())?;
+    run_on_model(scene, dir, progress, args, model, cache_use, wall)
+}
+
+/// The `[cea]` table with the command line's sweep applied, validated.
+fn spec_of(scene: &Scene, args: &CeaArgs) -> Result<CeaSpec, PipelineError> {
     let mut spec: CeaSpec = match (&scene.cea, args.mu) {
         (Some(c), _) => c.clone(),
         (None, Some(_)) => CeaSpec::default(),
@@ -145,8 +163,22 @@ pub fn run(
         spec.sweep = Some(sw);
     }
     spec.validate()?;
+    Ok(spec)
+}
+
+/// `squeal cea` on a reduced model already built for `scene` (`wall`: when the run started;
+/// `cache_use`: reported in `summary.json`).
+pub fn run_on_model(
+    scene: &Scene,
+    dir: &RunDir,
+    progress: Progress,
+    args: &CeaArgs,
+    model: model::ReducedModel,
+    cache_use: Option<model::CacheUse>,
+    wall: Instant,
+) -> Result<CeaReport, PipelineError> {
+    let spec = spec_of(scene, args)?;
     dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
-    let model = model::build(scene, dir, progress)?;
     let problem = system::problem(scene, &model)?;
     let gaps = &model.gaps;
     let (n, ng) = (model.n(), gaps.len());
@@ -260,6 +292,14 @@ pub fn run(
         n_modes_reported: modes.len(),
         n_unstable: unstable.len(),
         max_real_part: modes.iter().map(|m| m.real_part).reduce(f64::max),
+        max_real_part_frequency_hz: modes
+            .iter()
+            .max_by(|a, b| a.real_part.total_cmp(&b.real_part))
+            .map(|m| m.frequency_hz),
+        min_damping_ratio: modes
+            .iter()
+            .filter_map(|m| m.damping_ratio)
+            .reduce(f64::min),
         unstable_modes: unstable.iter().map(|&i| modes[i].clone()).collect(),
         cea_stats: res.stats,
         sweep_stats,
@@ -269,6 +309,7 @@ pub fn run(
         mode_shapes_note: SHAPES_NOTE,
         files,
         model_hash: problem.model_hash(),
+        model_cache: cache_use,
     };
     dir.write_json("summary.json", &report)?;
     Ok(report)

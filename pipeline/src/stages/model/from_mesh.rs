@@ -41,11 +41,17 @@ fn fe_err(component: &str) -> impl Fn(squeal_fe::FeError) -> PipelineError + '_ 
     }
 }
 
-/// Gaps of every `[[contact]]` pair (PREBSQL), DOFs unassigned.
-fn match_pairs(scene: &Scene, meshes: &[Mesh], grids: &Grids) -> Result<GapSet, PipelineError> {
+/// Gaps of every `[[contact]]` pair (PREBSQL), DOFs unassigned, and the number of gaps of
+/// each pair.
+fn match_pairs(
+    scene: &Scene,
+    meshes: &[Mesh],
+    grids: &Grids,
+) -> Result<(GapSet, Vec<usize>), PipelineError> {
     let pos = |name: &str| scene.components.iter().position(|c| c.name == name);
     let rotor = scene.rotor.clone().unwrap_or_default();
     let mut all: Option<GapSet> = None;
+    let mut counts = Vec::with_capacity(scene.contact.len());
     for (i, pair) in scene.contact.iter().enumerate() {
         let (cp, cr) = match (pos(&pair.pad), pos(&pair.rotor)) {
             (Some(a), Some(b)) => (a, b),
@@ -109,6 +115,7 @@ fn match_pairs(scene: &Scene, meshes: &[Mesh], grids: &Grids) -> Result<GapSet, 
                 g.temperature = t;
             }
         }
+        counts.push(set.len());
         match &mut all {
             None => all = Some(set),
             Some(a) => a.append(set),
@@ -120,11 +127,13 @@ fn match_pairs(scene: &Scene, meshes: &[Mesh], grids: &Grids) -> Result<GapSet, 
         law: FrictionLaw::default(),
         vtol: friction.vtol,
     });
-    set.with_friction(friction.law, friction.vtol)
+    let set = set
+        .with_friction(friction.law, friction.vtol)
         .map_err(|source| PipelineError::Contact {
             what: "friction".into(),
             source,
-        })
+        })?;
+    Ok((set, counts))
 }
 
 /// Mesh, assemble and reduce every component, assemble the superelements, match the gaps.
@@ -146,7 +155,7 @@ pub fn build_from_mesh(
         .collect::<Result<_, _>>()?;
     let meshes: Vec<Mesh> = meshed.into_iter().map(|(m, _)| m).collect();
     let grids = merge(scene, &meshes, scene.model.merge_tolerance);
-    let mut gaps = match_pairs(scene, &meshes, &grids)?;
+    let (mut gaps, gap_pairs) = match_pairs(scene, &meshes, &grids)?;
 
     // Fixed grid DOFs of any component hold for every component sharing the grid.
     let mut global_fixed: BTreeSet<(u64, usize)> = BTreeSet::new();
@@ -302,6 +311,7 @@ pub fn build_from_mesh(
         p_brake,
         dofs: asm.dofs,
         gaps,
+        gap_pairs,
         grids: grids.grids.clone(),
         checks,
         components,

@@ -2,14 +2,14 @@
 //! except the contact-face nodes of a pad/rotor pair, which stay distinct (they become gaps).
 
 use crate::scene::Scene;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use squeal_meshes::Mesh;
 use std::collections::HashMap;
 
 type Real = f64;
 
 /// One global grid point.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GridInfo {
     /// Grid id: `(component index + 1) · base + node tag` of its first component.
     pub grid: u64,

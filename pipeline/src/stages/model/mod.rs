@@ -3,10 +3,12 @@
 //! read from stored reduced matrices (OP4 or punch DMIG + DOF map + gap table).
 
 mod areas;
+pub mod cache;
 mod from_mesh;
 pub mod grids;
 mod stored;
 
+pub use cache::{CacheUse, ModelCache};
 pub use from_mesh::build_from_mesh;
 pub use grids::GridInfo;
 pub use stored::{load_stored, write_stored, StoredFiles};
@@ -94,6 +96,9 @@ pub struct ReducedModel {
     pub dofs: ReducedDofMap,
     /// Gap elements with DOF indices into the reduced vector.
     pub gaps: GapSet,
+    /// Number of gaps of each `[[contact]]` pair, in scene order (the gaps of pair i follow
+    /// those of pair i − 1); empty for stored matrices (one gap table).
+    pub gap_pairs: Vec<usize>,
     /// Grid table (meshed models only).
     pub grids: Vec<GridInfo>,
     /// Craig–Bampton checks per component (meshed models with `reduction.checks`).
@@ -182,5 +187,22 @@ pub fn build(
     match scene.model.from {
         ModelSource::Mesh => build_from_mesh(scene, dir, progress),
         ModelSource::Op4 | ModelSource::Punch => load_stored(scene),
+    }
+}
+
+/// [`build`] through a model cache: a meshed model is read from `cache` when an entry for its
+/// key exists (else built and stored, [`ModelCache::get_or_build`]); stored matrices are read
+/// as by [`build`] (no cache use reported).
+pub fn build_cached(
+    scene: &Scene,
+    dir: &RunDir,
+    progress: Progress,
+    cache: Option<&ModelCache>,
+) -> Result<(ReducedModel, Option<CacheUse>), PipelineError> {
+    match (cache, scene.model.from) {
+        (Some(c), ModelSource::Mesh) => c
+            .get_or_build(scene, dir, progress)
+            .map(|(m, u)| (m, Some(u))),
+        _ => build(scene, dir, progress).map(|m| (m, None)),
     }
 }

@@ -59,8 +59,8 @@ fn punch_dofs(dofs: &ReducedDofMap) -> Vec<(u64, u8)> {
         .collect()
 }
 
-/// Writes `reduced.op4`, `reduced.pch`, `dofmap.json`, `gaps.json` into the run folder.
-pub fn write_stored(model: &ReducedModel, dir: &RunDir) -> Result<StoredFiles, PipelineError> {
+/// The matrices of `reduced.op4`: KR, MR, BR (when the model has element damping), PBRAKE.
+pub(super) fn stored_matrices(model: &ReducedModel) -> Vec<NamedMatrix> {
     let n = model.n();
     let mut mats = vec![
         NamedMatrix::real("KR", model.k.clone()),
@@ -73,6 +73,12 @@ pub fn write_stored(model: &ReducedModel, dir: &RunDir) -> Result<StoredFiles, P
         NamedMatrix::real("PBRAKE", Mat::from_fn(n, 1, |i, _| model.p_brake[i]))
             .with_form(MatrixForm::Rectangular),
     );
+    mats
+}
+
+/// Writes `reduced.op4`, `reduced.pch`, `dofmap.json`, `gaps.json` into the run folder.
+pub fn write_stored(model: &ReducedModel, dir: &RunDir) -> Result<StoredFiles, PipelineError> {
+    let mats = stored_matrices(model);
     let refs: Vec<&NamedMatrix> = mats.iter().collect();
     let op4_bytes = op4::write_bytes(&refs, &Op4WriteOptions::default())
         .map_err(red_err("writing reduced.op4".into()))?;
@@ -319,6 +325,7 @@ pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
         p_brake,
         dofs,
         gaps,
+        gap_pairs: Vec::new(),
         grids: Vec::new(),
         checks: Vec::new(),
         components: Vec::new(),

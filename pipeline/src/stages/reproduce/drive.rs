@@ -38,7 +38,8 @@ fn rows_written(dir: &RunDir, cols: usize) -> usize {
     len.saturating_sub(128) / (8 * cols.max(1))
 }
 
-/// Runs `squeal -q transient case.toml --out dir` and stops it after `cap` recorded steps.
+/// Runs `squeal -q transient case.toml --out dir [--cache DIR]` and stops it after `cap`
+/// recorded steps.
 pub fn run_capped(
     scene_file: &std::path::Path,
     dir: &RunDir,
@@ -46,17 +47,22 @@ pub fn run_capped(
     t_load: Real,
     h_max: Real,
     threshold: Real,
+    cache: Option<&std::path::Path>,
 ) -> Result<CappedRun, PipelineError> {
     let exe = std::env::current_exe().map_err(|source| PipelineError::Io {
         path: "squeal".into(),
         source,
     })?;
     let start = Instant::now();
-    let mut child = Command::new(&exe)
-        .args(["-q", "transient"])
+    let mut cmd = Command::new(&exe);
+    cmd.args(["-q", "transient"])
         .arg(scene_file)
         .arg("--out")
-        .arg(dir.path(""))
+        .arg(dir.path(""));
+    if let Some(c) = cache {
+        cmd.arg("--cache").arg(c);
+    }
+    let mut child = cmd
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()

@@ -6,8 +6,12 @@
 //! spectrum of a squealing response ([`report`]), `report.md` that embeds them and states which
 //! of the paper's findings reproduce.
 //!
-//! Cases run `jobs` at a time (rayon). Each case rebuilds its reduced model (the mesh, FE and
-//! reduction of the base scene are the same for every case; caching them is not done yet).
+//! Cases run `jobs` at a time (rayon). With a model cache (`--cache DIR` / `SQUEAL_CACHE`) the
+//! reduced model is built once before the cases start (they vary only parameters outside its
+//! key) and every case, in process or as a child `squeal transient`, reads it from the cache.
+//! With `[cea_sweep]` the study also sweeps constant μ over
+//! the base scene's complex eigenvalues (`cea_sweep/`), so the report can say which mode pairs
+//! couple at which μ.
 
 pub mod drive;
 pub mod report;
@@ -17,6 +21,7 @@ use crate::error::PipelineError;
 use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::Scene;
+use crate::stages::model::ModelCache;
 use crate::stages::{cea, transient};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -35,6 +40,8 @@ pub struct ReproduceArgs {
     pub set: Vec<String>,
     /// Cases run at the same time (default: the available cores).
     pub jobs: Option<usize>,
+    /// Model cache folder (default: none, every case builds its model).
+    pub cache: Option<std::path::PathBuf>,
 }
 
 /// An unstable complex mode of a case.
@@ -154,11 +161,16 @@ pub fn run(
             message: format!("thread pool: {e}"),
         })?;
     let quiet = Progress { quiet: true };
+    let cache = args.cache.as_ref().map(ModelCache::new);
+    if let (Some(c), Some((_, scene, _))) = (&cache, scenes.first()) {
+        // Built once here, so the parallel cases all hit.
+        c.get_or_build(scene, dir, progress)?;
+    }
     let results: Vec<Result<CaseResult, PipelineError>> = pool.install(|| {
         scenes
             .par_iter()
             .map(|(c, scene, cap)| {
-                let r = run_case(c, scene, *cap, &study, dir, quiet);
+                let r = run_case(c, scene, *cap, &study, dir, quiet, cache.as_ref());
                 match &r {
                     Ok(r) => progress.info(format!(
                         "case {}: {} steps, {:.1} s, t_end {:.4e}, squeal = {}, growth {:?} /s, f {:?} Hz",
@@ -171,7 +183,10 @@ pub fn run(
             .collect()
     });
     let cases: Vec<CaseResult> = results.into_iter().collect::<Result<_, _>>()?;
-    let (findings, files) = report::write(&study, &cases, dir, &base)?;
+    let sweep = study
+        .cea_sweep
+        .map(|range| cea_sweep(&base, range, dir, quiet, &progress, cache.as_ref()));
+    let (findings, files) = report::write(&study, &cases, dir, &base, sweep.as_ref())?;
     let rep = ReproduceReport {
         verb: "reproduce",
         version: crate::VERSION,
@@ -185,6 +200,46 @@ pub fn run(
     Ok(rep)
 }
 
+/// Complex eigenvalues of the base scene over constant μ in `range` (`cea_sweep/`): the
+/// couplings (critical μ of each mode pair) for the report. A failure is reported, not fatal.
+fn cea_sweep(
+    base: &Scene,
+    range: study::MuRange,
+    dir: &RunDir,
+    quiet: Progress,
+    progress: &Progress,
+    cache: Option<&ModelCache>,
+) -> report::SweepSummary {
+    let run = || -> Result<report::SweepSummary, PipelineError> {
+        let mut scene = base.clone();
+        if scene.cea.is_none() {
+            scene.cea = Some(Default::default());
+        }
+        let mut friction = scene.friction.clone().unwrap_or_default();
+        friction.law = squeal_contact::FrictionLaw::Constant { mu: range.first };
+        scene.friction = Some(friction);
+        let sdir = RunDir::create(&dir.path("cea_sweep"))?;
+        let args = cea::CeaArgs {
+            mu: Some((range.first, range.last, range.count)),
+            cache: cache.cloned(),
+            ..Default::default()
+        };
+        cea::run(&scene, &sdir, quiet, &args)?;
+        report::SweepSummary::read(&sdir)
+    };
+    let t0 = Instant::now();
+    let out = run().unwrap_or_else(|e| report::SweepSummary::failed(e.to_string()));
+    progress.info(format!(
+        "CEA over mu = {}..{} ({} values): lowest critical mu {:?} ({:.1} s)",
+        range.first,
+        range.last,
+        range.count,
+        out.lowest_critical_mu,
+        t0.elapsed().as_secs_f64()
+    ));
+    out
+}
+
 fn run_case(
     c: &CaseSpec,
     scene: &Scene,
@@ -192,6 +247,7 @@ fn run_case(
     study: &StudySpec,
     dir: &RunDir,
     quiet: Progress,
+    cache: Option<&ModelCache>,
 ) -> Result<CaseResult, PipelineError> {
     let wall = Instant::now();
     let cdir = RunDir::create(&dir.path(&format!("case{}", c.case)))?;
@@ -210,10 +266,11 @@ fn run_case(
                     .and_then(|t| t.h_max)
                     .unwrap_or(Real::INFINITY),
                 scene.output.squeal_growth_threshold,
+                cache.map(|c| c.root.as_path()),
             )?
         }
         None => {
-            let r = transient::run(scene, &cdir, quiet, None)?;
+            let r = transient::run_cached(scene, &cdir, quiet, None, cache)?;
             drive::CappedRun {
                 steps: r.steps,
                 cpu_s: r.cpu_s,
@@ -234,7 +291,11 @@ fn run_case(
             cs.cea = Some(Default::default());
         }
         let cea_dir = RunDir::create(&cdir.path("cea"))?;
-        match cea::run(&cs, &cea_dir, quiet, &cea::CeaArgs::default()) {
+        let args = cea::CeaArgs {
+            cache: cache.cloned(),
+            ..Default::default()
+        };
+        match cea::run(&cs, &cea_dir, quiet, &args) {
             Ok(rep) => (
                 Some(
                     rep.unstable_modes

@@ -27,6 +27,128 @@ pub struct Finding {
     pub evidence: String,
 }
 
+/// One mode pair that couples in the μ sweep of the base scene.
+#[derive(Debug, Clone, Serialize)]
+pub struct Coupling {
+    pub mu_critical: Real,
+    pub frequency_hz: Real,
+    /// The two frequencies of the pair at the last stable μ.
+    pub pair_frequencies_before_hz: [Option<Real>; 2],
+}
+
+/// The complex eigenvalues of the base scene over constant μ (`cea_sweep/cea.sweep.json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct SweepSummary {
+    pub mu: Vec<Real>,
+    /// Lowest critical μ first.
+    pub couplings: Vec<Coupling>,
+    pub lowest_critical_mu: Option<Real>,
+    pub error: Option<String>,
+}
+
+impl SweepSummary {
+    /// Reads `cea.sweep.json` of a `squeal cea --mu` run in `dir`.
+    pub fn read(dir: &RunDir) -> Result<Self, PipelineError> {
+        let path = dir.path("cea.sweep.json");
+        let bad = |message: String| PipelineError::Input {
+            path: path.clone(),
+            message,
+        };
+        let text = std::fs::read_to_string(&path).map_err(|e| bad(e.to_string()))?;
+        let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+        let num = |v: &serde_json::Value| v.as_f64();
+        let mu = v["mu"]
+            .as_array()
+            .ok_or_else(|| bad("no `mu` array".into()))?
+            .iter()
+            .filter_map(num)
+            .collect();
+        let couplings = v["couplings"]
+            .as_array()
+            .ok_or_else(|| bad("no `couplings` array".into()))?
+            .iter()
+            .filter_map(|c| {
+                Some(Coupling {
+                    mu_critical: num(&c["mu_critical"])?,
+                    frequency_hz: num(&c["frequency_hz"])?,
+                    pair_frequencies_before_hz: [
+                        num(&c["pair_frequencies_before_hz"][0]),
+                        num(&c["pair_frequencies_before_hz"][1]),
+                    ],
+                })
+            })
+            .collect();
+        Ok(Self {
+            mu,
+            couplings,
+            lowest_critical_mu: num(&v["lowest_critical_mu"]),
+            error: None,
+        })
+    }
+
+    /// A sweep that did not run.
+    pub fn failed(error: String) -> Self {
+        Self {
+            mu: Vec::new(),
+            couplings: Vec::new(),
+            lowest_critical_mu: None,
+            error: Some(error),
+        }
+    }
+
+    /// The report's section: the couplings table and the root locus.
+    fn markdown(&self) -> String {
+        let mut md = String::from(
+            "## Complex eigenvalues: which modes couple at which μ
+
+",
+        );
+        if let Some(e) = &self.error {
+            let _ = writeln!(
+                md,
+                "The sweep failed: {e}
+"
+            );
+            return md;
+        }
+        let _ = writeln!(
+            md,
+            "Base scene with a constant μ from {} to {} ({} values), linearised at its steady \
+             sliding state (`cea_sweep/`). A pair of modes couples at the critical μ where one \
+             of them turns unstable (Re p > 0, its partner more damped); the lowest critical μ \
+             is {}: a constant μ below it gives no unstable mode, above it squeal is \
+             possible. The pair is the two modes nearest in frequency at the last stable μ \
+             (greedy tracking; a partner far away in frequency means the mode turned unstable \
+             alone).\n\n| critical μ | frequency at coupling (Hz) | pair before coupling (Hz) | split |\n|---|---|---|---|",
+            self.mu.first().map_or("–".into(), |m| format!("{m}")),
+            self.mu.last().map_or("–".into(), |m| format!("{m}")),
+            self.mu.len(),
+            self.lowest_critical_mu
+                .map_or("– (none in the range)".into(), |m| format!("{m:.3}"))
+        );
+        for c in &self.couplings {
+            let (pair, split) = match c.pair_frequencies_before_hz {
+                [Some(a), Some(b)] => (
+                    format!("{a:.1} / {b:.1}"),
+                    format!("{:.1} %", 200.0 * (a - b).abs() / (a + b)),
+                ),
+                [Some(a), None] | [None, Some(a)] => (format!("{a:.1} / –"), "–".into()),
+                _ => ("–".into(), "–".into()),
+            };
+            let _ = writeln!(
+                md,
+                "| {:.3} | {:.1} | {pair} | {split} |",
+                c.mu_critical, c.frequency_hz
+            );
+        }
+        if self.couplings.is_empty() {
+            md.push_str("| – | no pair couples in this range | | |\n");
+        }
+        md.push_str("\n![root locus](cea_sweep/root_locus_mu.png)\n\n");
+        md
+    }
+}
+
 /// One column of a case's history: (t, values).
 pub fn column(case_dir: &Path, name: &str) -> Result<(Vec<Real>, Vec<Real>), PipelineError> {
     let map = HistoryMap::read(&case_dir.join("history_map.json"))?;
@@ -146,7 +268,36 @@ fn relative_difference(a: &(Vec<Real>, Vec<Real>), b: &(Vec<Real>, Vec<Real>)) -
     (den > 0.0).then(|| num / den)
 }
 
-fn findings(cases: &[CaseResult], dir: &RunDir, resp_u: &str) -> Vec<Finding> {
+/// The most unstable CEA mode of a case as `f Hz: Re p /s`, and its steady-state μ range.
+fn cea_evidence(c: &CaseResult, dir: &RunDir) -> String {
+    let top = c.cea_unstable_modes.as_ref().and_then(|m| {
+        m.iter()
+            .max_by(|a, b| a.real_part.total_cmp(&b.real_part))
+            .map(|m| format!("{:.0} Hz, Re p = {:+.1} /s", m.frequency_hz, m.real_part))
+    });
+    let mu = std::fs::read_to_string(dir.path(&format!("case{}/cea/cea.json", c.case)))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|v| {
+            let k = &v["steady_state"]["contact"];
+            Some((k["mu_min"].as_f64()?, k["mu_max"].as_f64()?))
+        });
+    format!(
+        "CEA of case {}: most unstable {}{}",
+        c.case,
+        top.unwrap_or_else(|| "none".into()),
+        mu.map_or(String::new(), |(a, b)| format!(
+            ", steady-state μ {a:.3}..{b:.3}"
+        ))
+    )
+}
+
+fn findings(
+    cases: &[CaseResult],
+    dir: &RunDir,
+    resp_u: &str,
+    sweep: Option<&SweepSummary>,
+) -> Vec<Finding> {
     let mut out = Vec::new();
     let g = |c: &CaseResult| c.growth_rate_per_s.unwrap_or(Real::NAN);
     // (a)
@@ -160,11 +311,13 @@ fn findings(cases: &[CaseResult], dir: &RunDir, resp_u: &str) -> Vec<Finding> {
         },
         evidence: match (c2, c4) {
             (Some(a), Some(b)) => format!(
-                "case 2: squeal {}, growth {:.4e} /s; case 4: squeal {}, growth {:.4e} /s",
+                "case 2: squeal {}, growth {:.4e} /s; case 4: squeal {}, growth {:.4e} /s. {}; {}",
                 a.squeal,
                 g(a),
                 b.squeal,
-                g(b)
+                g(b),
+                cea_evidence(a, dir),
+                cea_evidence(b, dir)
             ),
             _ => "cases 2 and 4 not both run".into(),
         },
@@ -177,11 +330,17 @@ fn findings(cases: &[CaseResult], dir: &RunDir, resp_u: &str) -> Vec<Finding> {
         reproduced: c6.map(|c| !c.squeal && c.t_end >= c.tf * (1.0 - 1e-9)),
         evidence: c6.map_or("case 6 not run".into(), |c| {
             format!(
-                "case 6: squeal {}, growth {:.4e} /s, t reached {:.4e} of {}",
+                "case 6: squeal {}, growth {:.4e} /s, t reached {:.4e} of {}. {}{}",
                 c.squeal,
                 g(c),
                 c.t_end,
-                c.tf
+                c.tf,
+                cea_evidence(c, dir),
+                sweep
+                    .and_then(|s| s.lowest_critical_mu)
+                    .map_or(String::new(), |m| format!(
+                        "; lowest critical μ of the base scene {m:.3}"
+                    ))
             )
         }),
     });
@@ -251,6 +410,7 @@ pub fn write(
     cases: &[CaseResult],
     dir: &RunDir,
     base: &Scene,
+    sweep: Option<&SweepSummary>,
 ) -> Result<(Vec<Finding>, Vec<String>), PipelineError> {
     let mut files = vec!["cases.json".to_string(), "cases.md".into()];
     dir.write_json("cases.json", &cases)?;
@@ -352,14 +512,18 @@ pub fn write(
              ratios are other modes.\n",
         );
     }
-    let fnd = findings(cases, dir, &resp_u);
+    let fnd = findings(cases, dir, &resp_u, sweep);
     let mut md = String::new();
     let _ = writeln!(
         md,
-        "# squeal reproduce: the paper's sample-brake study\n\nBase scene: {} ({}). Response DOF of the figures: `{resp_u}` (a pad grid; the verdict's response of case {}).\n\n## Table\n\n{tab}\nNS = accepted BDF steps; CPU = seconds in the integrator; a run that stops before TF ends at a step cap or a step-size collapse (see `status` in cases.json); its verdict uses the response up to there.\n\n## Findings of the paper\n",
+        "# squeal reproduce: the paper's sample-brake study\n\nBase scene: {} ({}). Response DOF of the figures: `{resp_u}` (a pad grid; the verdict's response of case {}).\n\n{}## Table\n\n{tab}\nNS = accepted BDF steps; CPU = seconds in the integrator; a run that stops before TF ends at a step cap or a step-size collapse (see `status` in cases.json); its verdict uses the response up to there.\n\n## Findings of the paper\n",
         study.base.display(),
         base.title,
-        cases.first().map_or(0, |c| c.case)
+        cases.first().map_or(0, |c| c.case),
+        study
+            .notes
+            .as_ref()
+            .map_or(String::new(), |n| format!("## The model\n\n{}\n\n", n.trim()))
     );
     for f in &fnd {
         let v = match f.reproduced {
@@ -368,6 +532,12 @@ pub fn write(
             None => "not checked",
         };
         let _ = writeln!(md, "- ({}) {} — {v}. {}", f.id, f.paper, f.evidence);
+    }
+    if let Some(s) = sweep {
+        let _ = writeln!(md, "\n{}", s.markdown());
+        if s.error.is_none() {
+            files.push("cea_sweep/".into());
+        }
     }
     let _ = writeln!(md, "\n## Figures\n\n{figs_md}{spec_md}");
     dir.write_bytes("report.md", md.as_bytes())?;

@@ -24,6 +24,12 @@ pub struct StudySpec {
     /// model units of velocity).
     #[serde(default = "default_onset")]
     pub onset_level: Real,
+    /// Complex eigenvalues of the base scene over a range of constant μ (default: none): which
+    /// mode pairs couple at which critical μ, reported with a root locus.
+    pub cea_sweep: Option<MuRange>,
+    /// Markdown put into the report under "The model" (default: none): what the base scene is
+    /// and why its design is what it is.
+    pub notes: Option<String>,
     /// The cases (required, at least one).
     pub cases: Vec<CaseSpec>,
     /// Comparison figures (default: none).
@@ -42,6 +48,15 @@ fn yes() -> bool {
 }
 fn default_onset() -> Real {
     0.1
+}
+
+/// A range of friction coefficients: `count` values from `first` to `last`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MuRange {
+    pub first: Real,
+    pub last: Real,
+    pub count: usize,
 }
 
 /// One row of the paper's table.
@@ -116,6 +131,19 @@ impl StudySpec {
         }
         if !(self.step_cap.is_finite() && self.step_cap >= 1.0) {
             return Err(bad("step_cap", format!("{} must be >= 1", self.step_cap)));
+        }
+        if let Some(r) = &self.cea_sweep {
+            if !(r.first.is_finite() && r.last.is_finite() && r.first >= 0.0 && r.last > r.first)
+                || r.count < 2
+            {
+                return Err(bad(
+                    "cea_sweep",
+                    format!(
+                        "first = {}, last = {}, count = {}: need 0 <= first < last and count >= 2",
+                        r.first, r.last, r.count
+                    ),
+                ));
+            }
         }
         let mut seen = std::collections::BTreeSet::new();
         for c in &self.cases {

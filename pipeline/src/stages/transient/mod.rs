@@ -197,10 +197,34 @@ pub fn run(
     progress: Progress,
     export_dae: Option<&Path>,
 ) -> Result<TransientReport, PipelineError> {
+    run_cached(scene, dir, progress, export_dae, None)
+}
+
+/// [`run`] with the reduced model read from / stored in `cache` ([`model::ModelCache`]).
+pub fn run_cached(
+    scene: &Scene,
+    dir: &RunDir,
+    progress: Progress,
+    export_dae: Option<&Path>,
+    cache: Option<&model::ModelCache>,
+) -> Result<TransientReport, PipelineError> {
     let wall = Instant::now();
+    dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
+    let (model, _) = model::build_cached(scene, dir, progress, cache)?;
+    run_on_model(scene, dir, progress, export_dae, model, wall)
+}
+
+/// The transient on a reduced model already built for `scene` (`wall`: when the run started).
+pub fn run_on_model(
+    scene: &Scene,
+    dir: &RunDir,
+    progress: Progress,
+    export_dae: Option<&Path>,
+    model: model::ReducedModel,
+    wall: Instant,
+) -> Result<TransientReport, PipelineError> {
     let spec = scene.transient.clone().unwrap_or_default();
     dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
-    let model = model::build(scene, dir, progress)?;
     let problem = system::problem(scene, &model)?;
     if spec.integrator == crate::scene::Integrator::GeneralizedAlpha {
         if export_dae.is_some() || spec.restart.is_some() {

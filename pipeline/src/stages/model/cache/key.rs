@@ -1,0 +1,201 @@
+//! The cache key of a reduced model: a 128-bit hash of exactly the scene values that
+//! [`super::super::build_from_mesh`] turns into matrices, gap geometry, DOF map and loads.
+//!
+//! **In the key** (what the builder reads before any late parameter):
+//! - every `[[components]]` table whole (name, geometry, element, hex8 formulation, material,
+//!   per-volume materials, fixed sets), and for a `kind = "msh"` geometry the hash of the
+//!   `.msh` file's bytes (not only its path);
+//! - `model.merge_tolerance`;
+//! - the Craig–Bampton options of `[reduction]` (`checks` excepted: it changes no matrix);
+//! - each `[[contact]]` pair's pad, pad faces, rotor, rotor faces and matching tolerance;
+//! - the load sets `loads.pressure` and `loads.force` (the unit brake load; PMAX scales it later);
+//! - the element-damping factors GE_c/W4 per component (they scale each component's reduced
+//!   stiffness into B at superelement assembly);
+//! - a format number, the crate version and the build (length and modification time of the
+//!   running executable), so a rebuilt squeal never reads an entry an older builder wrote.
+//!
+//! **Not in the key** (applied to a cached model by [`super::entry::finish`], or read later by
+//! the stages): `[friction]` (law, VTOL), `[rotor]` (rpm, axis, origin → sliding velocities),
+//! contact `p0`, `temperature`, `grid_temperatures`, `loads.pmax`/`tload`, `damping.g`/`w3`/
+//! `modal_ratio`, `[transient]`, `[cea]`, `[output]`, `[modes]`, `title`.
+//!
+//! The key document is the canonical JSON of these typed structs (serde, fields in declaration
+//! order, floats in shortest round-trip form), hashed with [`hash128`].
+
+use crate::error::PipelineError;
+use crate::scene::transient::{NodeForce, PressureLoad};
+use crate::scene::{ComponentSpec, GeometrySpec, Scene};
+use serde::Serialize;
+
+type Real = f64;
+
+/// Version of the cache entry layout and key document; bump it when either changes.
+pub const CACHE_FORMAT: u32 = 1;
+
+/// 128-bit FNV-1a-style hash over 64-bit little-endian words (the tail zero-padded), then the
+/// byte length: stable across platforms and Rust versions, fast on megabytes of matrices.
+/// A change detector, not a cryptographic hash.
+pub fn hash128(bytes: &[u8]) -> u128 {
+    const OFFSET: u128 = 0x6c62_272e_07bb_0142_62b8_2175_6295_c58d;
+    const PRIME: u128 = 0x0000_0000_0100_0000_0000_0000_0000_013b;
+    let mut h = OFFSET;
+    let mut chunks = bytes.chunks_exact(8);
+    for c in &mut chunks {
+        let w = u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]);
+        h = (h ^ w as u128).wrapping_mul(PRIME);
+    }
+    let rest = chunks.remainder();
+    if !rest.is_empty() {
+        let mut w = [0u8; 8];
+        w[..rest.len()].copy_from_slice(rest);
+        h = (h ^ u64::from_le_bytes(w) as u128).wrapping_mul(PRIME);
+    }
+    (h ^ bytes.len() as u128).wrapping_mul(PRIME)
+}
+
+/// `hash128` as 32 hex digits.
+pub fn hex128(bytes: &[u8]) -> String {
+    format!("{:032x}", hash128(bytes))
+}
+
+/// The running executable's length and modification time: any rebuild of squeal (or of the
+/// test binary that links the pipeline) changes it.
+fn build_id() -> &'static str {
+    static ID: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    ID.get_or_init(|| {
+        let meta = std::env::current_exe().and_then(std::fs::metadata);
+        match meta {
+            Ok(m) => {
+                let t = m
+                    .modified()
+                    .ok()
+                    .and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok())
+                    .map_or(0, |d| d.as_nanos());
+                format!("{}-{t}", m.len())
+            }
+            Err(_) => "unknown".into(),
+        }
+    })
+}
+
+#[derive(Serialize)]
+struct ComponentKey<'a> {
+    spec: &'a ComponentSpec,
+    /// Hash of the `.msh` file's bytes (`kind = "msh"` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    msh_hash: Option<String>,
+}
+
+#[derive(Serialize)]
+struct PairKey<'a> {
+    pad: &'a str,
+    pad_faces: &'a str,
+    rotor: &'a str,
+    rotor_faces: &'a str,
+    tolerance: Real,
+}
+
+#[derive(Serialize)]
+struct ReductionKey {
+    frequency_of_interest_hz: Option<Real>,
+    cutoff_hz: Option<Real>,
+    cutoff_factor: Real,
+    n_modes: Option<usize>,
+}
+
+#[derive(Serialize)]
+struct KeyDoc<'a> {
+    format: u32,
+    squeal_version: &'a str,
+    build: &'a str,
+    components: Vec<ComponentKey<'a>>,
+    merge_tolerance: Real,
+    reduction: ReductionKey,
+    contact: Vec<PairKey<'a>>,
+    pressure_loads: &'a [PressureLoad],
+    force_loads: &'a [NodeForce],
+    element_damping: Vec<Real>,
+}
+
+/// A reduced model's cache key: the hash and the document it hashes.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ModelKey {
+    /// 32 hex digits, the entry's folder name.
+    pub hex: String,
+    /// The canonical JSON that was hashed (stored in the entry for inspection).
+    pub document: String,
+}
+
+impl ModelKey {
+    /// The key of the model the scene's meshed components give.
+    pub fn of(scene: &Scene) -> Result<ModelKey, PipelineError> {
+        let mut components = Vec::with_capacity(scene.components.len());
+        for c in &scene.components {
+            let msh_hash = match &c.geometry {
+                GeometrySpec::Msh { path } => {
+                    let p = scene.resolve(path);
+                    let bytes = std::fs::read(&p)
+                        .map_err(|source| PipelineError::Io { path: p, source })?;
+                    Some(hex128(&bytes))
+                }
+                _ => None,
+            };
+            components.push(ComponentKey { spec: c, msh_hash });
+        }
+        let red = scene.reduction.clone().unwrap_or_default();
+        let damping = scene.damping.clone().unwrap_or_default();
+        let loads = scene.loads.as_ref();
+        let doc = KeyDoc {
+            format: CACHE_FORMAT,
+            squeal_version: crate::VERSION,
+            build: build_id(),
+            components,
+            merge_tolerance: scene.model.merge_tolerance,
+            reduction: ReductionKey {
+                frequency_of_interest_hz: red.frequency_of_interest_hz,
+                cutoff_hz: red.cutoff_hz,
+                cutoff_factor: red.cutoff_factor,
+                n_modes: red.n_modes,
+            },
+            contact: scene
+                .contact
+                .iter()
+                .map(|p| PairKey {
+                    pad: &p.pad,
+                    pad_faces: &p.pad_faces,
+                    rotor: &p.rotor,
+                    rotor_faces: &p.rotor_faces,
+                    tolerance: p.tolerance,
+                })
+                .collect(),
+            pressure_loads: loads.map_or(&[], |l| &l.pressure),
+            force_loads: loads.map_or(&[], |l| &l.force),
+            element_damping: scene
+                .components
+                .iter()
+                .map(|c| damping.element_factor(&c.name))
+                .collect(),
+        };
+        let document = serde_json::to_string(&doc)
+            .map_err(|e| PipelineError::Model(format!("cache key of the scene: {e}")))?;
+        Ok(ModelKey {
+            hex: hex128(document.as_bytes()),
+            document,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hash_depends_on_every_byte_and_the_length() {
+        let a = hash128(b"abcdefghij");
+        assert_ne!(a, hash128(b"abcdefghik"));
+        assert_ne!(a, hash128(b"abcdefghij\0"));
+        assert_ne!(hash128(b""), hash128(b"\0"));
+        assert_eq!(a, hash128(b"abcdefghij"));
+        assert_eq!(hex128(b"").len(), 32);
+    }
+}
