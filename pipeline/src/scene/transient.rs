@@ -353,6 +353,11 @@ pub struct OutputSpec {
     /// Growth rate of the response envelope above which the run counts as squeal, per unit
     /// time (default: 0).
     pub squeal_growth_threshold: Real,
+    /// Growth of the envelope over the analysed window, e^{σ·span}, below which the run does
+    /// not count as squeal whatever σ (default: 2, the amplitude at least doubles: the paper's
+    /// "clear growth in the response"; 1 = the rate alone decides). Guards against a short
+    /// window on the beating of two close stable modes, whose envelope can rise for a while.
+    pub squeal_min_growth_factor: Real,
     /// Write the time-history database `history.npy` and `energy.csv` (default: true; false =
     /// no history writes, only `summary.json`, the verdict and the energy totals).
     pub history: bool,
@@ -365,6 +370,7 @@ impl Default for OutputSpec {
             gaps: None,
             response: None,
             squeal_growth_threshold: 0.0,
+            squeal_min_growth_factor: 2.0,
             history: true,
         }
     }
@@ -380,6 +386,12 @@ impl OutputSpec {
                     format!("`{}` must be x, y or z", r.dof),
                 ));
             }
+        }
+        if !(self.squeal_min_growth_factor.is_finite() && self.squeal_min_growth_factor >= 1.0) {
+            return Err(scene_err(
+                "output.squeal_min_growth_factor",
+                format!("{} must be >= 1", self.squeal_min_growth_factor),
+            ));
         }
         if !self.squeal_growth_threshold.is_finite() {
             return Err(scene_err(

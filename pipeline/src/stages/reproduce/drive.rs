@@ -46,7 +46,7 @@ pub fn run_capped(
     cap: usize,
     t_load: Real,
     h_max: Real,
-    threshold: Real,
+    threshold: (Real, Real),
     cache: Option<&std::path::Path>,
 ) -> Result<CappedRun, PipelineError> {
     let exe = std::env::current_exe().map_err(|source| PipelineError::Io {
@@ -161,7 +161,7 @@ pub fn run_capped(
         cpu_s: wall,
         t_end,
         status: format!("stopped at the step cap ({cap} steps) at t = {t_end:.4e}"),
-        squeal: vd.growth_rate_per_s.is_some_and(|g| g > threshold),
+        squeal: vd.is_squeal(threshold.0, threshold.1),
         growth_rate_per_s: vd.growth_rate_per_s,
         dominant_frequency_hz: vd.dominant_frequency_hz,
         response,

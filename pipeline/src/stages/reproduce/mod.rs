@@ -265,7 +265,10 @@ fn run_case(
                     .as_ref()
                     .and_then(|t| t.h_max)
                     .unwrap_or(Real::INFINITY),
-                scene.output.squeal_growth_threshold,
+                (
+                    scene.output.squeal_growth_threshold,
+                    scene.output.squeal_min_growth_factor,
+                ),
                 cache.map(|c| c.root.as_path()),
             )?
         }

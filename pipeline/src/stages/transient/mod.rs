@@ -1,9 +1,10 @@
 //! `squeal transient`: the BSQL nonlinear transient of the reduced brake model.
 //!
 //! reduced model → BSQL system (M, B, K, G, P(t), gap friction) → steady sliding state before
-//! the brake load (TOLINT) → consistent y'(0) → BDF to TFINAL. Outputs: `history.npy` +
-//! `history_map.json`, `energy.csv`, `restart.json` (every NRSTRT steps and at the end),
-//! `summary.json` with every statistic and the squeal verdict.
+//! the brake load (TOLINT) → consistent y'(0) → BDF (or generalized-α, `galpha_run`) to
+//! TFINAL. Outputs: `history.npy` + `history_map.json` and `energy.csv` (both integrators,
+//! written by [`records::Recorder`]), `restart.json` (BDF: every NRSTRT steps and at the
+//! end), `summary.json` with every statistic and the squeal verdict.
 
 pub mod export;
 mod galpha_run;
@@ -13,11 +14,9 @@ pub mod system;
 pub mod verdict;
 
 use crate::error::PipelineError;
-use crate::history::npy::NpyAppender;
-use crate::history::{HistoryMap, RecordKind};
 use crate::output::RunDir;
 use crate::progress::Progress;
-use crate::scene::Scene;
+use crate::scene::{Scene, TransientSpec};
 use crate::stages::model;
 use indicatif::{ProgressBar, ProgressStyle};
 use restart::RestartFile;
@@ -26,9 +25,8 @@ use squeal_solver::bdf::{
     consistent_initial_conditions, Bdf, BdfOptions, BdfStats, IcStats, InitialConditionOptions,
     Status,
 };
-use squeal_solver::bsql::{steady_state, BsqlStats, EnergyBalance, SteadyOptions};
+use squeal_solver::bsql::{steady_state, BsqlStats, BsqlSystem, EnergyBalance, SteadyOptions};
 use squeal_solver::SolverError;
-use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 use verdict::Verdict;
@@ -174,9 +172,7 @@ fn effects(
                 .map_or("adaptive step".to_string(), |h| format!("fixed step {h}"))
         ),
     });
-    if spec.integrator == crate::scene::Integrator::GeneralizedAlpha {
-        on.push("no history writes (the generalized-alpha path writes summary.json only)".into());
-    } else if scene.output.history {
+    if scene.output.history {
         on.push(format!(
             "history database + energy.csv (every {} steps)",
             spec.noutpt
@@ -188,6 +184,44 @@ fn effects(
         ignored.push("[cea]: not run by `squeal transient` (use `squeal cea`)".into());
     }
     (on, ignored)
+}
+
+/// The start of a run without restart: the steady sliding state before the brake load
+/// (TOLINT) and consistent y'(0), as (y0, y0', steady-state summary, initial-condition stats).
+pub(crate) fn start_state(
+    sys: &mut BsqlSystem<system::GapFriction>,
+    spec: &TransientSpec,
+) -> Result<(Vec<f64>, Vec<f64>, SteadySummary, IcStats), PipelineError> {
+    // t = −1 < 0: the ramp is 0, so the state is the sliding equilibrium under P0 alone.
+    let steady_opts = SteadyOptions {
+        tol: spec.tolint,
+        ..Default::default()
+    };
+    let ic_opts = InitialConditionOptions {
+        tol: spec.tolint,
+        ..Default::default()
+    };
+    let ss = steady_state(sys, -1.0, &steady_opts).map_err(solver_err("steady state"))?;
+    let (mut y0, mut yp0) = ss.initial_values();
+    let ic = consistent_initial_conditions(sys, 0.0, &mut y0, &mut yp0, None, &ic_opts)
+        .map_err(solver_err("consistent initial conditions"))?;
+    let steady = SteadySummary {
+        iterations: ss.iterations,
+        residual_norm: ss.residual_norm,
+    };
+    Ok((y0, yp0, steady, ic))
+}
+
+/// The run's progress bar (none when quiet).
+fn progress_bar(progress: Progress) -> Option<ProgressBar> {
+    (!progress.quiet).then(|| {
+        let b = ProgressBar::new(1000);
+        b.set_style(
+            ProgressStyle::with_template("{bar:40} {msg} [{elapsed}]")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        b
+    })
 }
 
 /// Runs the transient; `export_dae` also writes the problem as data into that folder.
@@ -279,24 +313,10 @@ pub fn run_on_model(
             (bdf, None, None, Some(path.display().to_string()))
         }
         None => {
-            // t = −1 < 0: the ramp is 0, so the state is the sliding equilibrium under P0 alone.
-            let ss =
-                steady_state(&mut sys, -1.0, &steady_opts).map_err(solver_err("steady state"))?;
-            let (mut y0, mut yp0) = ss.initial_values();
-            let ic =
-                consistent_initial_conditions(&mut sys, 0.0, &mut y0, &mut yp0, None, &ic_opts)
-                    .map_err(solver_err("consistent initial conditions"))?;
+            let (y0, yp0, steady, ic) = start_state(&mut sys, &spec)?;
             let bdf =
                 Bdf::new(bdf_opts.clone(), 0.0, &y0, &yp0).map_err(solver_err("integrator"))?;
-            (
-                bdf,
-                Some(SteadySummary {
-                    iterations: ss.iterations,
-                    residual_norm: ss.residual_norm,
-                }),
-                Some(ic),
-                None,
-            )
+            (bdf, Some(steady), Some(ic), None)
         }
     };
     let t_start = bdf.t();
@@ -307,83 +327,11 @@ pub fn run_on_model(
         });
     }
 
-    // Outputs.
-    let cols = records::columns(scene, &model)?;
-    if scene.output.history {
-        dir.write_json(
-            "history_map.json",
-            &HistoryMap {
-                n_columns: cols.len(),
-                noutpt: spec.noutpt,
-                columns: cols.clone(),
-            },
-        )?;
-    }
-    // Effects on demand: `output.history = false` opens no history or energy file.
-    let mut history = match scene.output.history {
-        true => Some(NpyAppender::create(&dir.path("history.npy"), cols.len())?),
-        false => None,
-    };
-    let energy_path = dir.path("energy.csv");
-    let eio = |source| PipelineError::Io {
-        path: energy_path.clone(),
-        source,
-    };
-    let mut energy = match scene.output.history {
-        true => {
-            let mut e =
-                std::io::BufWriter::new(std::fs::File::create(&energy_path).map_err(|source| {
-                    PipelineError::Io {
-                        path: energy_path.clone(),
-                        source,
-                    }
-                })?);
-            writeln!(
-                e,
-                "t,kinetic,strain,damping_dissipation,friction_work,external_work,constraint_work,balance"
-            )
-            .map_err(eio)?;
-            Some(e)
-        }
-        false => None,
-    };
-    let vel_cols: Vec<(usize, usize)> = cols
-        .iter()
-        .filter(|c| c.kind == RecordKind::Velocity)
-        .map(|c| (c.column, c.dof.unwrap_or(0)))
-        .collect();
-    let resp_dof: Option<usize> = match &scene.output.response {
-        Some(r) => {
-            let comp = match r.dof.as_str() {
-                "x" => 1,
-                "y" => 2,
-                _ => 3,
-            };
-            Some(
-                *model
-                    .grid_index()
-                    .get(&squeal_reduction::superelement::DofKey { grid: r.grid, comp })
-                    .ok_or_else(|| PipelineError::Scene {
-                        field: "output.response".into(),
-                        message: format!(
-                            "grid {} {} is not a DOF of the reduced model",
-                            r.grid, r.dof
-                        ),
-                    })?,
-            )
-        }
-        None => None,
-    };
-    let resp_dofs: Vec<usize> = match resp_dof {
-        Some(d) => vec![d],
-        None => vel_cols.iter().map(|c| c.1).collect(),
-    };
-    let mut resp_t: Vec<f64> = Vec::new();
-    let mut resp_v: Vec<Vec<f64>> = vec![Vec::new(); resp_dofs.len()];
+    // Outputs (effects on demand: `output.history = false` opens no history or energy file).
+    let mut rec = records::Recorder::open(scene, &model, dir, spec.noutpt)?;
+    let mut resp = records::Response::new(scene, &model, rec.columns())?;
 
     let mut balance = EnergyBalance::new();
-    let mut row = Vec::with_capacity(cols.len());
-    let gaps = model.gaps.clone();
     let mut out_err: Option<String> = None;
     let mut steps_done = bdf.stats().steps as usize;
     // The initial point.
@@ -393,24 +341,10 @@ pub fn run_on_model(
             .observe(t_start, &y, &yp)
             .map_err(solver_err("energy"))?;
         balance.push(&p);
-        if let Some(h) = history.as_mut() {
-            records::fill_row(&cols, &gaps, n, t_start, &y, &yp, &mut row)
-                .map_err(PipelineError::Model)?;
-            h.push(&row)?;
-        }
-        resp_t.push(t_start);
-        for (k, &d) in resp_dofs.iter().enumerate() {
-            resp_v[k].push(y[d]);
-        }
+        rec.point(t_start, &y, &yp)?;
+        resp.push(t_start, &y);
     }
-    let bar = (!progress.quiet).then(|| {
-        let b = ProgressBar::new(1000);
-        b.set_style(
-            ProgressStyle::with_template("{bar:40} {msg} [{elapsed}]")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        b
-    });
+    let bar = progress_bar(progress);
     let restart_path = dir.path("restart.json");
     let write_restart = |bdf: &Bdf| -> Result<(), PipelineError> {
         RestartFile {
@@ -433,42 +367,20 @@ pub fn run_on_model(
                 in_chunk += 1;
                 let p = s.observe(t, y, yp)?;
                 balance.push(&p);
-                resp_t.push(t);
-                for (k, &d) in resp_dofs.iter().enumerate() {
-                    resp_v[k].push(y[d]);
-                }
-                if let (true, Some(history), Some(energy)) = (
-                    steps_done % spec.noutpt == 0,
-                    history.as_mut(),
-                    energy.as_mut(),
-                ) {
-                    let res = records::fill_row(&cols, &gaps, n, t, y, yp, &mut row)
-                        .and_then(|_| history.push(&row).map_err(|e| e.to_string()))
-                        .and_then(|_| {
-                            writeln!(
-                                energy,
-                                "{t:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
-                                p.kinetic,
-                                p.strain,
-                                balance.damping_dissipated,
-                                balance.friction_work,
-                                balance.external_work,
-                                balance.constraint_work,
-                                balance.residual()
-                            )
-                            .map_err(|e| e.to_string())
-                        });
-                    if let Err(e) = res {
-                        out_err = Some(e.clone());
-                        return Err(SolverError::Callback { t, message: e });
-                    }
+                resp.push(t, y);
+                if let Err(e) = rec.step(steps_done, t, y, yp, &p, &balance) {
+                    out_err = Some(e.to_string());
+                    return Err(SolverError::Callback {
+                        t,
+                        message: e.to_string(),
+                    });
                 }
                 let restart_due = nrstrt > 0 && steps_done % nrstrt == 0;
                 Ok(in_chunk < CHUNK && !restart_due)
             })
             .map_err(|source| match out_err.take() {
                 Some(m) => PipelineError::Output {
-                    path: dir.path("history.npy"),
+                    path: rec.history_path().to_path_buf(),
                     message: m,
                 },
                 None => PipelineError::Solver {
@@ -479,21 +391,11 @@ pub fn run_on_model(
         let st = match st {
             Ok(st) => st,
             Err(e) => {
-                if let Some(h) = history.as_mut() {
-                    let _ = h.flush();
-                }
-                if let Some(e) = energy.as_mut() {
-                    let _ = e.flush();
-                }
+                let _ = rec.flush();
                 return Err(e);
             }
         };
-        if let Some(h) = history.as_mut() {
-            h.flush()?;
-        }
-        if let Some(e) = energy.as_mut() {
-            e.flush().map_err(eio)?;
-        }
+        rec.flush()?;
         if let Some(b) = &bar {
             b.set_position(
                 (1000.0 * (bdf.t() - t_start) / (spec.tfinal - t_start)).clamp(0.0, 1000.0) as u64,
@@ -526,43 +428,16 @@ pub fn run_on_model(
         b.finish();
     }
     write_restart(&bdf)?;
-    if let (true, Some(h)) = (status.is_success(), history.as_mut()) {
-        let (y, yp) = (bdf.y().to_vec(), bdf.yp().to_vec());
-        records::fill_row(&cols, &gaps, n, spec.tfinal, &y, &yp, &mut row)
-            .map_err(PipelineError::Model)?;
-        h.push(&row)?;
-        h.flush()?;
-    }
-    if !status.is_success() {
+    if status.is_success() {
+        rec.point(spec.tfinal, bdf.y(), bdf.yp())?;
+        rec.flush()?;
+    } else {
         progress.info(format!("integration stopped: {status:?}"));
     }
 
     // Verdict on the response after the ramp.
     let t_after = problem.load.t_load.max(t_start);
-    let (pick, verdict) = resp_v
-        .iter()
-        .enumerate()
-        .map(|(k, v)| {
-            let peak = resp_t
-                .iter()
-                .zip(v)
-                .filter(|(t, _)| **t > t_after)
-                .fold(0.0f64, |m, (_, x)| m.max(x.abs()));
-            (k, peak)
-        })
-        .max_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(k, _)| (Some(k), verdict::analyse(&resp_t, &resp_v[k], t_after)))
-        .unwrap_or((None, verdict::analyse(&[], &[], 0.0)));
-    let response = match pick {
-        Some(k) => {
-            let d = resp_dofs[k];
-            cols.iter()
-                .find(|c| c.kind == RecordKind::Velocity && c.dof == Some(d))
-                .map(|c| c.name.clone())
-                .unwrap_or_else(|| format!("v_dof{d}"))
-        }
-        None => "none".into(),
-    };
+    let (response, verdict) = resp.verdict(t_after, rec.columns());
     let (active_effects, ignored) = effects(scene, &model, &problem);
     let bs = sys.stats().clone();
     let stats = bdf.stats().clone();
@@ -573,9 +448,10 @@ pub fn run_on_model(
         steps: stats.steps,
         cpu_s: stats.cpu_s,
         wall_s: wall.elapsed().as_secs_f64(),
-        squeal: verdict
-            .growth_rate_per_s
-            .is_some_and(|g| g > scene.output.squeal_growth_threshold),
+        squeal: verdict.is_squeal(
+            scene.output.squeal_growth_threshold,
+            scene.output.squeal_min_growth_factor,
+        ),
         growth_rate_per_s: verdict.growth_rate_per_s,
         dominant_frequency_hz: verdict.dominant_frequency_hz,
         response,
@@ -594,7 +470,7 @@ pub fn run_on_model(
         t_end: bdf.t(),
         n_dofs: n,
         n_gaps: ng,
-        history_rows: history.as_ref().map_or(0, |h| h.rows()),
+        history_rows: rec.rows(),
         active_effects,
         ignored,
         model_hash,

@@ -17,10 +17,24 @@ pub struct Verdict {
     /// apart whatever the offset c and growth σ, which the crossings of x − mean(x) are not
     /// (on a growing signal the window mean is biased by ≈ σ/ω of the last amplitude).
     pub dominant_frequency_hz: Option<Real>,
+    /// Growth of the fitted envelope over the fitted amplitudes' span, e^{σ (t_last − t_first)}
+    /// (None: no growth rate).
+    pub growth_factor: Option<Real>,
     /// Half peak-to-peak amplitudes used in the fit.
     pub n_peaks: usize,
     /// Window [t_start, t_end] analysed.
     pub window: [Real; 2],
+}
+
+impl Verdict {
+    /// Squeal: the envelope grows faster than `rate` (per unit time) and by at least
+    /// `min_factor` over the analysed window.
+    pub fn is_squeal(&self, rate: Real, min_factor: Real) -> bool {
+        match (self.growth_rate_per_s, self.growth_factor) {
+            (Some(g), Some(f)) => g > rate && f >= min_factor,
+            _ => false,
+        }
+    }
 }
 
 /// Least-squares slope of y against x.
@@ -97,8 +111,13 @@ pub fn analyse(t: &[Real], x: &[Real], t_after: Real) -> Verdict {
         })
         .unzip();
     let growth = if pt.len() >= 3 { slope(&pt, &pv) } else { None };
+    let span = match (pt.first(), pt.last()) {
+        (Some(a), Some(b)) => b - a,
+        _ => 0.0,
+    };
     Verdict {
         growth_rate_per_s: growth,
+        growth_factor: growth.map(|g| (g * span).exp()),
         dominant_frequency_hz: freq,
         n_peaks: pt.len(),
         window: [
@@ -147,5 +166,34 @@ mod tests {
         );
         let flat = analyse(&t[..5], &x[..5], 0.0);
         assert!(flat.growth_rate_per_s.is_none());
+        assert!(!flat.is_squeal(0.0, 1.0));
+    }
+
+    /// The growth factor is e^{σ·span} of the fitted amplitudes; a slow growth over a short
+    /// window is not a clear growth, the same growth over a long window is.
+    #[test]
+    fn growth_factor_decides_a_clear_growth() {
+        let (sigma, f) = (50.0, 2000.0);
+        let signal = |tf: Real| {
+            let t: Vec<Real> = (0..(tf / 1e-6) as usize)
+                .map(|i| i as Real * 1e-6)
+                .collect();
+            let x: Vec<Real> = t
+                .iter()
+                .map(|&s| (sigma * s).exp() * (2.0 * std::f64::consts::PI * f * s).sin())
+                .collect();
+            (t, x)
+        };
+        // Later half of 6 ms: the amplitudes span 2.5 ms (half-periods 0.25 ms apart), factor
+        // e^{0.125} ≈ 1.13.
+        let (t, x) = signal(0.006);
+        let v = analyse(&t, &x, 0.0);
+        let g = v.growth_factor.unwrap();
+        assert!((g.ln() / sigma - 0.0025).abs() < 1e-5, "{v:?}");
+        assert!(v.is_squeal(0.0, 1.0) && !v.is_squeal(0.0, 2.0), "{v:?}");
+        // Later half of 40 ms: factor e^{1.0} ≈ 2.7.
+        let (t, x) = signal(0.04);
+        let v = analyse(&t, &x, 0.0);
+        assert!(v.is_squeal(0.0, 2.0), "{v:?}");
     }
 }
