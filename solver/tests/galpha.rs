@@ -10,7 +10,8 @@ use squeal_solver::bdf::Tolerances;
 use squeal_solver::bdf::{consistent_initial_conditions, Bdf, BdfOptions, InitialConditionOptions};
 use squeal_solver::bsql::{BsqlOptions, BsqlSystem, FrictionForces, LoadHistory, NoFriction};
 use squeal_solver::galpha::{
-    algorithmic_damping, spectral_radius, Galpha, GalphaCoeffs, GalphaOptions, GalphaSystem,
+    algorithmic_damping, spectral_radius, Galpha, GalphaCoeffs, GalphaOptions, GalphaStats,
+    GalphaSystem,
 };
 use squeal_solver::Real;
 
@@ -619,4 +620,216 @@ fn options_validate_and_round_trip() {
         (c.alpha_m, c.alpha_f, c.gamma, c.beta),
         (0.5, 0.5, 0.5, 0.25)
     );
+}
+
+/// Belt friction with the arctangent regularisation of [Paper eq. (5)] (as the contact
+/// crate's, normalised by atan(10) so the force is continuous at 10·VTOL): on DOF 0,
+/// F = λ'_0·μ(s)·r(s) with slip s = V − v_0, μ = μ0 − a|s|, r = atan(s/VTOL)/atan(10) for
+/// |s| < 10·VTOL and sign(s) above. At s = 0 its slope is λ'μ0/(VTOL·atan 10): a stiff
+/// damper while the mass sticks to the belt.
+struct StickSlip {
+    mu0: Real,
+    a: Real,
+    v_belt: Real,
+    vtol: Real,
+}
+
+impl StickSlip {
+    /// (μ r, d(μ r)/ds) at slip s.
+    fn law(&self, s: Real) -> (Real, Real) {
+        let mu = self.mu0 - self.a * s.abs();
+        let dmu = -self.a * s.signum();
+        let zone = 10.0 * self.vtol;
+        let (r, dr) = if s.abs() < zone {
+            let x = s / self.vtol;
+            let n = 10.0_f64.atan();
+            (x.atan() / n, 1.0 / (self.vtol * (1.0 + x * x) * n))
+        } else {
+            (s.signum(), 0.0)
+        };
+        (mu * r, dmu * r + mu * dr)
+    }
+}
+
+impl FrictionForces for StickSlip {
+    fn add_forces(
+        &mut self,
+        _: Real,
+        v: &[Real],
+        lambda_dot: &[Real],
+        f: &mut [Real],
+    ) -> Result<(), squeal_solver::SolverError> {
+        f[0] += self.law(self.v_belt - v[0]).0 * lambda_dot[0];
+        Ok(())
+    }
+    fn add_tangents(
+        &mut self,
+        _: Real,
+        v: &[Real],
+        lambda_dot: &[Real],
+        d_dlam: &mut Mat<Real>,
+        d_dv: Option<&mut Mat<Real>>,
+    ) -> Result<(), squeal_solver::SolverError> {
+        let (g, dg) = self.law(self.v_belt - v[0]);
+        d_dlam[(0, 0)] += g;
+        if let Some(d) = d_dv {
+            d[(0, 0)] -= dg * lambda_dot[0];
+        }
+        Ok(())
+    }
+}
+
+/// The belt of [`belt_galpha`] (m = 1, k = (2π)², c = 0.3, N = 10) on a slow belt
+/// (V = 0.2) with the regularised friction of [`StickSlip`] (μ0 = 0.5, a = 0.05,
+/// VTOL = 1e-3), kicked to v = 1: the mass's velocity amplitude exceeds V, so every period
+/// has a stick phase, entered and left through the stiff zone |s| < 10·VTOL.
+fn stick_slip_matrices() -> (Mat<Real>, Mat<Real>, Mat<Real>, Mat<Real>, LoadHistory) {
+    let k = (2.0 * PI).powi(2);
+    (
+        Mat::from_fn(2, 2, |i, j| [[1.0, 0.0], [0.0, 2.0]][i][j]),
+        Mat::from_fn(2, 2, |i, j| if i + j == 0 { 0.3 } else { 0.0 }),
+        Mat::from_fn(2, 2, |i, j| [[k, 0.0], [0.0, 50.0]][i][j]),
+        Mat::from_fn(1, 2, |_, j| j as Real),
+        LoadHistory {
+            p_pre: vec![0.0, 10.0],
+            ..Default::default()
+        },
+    )
+}
+
+fn stick_slip_friction() -> StickSlip {
+    StickSlip {
+        mu0: 0.5,
+        a: 0.05,
+        v_belt: 0.2,
+        vtol: 1e-3,
+    }
+}
+
+/// y0 = {v, λ, u} at the steady sliding position with the kick, and a guess for y0'.
+fn stick_slip_initial() -> (Vec<Real>, Vec<Real>) {
+    let f = stick_slip_friction();
+    let x_eq = 10.0 * f.law(f.v_belt).0 / (2.0 * PI).powi(2);
+    (
+        vec![1.0, 0.0, 0.0, x_eq, 0.0],
+        vec![0.0, 0.0, 10.0, 1.0, 0.0],
+    )
+}
+
+/// BDF at RTOL = 1e-9 on the stick–slip belt, y at t = 1, 2, 3, 4 s.
+fn stick_slip_reference() -> Vec<Vec<Real>> {
+    let (m, b, k, g, load) = stick_slip_matrices();
+    let mut bs = BsqlSystem::new(
+        m,
+        b,
+        k,
+        g,
+        load,
+        stick_slip_friction(),
+        BsqlOptions {
+            include_friction_damping: true,
+        },
+    )
+    .unwrap();
+    let (mut y, mut yp) = stick_slip_initial();
+    consistent_initial_conditions(
+        &mut bs,
+        0.0,
+        &mut y,
+        &mut yp,
+        None,
+        &InitialConditionOptions::default(),
+    )
+    .unwrap();
+    let opts = BdfOptions {
+        tolerances: bs.tolerances(1e-9, 1e-11, 1e-9, 1e-11),
+        ..Default::default()
+    };
+    let mut bdf = Bdf::new(opts, 0.0, &y, &yp).unwrap();
+    (1..=4)
+        .map(|s| {
+            assert!(bdf.integrate_to(&mut bs, s as Real).unwrap().is_success());
+            bdf.y().to_vec()
+        })
+        .collect()
+}
+
+/// Fixed-step (h) generalized-α on the stick–slip belt, with or without C_f in the Newton
+/// matrix: the status, the steps taken inside the stick zone |V − v| < 10·VTOL, the
+/// largest |Δv| and |Δx| at t = 1..4 s against `reference`, relative to the largest |v|
+/// and |x| there, and the statistics.
+fn stick_slip_run(
+    h: Real,
+    with_cf: bool,
+    reference: &[Vec<Real>],
+) -> (
+    squeal_solver::galpha::Status,
+    usize,
+    Real,
+    Real,
+    GalphaStats,
+) {
+    let (m, b, k, g, load) = stick_slip_matrices();
+    let mut sys = GalphaSystem::new(m, b, k, g, load, stick_slip_friction()).unwrap();
+    let (y0, yp0) = stick_slip_initial();
+    let opts = GalphaOptions {
+        h,
+        tolerances: tight(),
+        include_friction_damping: with_cf,
+        ..Default::default()
+    };
+    let mut ga = Galpha::new(opts, &mut sys, 0.0, &y0, &yp0).unwrap();
+    let mut in_zone = 0usize;
+    let (mut dv, mut dx, mut v_max, mut x_max) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for (i, yr) in reference.iter().enumerate() {
+        let st = ga
+            .step_to(&mut sys, (i + 1) as Real, |_, _, y, _| {
+                if (0.2 - y[0]).abs() < 1e-2 {
+                    in_zone += 1;
+                }
+                Ok(true)
+            })
+            .unwrap();
+        if !st.is_success() {
+            return (st, in_zone, Real::NAN, Real::NAN, ga.stats().clone());
+        }
+        let y = ga.y();
+        dv = dv.max((y[0] - yr[0]).abs());
+        dx = dx.max((y[3] - yr[3]).abs());
+        v_max = v_max.max(yr[0].abs());
+        x_max = x_max.max(yr[3].abs());
+    }
+    let st = squeal_solver::galpha::Status::Reached { t: 4.0 };
+    (st, in_zone, dv / v_max, dx / x_max, ga.stats().clone())
+}
+
+/// Fixed-step generalized-α through stick–slip (the failure of the sample brake at
+/// h ≥ 1e-6, in small). Entering the stick zone, the friction's slope jumps from ≈ 0 to
+/// λ'μ0/(VTOL·atan 10) = 3.4e3 against m/(γ h c_a) ≈ 400 at h = 5e-3:
+/// - without C_f in the Newton matrix (as the pipeline ran it), Newton diverges there
+///   (rate ≈ c_v C_f/m ≈ 8); it used to end the run with `ConvergenceFailures`, and must now
+///   cover the step with substeps h/2, h/4, … until it converges;
+/// - with C_f, the tangents of the predictor (sliding) are wrong for the solution (stuck):
+///   the step must be solved with tangents re-formed at the iterates, and never accepted
+///   on one correction with a convergence rate carried over from smooth steps (that put v
+///   off by 8 % at h = 1e-2).
+///
+/// Stable: both reach t = 4 s with v and x within 1 % (of their largest values) of a BDF at
+/// RTOL = 1e-9 at t = 1, 2, 3, 4 s, and the run passes through the stick zone.
+#[test]
+fn fixed_step_survives_stick_slip_transitions() {
+    let reference = stick_slip_reference();
+    for with_cf in [true, false] {
+        let (st, in_zone, dv, dx, s) = stick_slip_run(5e-3, with_cf, &reference);
+        println!(
+            "stick–slip, C_f in the matrix: {with_cf}: {st:?}, {in_zone} steps in the stick zone, \
+             |Δv| {dv:.2e}, |Δx| {dx:.2e}, {s:?}"
+        );
+        assert!(st.is_success(), "C_f {with_cf}: {st:?}");
+        assert!(in_zone > 20, "no stick phase: {in_zone} steps in the zone");
+        assert!(
+            dv < 1e-2 && dx < 1e-2,
+            "C_f {with_cf}: |Δv| {dv:e}, |Δx| {dx:e}"
+        );
+    }
 }

@@ -140,9 +140,12 @@ pub struct Galpha {
     pub(crate) h: Real,
     /// Step size whose shift δh the current pseudo-acceleration corresponds to.
     pub(crate) a_h: Real,
-    /// Start time and steps since then at constant h (t = t_base + k h for fixed steps).
+    /// Fixed steps: start time and whole steps since (t = t_base + k h); adaptive: steps
+    /// accepted at the current h.
     pub(crate) t_base: Real,
     pub(crate) k_base: u64,
+    /// Fixed steps: halvings of h for the substeps of the current step (0: no substeps).
+    pub(crate) halvings: u32,
     /// Step size at which the iteration matrix was factorised (None: not factorised).
     pub(crate) factored_h: Option<Real>,
     /// Newton rate estimate ρ/(1 − ρ).
@@ -215,6 +218,7 @@ impl Galpha {
             has_prev: false,
             t_base: t0,
             k_base: 0,
+            halvings: 0,
             factored_h: None,
             ss: 20.0,
             stats: GalphaStats::default(),

@@ -39,13 +39,15 @@ pub struct GalphaOptions {
     /// Include the friction damping C_f = ∂F_f/∂v in the iteration matrix (default: true; it
     /// is cheap with dense matrices and keeps Newton quadratic in the v-dependence of friction).
     pub include_friction_damping: bool,
-    /// Smallest step size (adaptive) before `Status::StepSizeTooSmall` (default: 1e-14).
+    /// Smallest step size (default: 1e-14): adaptive steps below it end with
+    /// `Status::StepSizeTooSmall`; fixed steps are not halved below it.
     pub h_min: Real,
     /// Largest step size when adaptive (default: None = unlimited).
     pub h_max: Option<Real>,
     /// Maximum number of steps in one `step_to` call (default: 10 000 000).
     pub max_steps: usize,
-    /// Maximum error-test plus convergence failures on one step when adaptive (default: 10).
+    /// Maximum failures on one step (default: 10): error-test plus Newton failures when
+    /// adaptive; Newton failures, i.e. halvings of the substep, with fixed steps.
     pub max_failures: usize,
     /// Tolerance of the initial solve for q̈₀, λ'₀ on ‖F(t0, y0, y0')‖∞ relative to
     /// max(1, ‖F(t0, y0, 0)‖∞) (default: 1e-12).
@@ -197,8 +199,12 @@ pub struct GalphaStats {
     pub factorisations: u64,
     /// Steps rejected by the local error test (adaptive only).
     pub rejected_steps: u64,
-    /// Newton convergence failures (each followed by a refactorisation or a smaller step).
+    /// Newton convergence failures (each followed by a refactorisation, full Newton or a
+    /// smaller step).
     pub convergence_failures: u64,
+    /// Fixed steps that were covered by substeps after a Newton failure.
+    #[serde(default)]
+    pub halved_steps: u64,
     /// Size of the last accepted step.
     pub last_h: Real,
     /// Constraint drift ‖G v − G v₀‖∞ at the last step.

@@ -2,12 +2,30 @@
 //! step-size control.
 //!
 //! # Newton
-//! Modified Newton with the matrix of `GalphaSystem::factor`, re-formed when h changed, and
-//! once more (fresh friction tangents) when an iteration with an older matrix fails.
+//! Three levels, each tried when the one before fails:
+//! 1. modified Newton with the last matrix of `GalphaSystem::factor` (kept while h is
+//!    unchanged; its friction tangents may be from an earlier step);
+//! 2. the same from the predictor with the matrix re-formed there (fresh tangents);
+//! 3. full Newton: the matrix re-formed at every iterate. Friction is non-smooth in the
+//!    slip velocity (the arctangent of [Paper eq. (5)] has slope F_t/VTOL at zero slip,
+//!    and the slip direction turns), so tangents at the predictor can be far from those at
+//!    the solution when a contact point enters or leaves the stick zone; the iteration then
+//!    only converges linearly (or not at all) with a matrix held fixed.
+//!
 //! IDA's convergence test on the implied corrections of y = {v, λ, u},
 //! δy = (c_v δq̈, h/2 δf, c_u δq̈): the rate ρ = (‖δ_m‖/‖δ_0‖)^{1/m} must stay below 0.9,
-//! and ρ/(1−ρ)‖δ‖ ≤ `newton_tol_coef` (the first iteration uses the previous estimate,
-//! 20 after a factorisation).
+//! and ρ/(1−ρ)‖δ‖ ≤ `newton_tol_coef`. Adaptive steps may stop after the first correction
+//! on the rate estimated in earlier steps (20 after a factorisation), as IDA does, because
+//! the error test follows; fixed steps have no error test, so their first correction is
+//! always confirmed by a second (accepting it on a carried-over rate let steps into a stick
+//! phase through unconverged, 8 % off in v on the stick–slip test).
+//!
+//! # Failed steps
+//! Adaptive: the step is retried at h/4. Fixed step: the step [t_n, t_n + h] is covered by
+//! substeps h/2, h/4, … (one halving per failure; the last substep ends exactly on
+//! t_n + h), after which the run continues at h. It ends with
+//! `Status::ConvergenceFailures` only after `max_failures` failures in a row or below
+//! `h_min`. When h changes, a_n is moved to the new shift δh (below).
 //!
 //! # Local error estimate (adaptive steps)
 //! From the Taylor expansion of the updates with a_n ≈ q̈(t_n + δh), δ = α_m − α_f
@@ -32,6 +50,17 @@ use crate::{Real, SolverError};
 enum Nls {
     Converged,
     Failed,
+}
+
+/// Which matrix the Newton iteration uses.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Matrix {
+    /// The last factorisation (same h, tangents possibly from an earlier step).
+    Kept,
+    /// Re-formed at the predictor.
+    Fresh,
+    /// Re-formed at every iterate (full Newton).
+    Full,
 }
 
 const RATE_MAX: Real = 0.9;
@@ -120,11 +149,13 @@ impl Galpha {
         Ok(Nls::Converged)
     }
 
-    /// Newton from the predictor q̈ = q̈_n, f = f_n for a step of size h.
+    /// Newton from the predictor q̈ = q̈_n, f = f_n for a step of size h ending at `t_new`:
+    /// the kept matrix, then a fresh one, then full Newton (see the module docs).
     fn attempt<F: FrictionForces>(
         &mut self,
         sys: &mut GalphaSystem<F>,
         h: Real,
+        t_new: Real,
         active: usize,
     ) -> Result<Nls, SolverError> {
         let co = self.co;
@@ -132,11 +163,7 @@ impl Galpha {
         let c_a = co.c_a();
         let (c_v, c_u) = (h * g * c_a, h * h * b * c_a);
         let n = self.cur.v.len();
-        self.trial.t = if self.opts.adaptive {
-            self.cur.t + h
-        } else {
-            self.t_base + (self.k_base + 1) as Real * h
-        };
+        self.trial.t = t_new;
         {
             let (c, w) = (&self.cur, &mut self.w);
             for i in 0..n {
@@ -146,33 +173,25 @@ impl Galpha {
                 w.u_base[i] = c.u[i] + h * c.v[i] + h * h * ((0.5 - b) * c.a[i] + b * ab);
             }
         }
-        let mut fresh = false;
+        let mut matrix = if self.factored_h == Some(h) {
+            Matrix::Kept
+        } else {
+            Matrix::Fresh
+        };
         loop {
             self.trial.qdd.copy_from_slice(&self.cur.qdd);
             self.trial.f.copy_from_slice(&self.cur.f);
             self.fill_trial(c_v, c_u, c_a);
-            if self.factored_h != Some(h) || fresh {
-                self.factored_h = None;
-                self.stats.factorisations += 1;
-                let tr = &self.trial;
-                if let Err(e) = sys.factor(
-                    tr.t,
-                    &tr.v,
-                    &tr.f,
-                    c_v,
-                    c_u,
-                    self.opts.include_friction_damping,
-                ) {
-                    return recoverable(e);
-                }
-                self.factored_h = Some(h);
-                self.ss = 20.0;
-                fresh = true;
+            if matrix != Matrix::Kept && self.refactor(sys, c_v, c_u, h)? == Nls::Failed {
+                return Ok(Nls::Failed);
             }
-            let out = self.newton(sys, c_v, c_u, c_a, h, active)?;
-            if out == Nls::Failed && !fresh {
+            let out = self.newton(sys, c_v, c_u, c_a, h, active, matrix == Matrix::Full)?;
+            if out == Nls::Failed && matrix != Matrix::Full {
                 self.stats.convergence_failures += 1;
-                fresh = true;
+                matrix = match matrix {
+                    Matrix::Kept => Matrix::Fresh,
+                    _ => Matrix::Full,
+                };
                 continue;
             }
             if out == Nls::Converged {
@@ -185,6 +204,35 @@ impl Galpha {
         }
     }
 
+    /// Form and factorise the Newton matrix at the trial point (its v and f).
+    fn refactor<F: FrictionForces>(
+        &mut self,
+        sys: &mut GalphaSystem<F>,
+        c_v: Real,
+        c_u: Real,
+        h: Real,
+    ) -> Result<Nls, SolverError> {
+        self.factored_h = None;
+        self.stats.factorisations += 1;
+        let tr = &self.trial;
+        if let Err(e) = sys.factor(
+            tr.t,
+            &tr.v,
+            &tr.f,
+            c_v,
+            c_u,
+            self.opts.include_friction_damping,
+        ) {
+            return recoverable(e);
+        }
+        self.factored_h = Some(h);
+        self.ss = 20.0;
+        Ok(Nls::Converged)
+    }
+
+    /// Newton iterations from the trial point; `full` re-forms the matrix at every iterate
+    /// after the first.
+    #[allow(clippy::too_many_arguments)]
     fn newton<F: FrictionForces>(
         &mut self,
         sys: &mut GalphaSystem<F>,
@@ -193,6 +241,7 @@ impl Galpha {
         c_a: Real,
         h: Real,
         active: usize,
+        full: bool,
     ) -> Result<Nls, SolverError> {
         let n = self.cur.v.len();
         let coef = self.opts.newton_tol_coef;
@@ -230,7 +279,10 @@ impl Galpha {
                 }
                 self.ss = rate / (1.0 - rate);
             }
-            if self.ss * del <= coef {
+            // Fixed steps have no error test to catch a step accepted on a rate carried over
+            // from earlier steps: their first correction must be confirmed by a second.
+            let confirmed = m > 0 || self.opts.adaptive;
+            if confirmed && self.ss * del <= coef {
                 return Ok(Nls::Converged);
             }
             m += 1;
@@ -239,6 +291,13 @@ impl Galpha {
             }
             if self.eval_residual(sys)? == Nls::Failed {
                 return Ok(Nls::Failed);
+            }
+            if full {
+                let ss = self.ss;
+                if self.refactor(sys, c_v, c_u, h)? == Nls::Failed {
+                    return Ok(Nls::Failed);
+                }
+                self.ss = ss;
             }
         }
     }
@@ -272,7 +331,7 @@ impl Galpha {
 
     /// Move the pseudo-acceleration of the current point to the shift of a step of size h.
     fn shift_pseudo_acceleration(&mut self, h: Real) {
-        if !self.opts.adaptive || !self.has_prev || h == self.a_h {
+        if !self.has_prev || h == self.a_h {
             self.a_h = h;
             return;
         }
@@ -283,8 +342,73 @@ impl Galpha {
         self.a_h = h;
     }
 
-    /// One accepted step (with retries when adaptive); `Some(status)` on failure.
+    /// One accepted step (a substep of a halved fixed step, or an adaptive step after its
+    /// retries); `Some(status)` on failure.
     pub(crate) fn step<F: FrictionForces>(
+        &mut self,
+        sys: &mut GalphaSystem<F>,
+    ) -> Result<Option<Status>, SolverError> {
+        if self.opts.adaptive {
+            self.step_adaptive(sys)
+        } else {
+            self.step_fixed(sys)
+        }
+    }
+
+    /// Fixed step h, on the grid t_base + k h; a step whose Newton iteration fails is
+    /// covered by substeps h/2^j (j = `halvings`, one more per failure) ending on the grid.
+    fn step_fixed<F: FrictionForces>(
+        &mut self,
+        sys: &mut GalphaSystem<F>,
+    ) -> Result<Option<Status>, SolverError> {
+        let mut failures = 0usize;
+        let active = self.set_weights();
+        let target = self.t_base + (self.k_base + 1) as Real * self.h;
+        loop {
+            let t = self.cur.t;
+            // The whole step is h itself (not target − t, which differs by round-off and
+            // would re-form the matrix at every step).
+            let sub = self.h / Real::powi(2.0, self.halvings as i32);
+            let remaining = target - t;
+            let (h, t_new, last) = if self.halvings == 0 {
+                (self.h, target, true)
+            } else if remaining <= sub * (1.0 + 1e-9) {
+                (remaining, target, true)
+            } else {
+                (sub, t + sub, false)
+            };
+            self.shift_pseudo_acceleration(h);
+            if self.attempt(sys, h, t_new, active)? == Nls::Converged {
+                self.accept(sys, h);
+                if last {
+                    self.k_base += 1;
+                    self.halvings = 0;
+                }
+                return Ok(None);
+            }
+            self.stats.convergence_failures += 1;
+            failures += 1;
+            if self.halvings == 0 {
+                self.stats.halved_steps += 1;
+            }
+            self.halvings += 1;
+            if failures >= self.opts.max_failures
+                || 0.5 * h < self.opts.h_min.max(4.0 * Real::EPSILON * t.abs())
+            {
+                self.halvings = 0;
+                return Ok(Some(Status::ConvergenceFailures {
+                    t,
+                    h,
+                    order: 2,
+                    residual_norm: self.w.last_res_norm,
+                }));
+            }
+        }
+    }
+
+    /// Adaptive step: retried at h/4 after a Newton failure, at a smaller h after an error
+    /// test failure; the next h from the error estimate.
+    fn step_adaptive<F: FrictionForces>(
         &mut self,
         sys: &mut GalphaSystem<F>,
     ) -> Result<Option<Status>, SolverError> {
@@ -293,7 +417,7 @@ impl Galpha {
         loop {
             let h = self.h;
             let t = self.cur.t;
-            if self.opts.adaptive && h < self.opts.h_min.max(4.0 * Real::EPSILON * t.abs()) {
+            if h < self.opts.h_min.max(4.0 * Real::EPSILON * t.abs()) {
                 return Ok(Some(Status::StepSizeTooSmall {
                     t,
                     h,
@@ -302,10 +426,10 @@ impl Galpha {
                 }));
             }
             self.shift_pseudo_acceleration(h);
-            if self.attempt(sys, h, active)? == Nls::Failed {
+            if self.attempt(sys, h, t + h, active)? == Nls::Failed {
                 self.stats.convergence_failures += 1;
                 failures += 1;
-                if !self.opts.adaptive || failures >= self.opts.max_failures {
+                if failures >= self.opts.max_failures {
                     return Ok(Some(Status::ConvergenceFailures {
                         t,
                         h,
@@ -316,43 +440,47 @@ impl Galpha {
                 self.h = 0.25 * h;
                 continue;
             }
-            if self.opts.adaptive {
-                let err = self.error_norm(h, active);
-                if !(err <= 1.0) {
-                    self.stats.rejected_steps += 1;
-                    failures += 1;
-                    if failures >= self.opts.max_failures {
-                        return Ok(Some(Status::ErrorTestFailures {
-                            t,
-                            h,
-                            order: 2,
-                            error_norm: err,
-                        }));
-                    }
-                    let fac = if err.is_finite() {
-                        (0.9 * err.powf(-1.0 / 3.0)).clamp(0.2, 0.9)
-                    } else {
-                        0.25
-                    };
-                    self.h = h * fac;
-                    continue;
+            let err = self.error_norm(h, active);
+            if !(err <= 1.0) {
+                self.stats.rejected_steps += 1;
+                failures += 1;
+                if failures >= self.opts.max_failures {
+                    return Ok(Some(Status::ErrorTestFailures {
+                        t,
+                        h,
+                        order: 2,
+                        error_norm: err,
+                    }));
                 }
-                let fac = if err > 0.0 {
-                    (0.9 * err.powf(-1.0 / 3.0)).min(2.0)
+                let fac = if err.is_finite() {
+                    (0.9 * err.powf(-1.0 / 3.0)).clamp(0.2, 0.9)
                 } else {
-                    2.0
+                    0.25
                 };
-                let h_max = self.opts.h_max.unwrap_or(Real::INFINITY);
-                // Grow only after `GROW_AFTER` steps at this h without failures (as IDA
-                // waits k + 1 steps): error estimates of single components pass through
-                // zero twice per period and would invite growth followed by rejections.
-                if fac >= 1.5 && failures == 0 && self.k_base + 1 >= GROW_AFTER {
-                    self.h = (h * fac).min(h_max);
-                } else if fac < 0.95 {
-                    // Error close to the tolerance: shrink now, with a margin, rather than
-                    // be rejected next.
-                    self.h = h * (0.8 * fac).max(0.5);
-                }
+                self.h = h * fac;
+                continue;
+            }
+            let fac = if err > 0.0 {
+                (0.9 * err.powf(-1.0 / 3.0)).min(2.0)
+            } else {
+                2.0
+            };
+            let h_max = self.opts.h_max.unwrap_or(Real::INFINITY);
+            // Grow only after `GROW_AFTER` steps at this h without failures (as IDA
+            // waits k + 1 steps): error estimates of single components pass through
+            // zero twice per period and would invite growth followed by rejections.
+            if fac >= 1.5 && failures == 0 && self.k_base + 1 >= GROW_AFTER {
+                self.h = (h * fac).min(h_max);
+            } else if fac < 0.95 {
+                // Error close to the tolerance: shrink now, with a margin, rather than
+                // be rejected next.
+                self.h = h * (0.8 * fac).max(0.5);
+            }
+            // Steps at the same h (for `GROW_AFTER`).
+            if self.h != h {
+                self.k_base = 0;
+            } else {
+                self.k_base += 1;
             }
             self.accept(sys, h);
             return Ok(None);
@@ -363,12 +491,6 @@ impl Galpha {
         std::mem::swap(&mut self.prev, &mut self.cur);
         self.cur.copy_from(&self.trial);
         self.has_prev = true;
-        if self.h != h {
-            self.t_base = self.cur.t;
-            self.k_base = 0;
-        } else {
-            self.k_base += 1;
-        }
         self.stats.steps += 1;
         self.stats.last_h = h;
         let drift = sys.drift(&self.cur.v, &self.w.g0);

@@ -1,6 +1,7 @@
 //! One transient run of a prepared problem with either integrator, sampled on a time grid:
 //! the engine of the work–precision study, of the hard-case suite and of the effects
-//! benchmark (and of `squeal transient` with `integrator = "generalized_alpha"`).
+//! benchmark. [`galpha_options`] also sets up `squeal transient` with
+//! `integrator = "generalized_alpha"`.
 //!
 //! Nothing is written to disk: the only per-step work besides the integrator is the energy
 //! bookkeeping, and only when asked for.
@@ -11,7 +12,10 @@ use crate::stages::transient::system::{GapFriction, Problem};
 use serde::Serialize;
 use squeal_contact::GapSet;
 use squeal_solver::bdf::Status;
-use squeal_solver::bdf::{consistent_initial_conditions, Bdf, BdfOptions, InitialConditionOptions};
+use squeal_solver::bdf::{
+    consistent_initial_conditions, Bdf, BdfOptions, InitialConditionOptions, TolerancePartition,
+    Tolerances,
+};
 use squeal_solver::bsql::{steady_state, EnergyBalance, SteadyOptions};
 use squeal_solver::galpha::{Galpha, GalphaOptions, GalphaSystem};
 use squeal_solver::SolverError;
@@ -101,6 +105,45 @@ pub fn initial_state(
     Ok((y0, yp0))
 }
 
+/// Generalized-α options of a run on n DOFs and ng gaps: fixed step `h`, or adaptive with
+/// RTOL1 = `rtol` (ATOL1 scaled by rtol / scene RTOL1) from `h0` or TFINAL/1000 when `h` is
+/// None (`squeal transient` and the accuracy study both take them from here).
+///
+/// The Newton matrix always includes the friction damping C_f = ∂F_f/∂v: the scene's
+/// `friction_damping_in_jacobian` is the BDF's (the paper's) choice. Without C_f the Newton
+/// iteration in (q̈, λ') converges only linearly, at a rate ≈ c_v‖M⁻¹C_f‖ (c_v = γh(1−α_f)/(1−α_m))
+/// that reaches 1 where contact points approach the stick zone of [Paper eq. (5)].
+pub fn galpha_options(
+    spec: &TransientSpec,
+    n: usize,
+    ng: usize,
+    h: Option<Real>,
+    rtol: Real,
+    rho_inf: Real,
+    tf: Real,
+) -> GalphaOptions {
+    // Fixed steps: the tolerances only set Newton's test; make it tight.
+    let rtol = if h.is_some() { 1e-10 } else { rtol };
+    let p = |len, rtol, atol| TolerancePartition { len, rtol, atol };
+    let atol = spec.atol1 * rtol / spec.rtol1;
+    GalphaOptions {
+        rho_inf,
+        h: h.or(spec.h0).unwrap_or(tf / 1000.0),
+        adaptive: h.is_none(),
+        tolerances: Tolerances::Partitions {
+            parts: vec![
+                p(n, rtol, atol),
+                p(ng, spec.rtol2, spec.atol2),
+                p(n, rtol, atol),
+            ],
+        },
+        h_max: spec.h_max,
+        max_steps: spec.max_steps,
+        include_friction_damping: true,
+        ..GalphaOptions::default()
+    }
+}
+
 /// Advances through the grid times, recording the sampled values `advance` returns at each;
 /// times ≤ 0 take `first` (the initial state). Returns the first status that is not `Reached`.
 fn walk_grid(
@@ -144,12 +187,6 @@ pub fn integrate(
     let ng = problem.g.nrows();
     let mut obs = problem.system(gaps.clone())?;
     let scale = |rtol: Real| rtol / spec.rtol1;
-    let galpha_tol =
-        |rtol: Real| obs.tolerances(rtol, spec.atol1 * scale(rtol), spec.rtol2, spec.atol2);
-    let (tol_adaptive, tol_fixed) = match method {
-        Method::GeneralizedAlpha { rtol, .. } => (Some(galpha_tol(rtol)), Some(galpha_tol(1e-10))),
-        Method::Bdf { .. } => (None, None),
-    };
     let mut balance = EnergyBalance::new();
     let mut drift: Real = 0.0;
     let gv0: Vec<Real> = (0..ng)
@@ -217,7 +254,6 @@ pub fn integrate(
             }
         }
         Method::GeneralizedAlpha { h, rtol, rho_inf } => {
-            let _ = rtol;
             let mut sys = GalphaSystem::new(
                 problem.m.clone(),
                 problem.b.clone(),
@@ -228,18 +264,7 @@ pub fn integrate(
             )
             .map_err(solver_err("building the generalized-alpha system"))?;
             let tf = grid.last().copied().unwrap_or(0.0);
-            let opts = GalphaOptions {
-                rho_inf,
-                h: h.or(spec.h0).unwrap_or(tf / 1000.0),
-                adaptive: h.is_none(),
-                // Fixed steps: the tolerances only set Newton's test; make it tight.
-                tolerances: if h.is_some() { tol_fixed } else { tol_adaptive }
-                    .unwrap_or(squeal_solver::bdf::Tolerances::Scalar { rtol, atol: 1e-12 }),
-                h_max: spec.h_max,
-                max_steps: spec.max_steps,
-                include_friction_damping: spec.friction_damping_in_jacobian,
-                ..GalphaOptions::default()
-            };
+            let opts = galpha_options(spec, n, ng, h, rtol, rho_inf, tf);
             let mut ga = Galpha::new(opts, &mut sys, 0.0, y0, yp0)
                 .map_err(solver_err("generalized-alpha start"))?;
             let status = walk_grid(grid, sample(y0), &mut t_s, &mut v_s, |tk| {

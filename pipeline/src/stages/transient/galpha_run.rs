@@ -1,25 +1,28 @@
-//! `squeal transient` with `integrator = "generalized_alpha"`: the same problem and initial
-//! state as the BDF path, integrated by the generalized-α method (fixed `galpha_h`, or
-//! adaptive with RTOL1), sampled every NOUTPT·(TFINAL/1000) on a uniform grid for the
-//! verdict. Writes `summary.json` (statistics, verdict, energy balance).
+//! `squeal transient` with `integrator = "generalized_alpha"`: the same problem, initial state
+//! and outputs as the BDF path, integrated by the generalized-α method (fixed `galpha_h`, or
+//! adaptive with RTOL1; the options of `accuracy::drive::galpha_options`, which the
+//! work–precision study uses too).
 //!
-//! Not written on this path (yet): `history.npy`, `energy.csv`, `restart.json`.
+//! Outputs: `history.npy` + `history_map.json` and `energy.csv` (the BDF path's writers,
+//! [`Recorder`]: the initial point, every NOUTPT-th accepted step, the final time),
+//! `summary.json` (statistics, the verdict on the same response as the BDF's, energy
+//! balance). Not written: `restart.json` (a restart continues a BDF state).
 
-use super::system::Problem;
-use super::verdict;
-use super::{SteadySummary, TransientReport};
+use super::records::{Recorder, Response};
+use super::system::{GapFriction, Problem};
+use super::{progress_bar, solver_err, start_state, TransientReport, CHUNK};
 use crate::error::PipelineError;
 use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::Scene;
-use crate::stages::accuracy::drive::{initial_state, integrate, Method};
+use crate::stages::accuracy::drive::galpha_options;
 use crate::stages::model::ReducedModel;
-use squeal_solver::bdf::BdfStats;
-use squeal_solver::galpha::GalphaStats;
+use squeal_solver::bdf::{BdfStats, Status};
+use squeal_solver::bsql::EnergyBalance;
+use squeal_solver::galpha::{Galpha, GalphaSystem};
+use squeal_solver::SolverError;
 
-type Real = f64;
-
-/// Runs the generalized-α transient and writes `summary.json`.
+/// Runs the generalized-α transient and writes its outputs and `summary.json`.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn run(
     scene: &Scene,
@@ -32,85 +35,149 @@ pub(super) fn run(
     ignored: Vec<String>,
 ) -> Result<TransientReport, PipelineError> {
     let spec = scene.transient.clone().unwrap_or_default();
-    let n = model.n();
-    let (y0, yp0) = initial_state(problem, &model.gaps, spec.tolint)?;
-    let samples = 2000usize;
-    let grid: Vec<Real> = (0..=samples)
-        .map(|k| spec.tfinal * k as Real / samples as Real)
-        .collect();
-    let dofs: Vec<usize> = (0..n).collect();
-    let method = Method::GeneralizedAlpha {
-        h: spec.galpha_h,
-        rtol: spec.rtol1,
-        rho_inf: spec.rho_inf,
-    };
-    let r = integrate(
-        problem,
-        &model.gaps,
+    let (n, ng) = (model.n(), model.gaps.len());
+    // The BSQL system gives the start (as the BDF path's) and the energy terms per step.
+    let mut obs = problem.system(model.gaps.clone())?;
+    let (y0, yp0, steady, ic) = start_state(&mut obs, &spec)?;
+    let mut sys = GalphaSystem::new(
+        problem.m.clone(),
+        problem.b.clone(),
+        problem.k.clone(),
+        problem.g.clone(),
+        problem.load.clone(),
+        GapFriction {
+            set: model.gaps.clone(),
+        },
+    )
+    .map_err(solver_err("building the generalized-alpha system"))?;
+    let opts = galpha_options(
         &spec,
-        method,
-        &y0,
-        &yp0,
-        &grid,
-        &dofs,
-        true,
-    )?;
-    if !r.status.is_success() {
-        progress.info(format!("integration stopped: {:?}", r.status));
+        n,
+        ng,
+        spec.galpha_h,
+        spec.rtol1,
+        spec.rho_inf,
+        spec.tfinal,
+    );
+    let mut ga = Galpha::new(opts, &mut sys, 0.0, &y0, &yp0)
+        .map_err(solver_err("generalized-alpha start"))?;
+    let t_start = ga.t();
+
+    let mut rec = Recorder::open(scene, model, dir, spec.noutpt)?;
+    let mut resp = Response::new(scene, model, rec.columns())?;
+    let mut balance = EnergyBalance::new();
+    {
+        let (y, yp) = (ga.y().to_vec(), ga.yp().to_vec());
+        balance.push(
+            &obs.observe(t_start, &y, &yp)
+                .map_err(solver_err("energy"))?,
+        );
+        rec.point(t_start, &y, &yp)?;
+        resp.push(t_start, &y);
     }
-    let t_after = problem.load.t_load;
-    let (col, vd) = (0..n)
-        .map(|j| {
-            let x: Vec<Real> = r.v.iter().map(|v| v[j]).collect();
-            let peak =
-                r.t.iter()
-                    .zip(&x)
-                    .filter(|(t, _)| **t > t_after)
-                    .fold(0.0f64, |m, (_, v)| m.max(v.abs()));
-            (j, peak, x)
-        })
-        .max_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(j, _, x)| (j, verdict::analyse(&r.t, &x, t_after)))
-        .unwrap_or((0, verdict::analyse(&[], &[], 0.0)));
-    let energy = r.energy.clone().unwrap_or_default();
+    let bar = progress_bar(progress);
+    let mut out_err: Option<String> = None;
+    let mut steps_done = 0usize;
+    let status = loop {
+        let mut in_chunk = 0usize;
+        let st = ga
+            .step_to(&mut sys, spec.tfinal, |_, t, y, yp| {
+                steps_done += 1;
+                in_chunk += 1;
+                let p = obs.observe(t, y, yp)?;
+                balance.push(&p);
+                resp.push(t, y);
+                if let Err(e) = rec.step(steps_done, t, y, yp, &p, &balance) {
+                    out_err = Some(e.to_string());
+                    return Err(SolverError::Callback {
+                        t,
+                        message: e.to_string(),
+                    });
+                }
+                Ok(in_chunk < CHUNK)
+            })
+            .map_err(|source| match out_err.take() {
+                Some(message) => PipelineError::Output {
+                    path: rec.history_path().to_path_buf(),
+                    message,
+                },
+                None => PipelineError::Solver {
+                    what: "integration (generalized-alpha)".into(),
+                    source,
+                },
+            });
+        let st = match st {
+            Ok(st) => st,
+            Err(e) => {
+                let _ = rec.flush();
+                return Err(e);
+            }
+        };
+        rec.flush()?;
+        if let Some(b) = &bar {
+            b.set_position(
+                (1000.0 * (ga.t() - t_start) / (spec.tfinal - t_start)).clamp(0.0, 1000.0) as u64,
+            );
+            b.set_message(format!(
+                "t = {:.4e}, h = {:.2e}, generalized-alpha, steps {steps_done}",
+                ga.t(),
+                ga.h()
+            ));
+        }
+        match st {
+            // The integrator counts max_steps per call; the run's cap counts every step.
+            Status::Interrupted { .. } if steps_done >= spec.max_steps => {
+                break Status::MaxSteps {
+                    t: ga.t(),
+                    steps: steps_done,
+                }
+            }
+            Status::Interrupted { .. } => {}
+            other => break other,
+        }
+    };
+    if let Some(b) = &bar {
+        b.finish();
+    }
+    if status.is_success() {
+        rec.finish(spec.tfinal, ga.y(), ga.yp())?;
+    } else {
+        progress.info(format!("integration stopped: {status:?}"));
+    }
+
+    let t_after = problem.load.t_load.max(t_start);
+    let (response, verdict) = resp.verdict(t_after, rec.columns());
+    let stats = ga.stats().clone();
     let report = TransientReport {
         verb: "transient",
         version: crate::VERSION,
-        status: r.status.clone(),
-        steps: r.steps,
-        cpu_s: r.cpu_s,
+        status,
+        steps: stats.steps,
+        cpu_s: stats.cpu_s,
         wall_s: wall.elapsed().as_secs_f64(),
-        squeal: vd
-            .growth_rate_per_s
-            .is_some_and(|g| g > scene.output.squeal_growth_threshold),
-        growth_rate_per_s: vd.growth_rate_per_s,
-        dominant_frequency_hz: vd.dominant_frequency_hz,
-        response: format!("v_dof{col}"),
-        verdict: vd,
-        constraint_drift: r.max_constraint_drift,
-        max_constraint_drift: r.max_constraint_drift,
+        squeal: verdict.is_squeal(
+            scene.output.squeal_growth_threshold,
+            scene.output.squeal_min_growth_factor,
+        ),
+        growth_rate_per_s: verdict.growth_rate_per_s,
+        dominant_frequency_hz: verdict.dominant_frequency_hz,
+        response,
+        verdict,
+        constraint_drift: stats.constraint_drift,
+        max_constraint_drift: stats.max_constraint_drift,
         integrator: "generalized_alpha",
         bdf_stats: BdfStats::default(),
-        galpha_stats: Some(GalphaStats {
-            steps: r.steps,
-            newton_iterations: r.newton_iterations,
-            residual_evals: r.residual_evals,
-            factorisations: r.factorisations,
-            rejected_steps: r.rejected_steps,
-            cpu_s: r.cpu_s,
-            max_constraint_drift: r.max_constraint_drift,
-            ..GalphaStats::default()
-        }),
+        galpha_stats: Some(stats),
         bsql_stats: Default::default(),
-        steady_state: None::<SteadySummary>,
-        initial_conditions: None,
-        energy_residual: energy.residual(),
-        energy,
-        t_start: 0.0,
-        t_end: r.t.last().copied().unwrap_or(0.0),
+        steady_state: Some(steady),
+        initial_conditions: Some(ic),
+        energy_residual: balance.residual(),
+        energy: balance,
+        t_start,
+        t_end: ga.t(),
         n_dofs: n,
-        n_gaps: model.gaps.len(),
-        history_rows: 0,
+        n_gaps: ng,
+        history_rows: rec.rows(),
         active_effects,
         ignored,
         model_hash: problem.model_hash(),

@@ -429,8 +429,7 @@ pub fn run_on_model(
     }
     write_restart(&bdf)?;
     if status.is_success() {
-        rec.point(spec.tfinal, bdf.y(), bdf.yp())?;
-        rec.flush()?;
+        rec.finish(spec.tfinal, bdf.y(), bdf.yp())?;
     } else {
         progress.info(format!("integration stopped: {status:?}"));
     }

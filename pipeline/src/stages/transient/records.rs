@@ -1,13 +1,261 @@
-//! The recorded columns of the history and their values at one step.
+//! What a transient run records, for either integrator: the columns of the history and
+//! their values at one step, the writers of `history.npy` + `history_map.json` and
+//! `energy.csv` ([`Recorder`]), and the response the squeal verdict analyses ([`Response`]).
 
+use super::verdict::{self, Verdict};
 use crate::error::PipelineError;
-use crate::history::{Column, RecordKind};
+use crate::history::npy::NpyAppender;
+use crate::history::{Column, HistoryMap, RecordKind};
+use crate::output::RunDir;
 use crate::scene::Scene;
 use crate::stages::model::ReducedModel;
 use squeal_contact::GapSet;
 use squeal_reduction::superelement::DofKey;
+use squeal_solver::bsql::{EnergyBalance, PowerTerms};
+use std::io::Write;
+use std::path::PathBuf;
 
 type Real = f64;
+
+/// Header of `energy.csv`.
+const ENERGY_HEADER: &str =
+    "t,kinetic,strain,damping_dissipation,friction_work,external_work,constraint_work,balance";
+
+/// The history database and the energy file of a run: the initial point, every NOUTPT-th
+/// accepted step and the final time. With `output.history = false` nothing is opened or
+/// written (effects on demand); the columns are still known (for the verdict's response).
+pub struct Recorder {
+    cols: Vec<Column>,
+    gaps: GapSet,
+    n: usize,
+    noutpt: usize,
+    row: Vec<Real>,
+    history: Option<NpyAppender>,
+    energy: Option<std::io::BufWriter<std::fs::File>>,
+    history_path: PathBuf,
+    energy_path: PathBuf,
+    /// Time of the last history row.
+    last_t: Option<Real>,
+}
+
+impl Recorder {
+    /// Writes `history_map.json` and opens `history.npy` and `energy.csv` in `dir` (when
+    /// `output.history`); errors name the grids or gaps the scene asks for that do not exist.
+    pub fn open(
+        scene: &Scene,
+        model: &ReducedModel,
+        dir: &RunDir,
+        noutpt: usize,
+    ) -> Result<Self, PipelineError> {
+        let cols = columns(scene, model)?;
+        let (history_path, energy_path) = (dir.path("history.npy"), dir.path("energy.csv"));
+        let (mut history, mut energy) = (None, None);
+        if scene.output.history {
+            dir.write_json(
+                "history_map.json",
+                &HistoryMap {
+                    n_columns: cols.len(),
+                    noutpt,
+                    columns: cols.clone(),
+                },
+            )?;
+            history = Some(NpyAppender::create(&history_path, cols.len())?);
+            let eio = |source| PipelineError::Io {
+                path: energy_path.clone(),
+                source,
+            };
+            let mut e = std::io::BufWriter::new(std::fs::File::create(&energy_path).map_err(eio)?);
+            writeln!(e, "{ENERGY_HEADER}").map_err(eio)?;
+            energy = Some(e);
+        }
+        Ok(Self {
+            row: Vec::with_capacity(cols.len()),
+            cols,
+            gaps: model.gaps.clone(),
+            n: model.n(),
+            noutpt: noutpt.max(1),
+            history,
+            energy,
+            history_path,
+            energy_path,
+            last_t: None,
+        })
+    }
+
+    /// The columns of `history.npy`.
+    pub fn columns(&self) -> &[Column] {
+        &self.cols
+    }
+
+    /// Rows written to `history.npy` so far.
+    pub fn rows(&self) -> usize {
+        self.history.as_ref().map_or(0, |h| h.rows())
+    }
+
+    /// A history row at (t, y, y') (the initial point; no energy line).
+    pub fn point(&mut self, t: Real, y: &[Real], yp: &[Real]) -> Result<(), PipelineError> {
+        if let Some(h) = self.history.as_mut() {
+            fill_row(&self.cols, &self.gaps, self.n, t, y, yp, &mut self.row)
+                .map_err(PipelineError::Model)?;
+            h.push(&self.row)?;
+            self.last_t = Some(t);
+        }
+        Ok(())
+    }
+
+    /// The row at the final time TFINAL (unless the last recorded step ended exactly there,
+    /// as fixed steps do), and a flush.
+    pub fn finish(&mut self, t: Real, y: &[Real], yp: &[Real]) -> Result<(), PipelineError> {
+        if self.last_t != Some(t) {
+            self.point(t, y, yp)?;
+        }
+        self.flush()
+    }
+
+    /// After accepted step number `step` (counted from the start of the run): on every
+    /// NOUTPT-th, a history row and an `energy.csv` line (the energies at `p`, the integrals
+    /// of `balance`).
+    pub fn step(
+        &mut self,
+        step: usize,
+        t: Real,
+        y: &[Real],
+        yp: &[Real],
+        p: &PowerTerms,
+        balance: &EnergyBalance,
+    ) -> Result<(), PipelineError> {
+        if step % self.noutpt != 0 || self.history.is_none() {
+            return Ok(());
+        }
+        self.point(t, y, yp)?;
+        if let Some(e) = self.energy.as_mut() {
+            writeln!(
+                e,
+                "{t:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
+                p.kinetic,
+                p.strain,
+                balance.damping_dissipated,
+                balance.friction_work,
+                balance.external_work,
+                balance.constraint_work,
+                balance.residual()
+            )
+            .map_err(|source| PipelineError::Io {
+                path: self.energy_path.clone(),
+                source,
+            })?;
+        }
+        Ok(())
+    }
+
+    /// Makes both files complete and valid up to the last record.
+    pub fn flush(&mut self) -> Result<(), PipelineError> {
+        if let Some(h) = self.history.as_mut() {
+            h.flush()?;
+        }
+        if let Some(e) = self.energy.as_mut() {
+            e.flush().map_err(|source| PipelineError::Io {
+                path: self.energy_path.clone(),
+                source,
+            })?;
+        }
+        Ok(())
+    }
+
+    /// Path of `history.npy` (for errors of the per-step writes).
+    pub fn history_path(&self) -> &std::path::Path {
+        &self.history_path
+    }
+}
+
+/// The velocities the squeal verdict analyses: `output.response`, or every velocity column
+/// of the history (the verdict then takes the one with the largest peak after the ramp),
+/// at every accepted step.
+pub struct Response {
+    dofs: Vec<usize>,
+    t: Vec<Real>,
+    v: Vec<Vec<Real>>,
+}
+
+impl Response {
+    /// The DOFs of `output.response` (an error names a grid without that DOF) or of the
+    /// velocity columns of `cols`.
+    pub fn new(
+        scene: &Scene,
+        model: &ReducedModel,
+        cols: &[Column],
+    ) -> Result<Self, PipelineError> {
+        let dofs: Vec<usize> = match &scene.output.response {
+            Some(r) => {
+                let comp = match r.dof.as_str() {
+                    "x" => 1,
+                    "y" => 2,
+                    _ => 3,
+                };
+                vec![*model
+                    .grid_index()
+                    .get(&DofKey { grid: r.grid, comp })
+                    .ok_or_else(|| PipelineError::Scene {
+                        field: "output.response".into(),
+                        message: format!(
+                            "grid {} {} is not a DOF of the reduced model",
+                            r.grid, r.dof
+                        ),
+                    })?]
+            }
+            None => cols
+                .iter()
+                .filter(|c| c.kind == RecordKind::Velocity)
+                .map(|c| c.dof.unwrap_or(0))
+                .collect(),
+        };
+        Ok(Self {
+            v: vec![Vec::new(); dofs.len()],
+            dofs,
+            t: Vec::new(),
+        })
+    }
+
+    /// Records the velocities of y = {v, λ, u} at t.
+    pub fn push(&mut self, t: Real, y: &[Real]) {
+        self.t.push(t);
+        for (k, &d) in self.dofs.iter().enumerate() {
+            self.v[k].push(y[d]);
+        }
+    }
+
+    /// The verdict on the response after `t_after` (the end of the load ramp), and the name
+    /// of the history column it analysed.
+    pub fn verdict(&self, t_after: Real, cols: &[Column]) -> (String, Verdict) {
+        let pick = self
+            .v
+            .iter()
+            .enumerate()
+            .map(|(k, v)| {
+                let peak = self
+                    .t
+                    .iter()
+                    .zip(v)
+                    .filter(|(t, _)| **t > t_after)
+                    .fold(0.0f64, |m, (_, x)| m.max(x.abs()));
+                (k, peak)
+            })
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(k, _)| k);
+        match pick {
+            Some(k) => {
+                let d = self.dofs[k];
+                let name = cols
+                    .iter()
+                    .find(|c| c.kind == RecordKind::Velocity && c.dof == Some(d))
+                    .map(|c| c.name.clone())
+                    .unwrap_or_else(|| format!("v_dof{d}"));
+                (name, verdict::analyse(&self.t, &self.v[k], t_after))
+            }
+            None => ("none".into(), verdict::analyse(&[], &[], 0.0)),
+        }
+    }
+}
 
 const DIRS: [&str; 3] = ["x", "y", "z"];
 
