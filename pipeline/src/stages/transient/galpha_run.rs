@@ -10,7 +10,7 @@
 
 use super::records::{Recorder, Response};
 use super::system::{GapFriction, Problem};
-use super::{progress_bar, solver_err, start_state, TransientReport, CHUNK};
+use super::{progress_bar, show_progress, solver_err, start_state, TransientReport, CHUNK};
 use crate::error::PipelineError;
 use crate::output::RunDir;
 use crate::progress::Progress;
@@ -80,50 +80,29 @@ pub(super) fn run(
     let mut steps_done = 0usize;
     let status = loop {
         let mut in_chunk = 0usize;
-        let st = ga
-            .step_to(&mut sys, spec.tfinal, |_, t, y, yp| {
-                steps_done += 1;
-                in_chunk += 1;
-                let p = obs.observe(t, y, yp)?;
-                balance.push(&p);
-                resp.push(t, y);
-                if let Err(e) = rec.step(steps_done, t, y, yp, &p, &balance) {
-                    out_err = Some(e.to_string());
-                    return Err(SolverError::Callback {
-                        t,
-                        message: e.to_string(),
-                    });
-                }
-                Ok(in_chunk < CHUNK)
-            })
-            .map_err(|source| match out_err.take() {
-                Some(message) => PipelineError::Output {
-                    path: rec.history_path().to_path_buf(),
-                    message,
-                },
-                None => PipelineError::Solver {
-                    what: "integration (generalized-alpha)".into(),
-                    source,
-                },
-            });
-        let st = match st {
-            Ok(st) => st,
-            Err(e) => {
-                let _ = rec.flush();
-                return Err(e);
+        let st = ga.step_to(&mut sys, spec.tfinal, |_, t, y, yp| {
+            steps_done += 1;
+            in_chunk += 1;
+            let p = obs.observe(t, y, yp)?;
+            balance.push(&p);
+            resp.push(t, y);
+            if let Err(e) = rec.step(steps_done, t, y, yp, &p, &balance) {
+                out_err = Some(e.to_string());
+                return Err(SolverError::Callback {
+                    t,
+                    message: e.to_string(),
+                });
             }
-        };
-        rec.flush()?;
-        if let Some(b) = &bar {
-            b.set_position(
-                (1000.0 * (ga.t() - t_start) / (spec.tfinal - t_start)).clamp(0.0, 1000.0) as u64,
-            );
-            b.set_message(format!(
+            Ok(in_chunk < CHUNK)
+        });
+        let st = rec.end_chunk(st, &mut out_err, "integration (generalized-alpha)")?;
+        show_progress(&bar, (ga.t() - t_start) / (spec.tfinal - t_start), || {
+            format!(
                 "t = {:.4e}, h = {:.2e}, generalized-alpha, steps {steps_done}",
                 ga.t(),
                 ga.h()
-            ));
-        }
+            )
+        });
         match st {
             // The integrator counts max_steps per call; the run's cap counts every step.
             Status::Interrupted { .. } if steps_done >= spec.max_steps => {

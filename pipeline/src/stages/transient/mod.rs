@@ -224,6 +224,14 @@ fn progress_bar(progress: Progress) -> Option<ProgressBar> {
     })
 }
 
+/// Moves the bar to `fraction` of the run and shows `message()` (nothing when quiet).
+fn show_progress(bar: &Option<ProgressBar>, fraction: f64, message: impl FnOnce() -> String) {
+    if let Some(b) = bar {
+        b.set_position((1000.0 * fraction).clamp(0.0, 1000.0) as u64);
+        b.set_message(message());
+    }
+}
+
 /// Runs the transient; `export_dae` also writes the problem as data into that folder.
 pub fn run(
     scene: &Scene,
@@ -361,53 +369,32 @@ pub fn run_on_model(
     let status = loop {
         let mut in_chunk = 0usize;
         let nrstrt = spec.nrstrt;
-        let st = bdf
-            .step_to(&mut sys, spec.tfinal, |s, t, y, yp| {
-                steps_done += 1;
-                in_chunk += 1;
-                let p = s.observe(t, y, yp)?;
-                balance.push(&p);
-                resp.push(t, y);
-                if let Err(e) = rec.step(steps_done, t, y, yp, &p, &balance) {
-                    out_err = Some(e.to_string());
-                    return Err(SolverError::Callback {
-                        t,
-                        message: e.to_string(),
-                    });
-                }
-                let restart_due = nrstrt > 0 && steps_done % nrstrt == 0;
-                Ok(in_chunk < CHUNK && !restart_due)
-            })
-            .map_err(|source| match out_err.take() {
-                Some(m) => PipelineError::Output {
-                    path: rec.history_path().to_path_buf(),
-                    message: m,
-                },
-                None => PipelineError::Solver {
-                    what: "integration".into(),
-                    source,
-                },
-            });
-        let st = match st {
-            Ok(st) => st,
-            Err(e) => {
-                let _ = rec.flush();
-                return Err(e);
+        let st = bdf.step_to(&mut sys, spec.tfinal, |s, t, y, yp| {
+            steps_done += 1;
+            in_chunk += 1;
+            let p = s.observe(t, y, yp)?;
+            balance.push(&p);
+            resp.push(t, y);
+            if let Err(e) = rec.step(steps_done, t, y, yp, &p, &balance) {
+                out_err = Some(e.to_string());
+                return Err(SolverError::Callback {
+                    t,
+                    message: e.to_string(),
+                });
             }
-        };
-        rec.flush()?;
-        if let Some(b) = &bar {
-            b.set_position(
-                (1000.0 * (bdf.t() - t_start) / (spec.tfinal - t_start)).clamp(0.0, 1000.0) as u64,
-            );
-            b.set_message(format!(
+            let restart_due = nrstrt > 0 && steps_done % nrstrt == 0;
+            Ok(in_chunk < CHUNK && !restart_due)
+        });
+        let st = rec.end_chunk(st, &mut out_err, "integration")?;
+        show_progress(&bar, (bdf.t() - t_start) / (spec.tfinal - t_start), || {
+            format!(
                 "t = {:.4e}, h = {:.2e}, order {}, steps {}",
                 bdf.t(),
                 bdf.state().h,
                 bdf.state().order,
                 steps_done
-            ));
-        }
+            )
+        });
         match st {
             Status::Interrupted { .. } => {
                 if spec.nrstrt > 0 && steps_done % spec.nrstrt == 0 {

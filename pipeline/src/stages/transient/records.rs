@@ -162,9 +162,35 @@ impl Recorder {
         Ok(())
     }
 
-    /// Path of `history.npy` (for errors of the per-step writes).
-    pub fn history_path(&self) -> &std::path::Path {
-        &self.history_path
+    /// The end of one integration chunk: flushes what was recorded (also when the chunk
+    /// failed, so no output already written is lost) and maps the integrator's error — or a
+    /// write error the step callback stashed in `out_err` — to the pipeline's (`what`: which
+    /// integration).
+    pub fn end_chunk<S>(
+        &mut self,
+        st: Result<S, squeal_solver::SolverError>,
+        out_err: &mut Option<String>,
+        what: &str,
+    ) -> Result<S, PipelineError> {
+        match st {
+            Ok(st) => {
+                self.flush()?;
+                Ok(st)
+            }
+            Err(source) => {
+                let _ = self.flush();
+                Err(match out_err.take() {
+                    Some(message) => PipelineError::Output {
+                        path: self.history_path.clone(),
+                        message,
+                    },
+                    None => PipelineError::Solver {
+                        what: what.into(),
+                        source,
+                    },
+                })
+            }
+        }
     }
 }
 
