@@ -4,7 +4,7 @@ use super::tangents::{at_steady_state, cea_matrices, tangents, Linearisation};
 use crate::error::PipelineError;
 use crate::scene::{CeaSpec, CeaSweepSpec, SweepVary};
 use crate::stages::transient::system::Problem;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use squeal_contact::{FrictionLaw, GapSet};
 use squeal_solver::cea::{sweep, CeaMatrices, Sweep, SweepStats};
 
@@ -91,7 +91,7 @@ pub struct TrackOut {
 }
 
 /// A critical μ with the pair of modes that merge.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CouplingOut {
     pub track: usize,
     pub mu_critical: Real,

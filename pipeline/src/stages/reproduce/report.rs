@@ -8,7 +8,8 @@ use crate::history::npy::read_npy;
 use crate::history::HistoryMap;
 use crate::output::RunDir;
 use crate::scene::Scene;
-use serde::Serialize;
+use crate::stages::cea::sweep::CouplingOut;
+use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -27,22 +28,15 @@ pub struct Finding {
     pub evidence: String,
 }
 
-/// One mode pair that couples in the μ sweep of the base scene.
-#[derive(Debug, Clone, Serialize)]
-pub struct Coupling {
-    pub mu_critical: Real,
-    pub frequency_hz: Real,
-    /// The two frequencies of the pair at the last stable μ.
-    pub pair_frequencies_before_hz: [Option<Real>; 2],
-}
-
-/// The complex eigenvalues of the base scene over constant μ (`cea_sweep/cea.sweep.json`).
-#[derive(Debug, Clone, Serialize)]
+/// The complex eigenvalues of the base scene over constant μ (`cea_sweep/cea.sweep.json`, the
+/// fields of [`SweepReport`](crate::stages::cea::sweep::SweepReport) the report uses).
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SweepSummary {
     pub mu: Vec<Real>,
     /// Lowest critical μ first.
-    pub couplings: Vec<Coupling>,
+    pub couplings: Vec<CouplingOut>,
     pub lowest_critical_mu: Option<Real>,
+    #[serde(default)]
     pub error: Option<String>,
 }
 
@@ -55,35 +49,7 @@ impl SweepSummary {
             message,
         };
         let text = std::fs::read_to_string(&path).map_err(|e| bad(e.to_string()))?;
-        let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
-        let num = |v: &serde_json::Value| v.as_f64();
-        let mu = v["mu"]
-            .as_array()
-            .ok_or_else(|| bad("no `mu` array".into()))?
-            .iter()
-            .filter_map(num)
-            .collect();
-        let couplings = v["couplings"]
-            .as_array()
-            .ok_or_else(|| bad("no `couplings` array".into()))?
-            .iter()
-            .filter_map(|c| {
-                Some(Coupling {
-                    mu_critical: num(&c["mu_critical"])?,
-                    frequency_hz: num(&c["frequency_hz"])?,
-                    pair_frequencies_before_hz: [
-                        num(&c["pair_frequencies_before_hz"][0]),
-                        num(&c["pair_frequencies_before_hz"][1]),
-                    ],
-                })
-            })
-            .collect();
-        Ok(Self {
-            mu,
-            couplings,
-            lowest_critical_mu: num(&v["lowest_critical_mu"]),
-            error: None,
-        })
+        serde_json::from_str(&text).map_err(|e| bad(e.to_string()))
     }
 
     /// A sweep that did not run.
