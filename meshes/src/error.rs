@@ -28,7 +28,7 @@ pub enum MeshError {
         reason: String,
     },
     /// An element type squeal has no element for (tetrahedra, prisms, hex27, triangles, ...).
-    #[error("{file}:{line}: element {element_tag} has gmsh type {gmsh_type} ({type_name}), which squeal does not support (volumes: hex8 = 5, hex20 = 17; faces: quad4 = 3, quad8 = 16; for hex20 mesh with `-order 2` and Mesh.SecondOrderIncomplete=1)")]
+    #[error("{file}:{line}: element {element_tag} has gmsh type {gmsh_type} ({type_name}), which squeal does not support (volumes: hex8 = 5, hex20 = 17, hex27 = 12 read as hex20; faces: quad4 = 3, quad8 = 16, quad9 = 10 read as quad8; for hex20 mesh with `-order 2` and Mesh.SecondOrderIncomplete=1)")]
     UnsupportedElement {
         file: String,
         line: usize,

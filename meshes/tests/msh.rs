@@ -329,6 +329,66 @@ fn v41_hex20_is_permuted_to_squeal_order() {
     assert!((m.centroid_jacobian(0, 0) - 0.75).abs() < 1e-14);
 }
 
+/// The same hex as `hex20_v41` written as gmsh's complete second-order elements (hex27 with
+/// its 6 face nodes and centre, the top face as a quad9 with its centre; tags 121..127): the
+/// reader keeps the serendipity nodes and gives exactly the hex20 mesh (gmsh node ordering:
+/// hex27 = hex20 nodes, then faces, then the centre; quad9 = quad8 nodes, then the centre).
+#[test]
+fn v41_hex27_reads_as_its_hex20() {
+    let c = box_corners(2.0, 3.0, 1.0);
+    let centre = |k: &[usize]| {
+        let mut p = [0.0; 3];
+        for &i in k {
+            for d in 0..3 {
+                p[d] += c[i][d] / k.len() as f64;
+            }
+        }
+        p
+    };
+    // Face centres (gmsh hex27 nodes 20..25) and the body centre (26).
+    let extra = [
+        centre(&[0, 1, 2, 3]),
+        centre(&[0, 1, 5, 4]),
+        centre(&[0, 3, 7, 4]),
+        centre(&[1, 2, 6, 5]),
+        centre(&[2, 3, 7, 6]),
+        centre(&[4, 5, 6, 7]),
+        centre(&[0, 1, 2, 3, 4, 5, 6, 7]),
+    ];
+    let mut text = hex20_v41()
+        .replace(
+            "$Nodes\n1 20 101 120\n3 1 0 20\n",
+            "$Nodes\n1 27 101 127\n3 1 0 27\n",
+        )
+        .replace("2 3 16 1\n", "2 3 10 1\n")
+        .replace("3 1 17 1\n", "3 1 12 1\n");
+    let coords_end = text.find("$EndNodes").unwrap();
+    // Node tags come before the coordinates in a 4.1 node block: insert 121..127 after 120.
+    let mut extra_coords = String::new();
+    for p in &extra {
+        extra_coords += &format!("{} {} {}\n", p[0], p[1], p[2]);
+    }
+    text.insert_str(coords_end, &extra_coords);
+    text = text.replacen("120\n", "120\n121\n122\n123\n124\n125\n126\n127\n", 1);
+    // quad9: the top face's centre is node 25 (tag 126); hex27: nodes 20..26 (tags 121..127).
+    let quad_line_end = text.find("2 3 10 1\n").unwrap() + "2 3 10 1\n".len();
+    let eol = quad_line_end + text[quad_line_end..].find('\n').unwrap();
+    text.insert_str(eol, " 126");
+    let hex_line_end = text.find("3 1 12 1\n").unwrap() + "3 1 12 1\n".len();
+    let eol = hex_line_end + text[hex_line_end..].find('\n').unwrap();
+    text.insert_str(eol, " 121 122 123 124 125 126 127");
+
+    let m27 = parse_msh(text.as_bytes(), "hex27.msh").unwrap();
+    let m20 = parse_msh(hex20_v41().as_bytes(), "hex20.msh").unwrap();
+    assert_eq!(m27.nodes, m20.nodes);
+    assert_eq!(m27.node_tags, m20.node_tags);
+    assert_eq!(m27.volumes[0].kind, CellKind::Hex20);
+    assert_eq!(m27.volumes[0].conn, m20.volumes[0].conn);
+    let (t27, t20) = (m27.face_set("top").unwrap(), m20.face_set("top").unwrap());
+    assert_eq!((t27.kind, &t27.conn), (t20.kind, &t20.conn));
+    assert_eq!(m27.node_sets, m20.node_sets);
+}
+
 /// A hex8 whose corners are listed top face first has a negative Jacobian; the reader flips it.
 #[test]
 fn inverted_hex8_is_flipped() {
@@ -357,10 +417,10 @@ fn errors_name_file_line_and_value() {
         e.contains("bad.msh:27") && e.contains("type 4") && e.contains("element 3"),
         "{e}"
     );
-    // hex27 in 4.1
-    let e = err_text(&HEX8_V41.replace("3 1 5 1\n", "3 1 12 1\n"));
+    // A prism in 4.1 (hex27 is read as hex20: `v41_hex27_reads_as_its_hex20`).
+    let e = err_text(&HEX8_V41.replace("3 1 5 1\n", "3 1 6 1\n"));
     assert!(
-        e.contains("type 12") && e.contains("27-node") && e.contains("element 3"),
+        e.contains("type 6") && e.contains("6-node prism") && e.contains("element 3"),
         "{e}"
     );
     // Unknown node tag.

@@ -2,7 +2,7 @@
 //! volume, faces per physical surface, node sets per physical group, hex20 reordering and
 //! orientation.
 
-use super::element_types::{GmshType, HEX20_FLIP, HEX20_FROM_GMSH, HEX8_FLIP};
+use super::element_types::{HEX20_FLIP, HEX20_FROM_GMSH, HEX8_FLIP};
 use super::{RawElement, RawMesh};
 use crate::query::hex_centroid_jacobian;
 use crate::{CellBlock, CellKind, Mesh, MeshError};
@@ -44,12 +44,18 @@ pub(crate) fn build(raw: RawMesh, file: &str) -> Result<Mesh, MeshError> {
         }
     }
     let nodes_of = |e: &RawElement| &conn_raw[e.start..e.start + e.ty.n_nodes()];
-    let is_volume = |e: &RawElement| matches!(e.ty, GmshType::Cell(k) if k.is_volume());
+    // The nodes the stored cell keeps (a complete second-order cell drops its face and body
+    // nodes).
+    let kept_of = |e: &RawElement| {
+        let n = e.ty.cell().map_or(e.ty.n_nodes(), |k| k.n_nodes());
+        &nodes_of(e)[..n]
+    };
+    let is_volume = |e: &RawElement| e.ty.cell().is_some_and(|k| k.is_volume());
 
     // Keep the nodes of volume cells, numbered in file order.
     let mut new_index = vec![UNUSED; raw.nodes.len()];
     for e in raw.elements.iter().filter(|e| is_volume(e)) {
-        for &i in nodes_of(e) {
+        for &i in kept_of(e) {
             new_index[i] = 0;
         }
     }
@@ -81,10 +87,10 @@ pub(crate) fn build(raw: RawMesh, file: &str) -> Result<Mesh, MeshError> {
     for e in &raw.elements {
         let phys = &raw.phys_lists[e.phys];
         let dim = e.ty.dim();
-        match e.ty {
-            GmshType::Cell(kind) if kind.is_volume() => {
+        match e.ty.cell() {
+            Some(kind) if kind.is_volume() => {
                 cell.clear();
-                let nodes = nodes_of(e);
+                let nodes = kept_of(e);
                 match kind {
                     CellKind::Hex20 => cell.extend(HEX20_FROM_GMSH.iter().map(|&k| nodes[k])),
                     _ => cell.extend_from_slice(nodes),
@@ -106,13 +112,13 @@ pub(crate) fn build(raw: RawMesh, file: &str) -> Result<Mesh, MeshError> {
                 mesh.volumes[b].conn.extend_from_slice(&cell);
                 mesh.volumes[b].tags.push(e.tag);
             }
-            GmshType::Cell(kind) => {
+            Some(kind) => {
                 let Some(&first) = phys.first() else {
                     continue;
                 };
                 let surface = name_of(dim, first);
                 let mut conn = Vec::with_capacity(kind.n_nodes());
-                for (&i, &t) in nodes_of(e)
+                for (&i, &t) in kept_of(e)
                     .iter()
                     .zip(&raw.conn[e.start..e.start + kind.n_nodes()])
                 {
@@ -149,7 +155,7 @@ pub(crate) fn build(raw: RawMesh, file: &str) -> Result<Mesh, MeshError> {
                     block.tags.push(e.tag);
                 }
             }
-            GmshType::Point | GmshType::Line2 | GmshType::Line3 => {}
+            None => {}
         }
         // Node sets of every physical group, restricted to kept nodes.
         for &t in phys {

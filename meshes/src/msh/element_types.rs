@@ -13,6 +13,11 @@ pub(crate) enum GmshType {
     Line3,
     /// A cell squeal stores.
     Cell(CellKind),
+    /// A complete second-order gmsh cell (type 10, 9-node quadrangle; type 12, 27-node
+    /// hexahedron) stored as the serendipity cell `CellKind` (quad8, hex20): gmsh lists the
+    /// serendipity nodes first, in the same order, then the face and body nodes, which are
+    /// dropped. gmsh writes these when `Mesh.SecondOrderIncomplete` does not take effect.
+    Complete(CellKind),
 }
 
 impl GmshType {
@@ -26,6 +31,8 @@ impl GmshType {
             16 => GmshType::Cell(CellKind::Quad8),
             5 => GmshType::Cell(CellKind::Hex8),
             17 => GmshType::Cell(CellKind::Hex20),
+            10 => GmshType::Complete(CellKind::Quad8),
+            12 => GmshType::Complete(CellKind::Hex20),
             _ => return None,
         })
     }
@@ -36,6 +43,17 @@ impl GmshType {
             GmshType::Line2 => 2,
             GmshType::Line3 => 3,
             GmshType::Cell(k) => k.n_nodes(),
+            GmshType::Complete(CellKind::Quad8) => 9,
+            GmshType::Complete(CellKind::Hex20) => 27,
+            GmshType::Complete(k) => k.n_nodes(),
+        }
+    }
+
+    /// The cell squeal stores for this type (None: points and lines).
+    pub fn cell(self) -> Option<CellKind> {
+        match self {
+            GmshType::Cell(k) | GmshType::Complete(k) => Some(k),
+            _ => None,
         }
     }
 
@@ -44,8 +62,8 @@ impl GmshType {
         match self {
             GmshType::Point => 0,
             GmshType::Line2 | GmshType::Line3 => 1,
-            GmshType::Cell(k) if k.is_volume() => 3,
-            GmshType::Cell(_) => 2,
+            GmshType::Cell(k) | GmshType::Complete(k) if k.is_volume() => 3,
+            GmshType::Cell(_) | GmshType::Complete(_) => 2,
         }
     }
 }
