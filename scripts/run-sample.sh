@@ -4,7 +4,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
 bash scripts/setup.sh
-cargo build --release --quiet -p squeal-pipeline --bin squeal
+cargo build --release --quiet -p squeal-cli --bin squeal
 ./target/release/squeal modes examples/sample-rotor.toml --out out/sample-rotor "$@"
 echo "results: out/sample-rotor (modes.json, modes.vtu, summary.json)"
 # The paper's sample-brake study (section 3, eight cases) on the coarse open brake

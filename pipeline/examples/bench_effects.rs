@@ -95,7 +95,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         std::fs::write(&path, text)?;
         let scene = Scene::load(&path, &[])?;
         let run_dir = RunDir::create(&dir.join(format!("run-{name}")))?;
-        let model = model::build(&scene, &run_dir, Progress { quiet: true })?;
+        let model = model::build(&scene, &run_dir, &Progress::quiet())?;
         let problem = system::problem(&scene, &model)?;
         let spec = scene.transient.clone().unwrap_or_default();
         let (y0, yp0) = initial_state(&problem, &model.gaps, spec.tolint)?;

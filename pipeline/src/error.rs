@@ -60,4 +60,6 @@ pub enum PipelineError {
     Model(String),
     #[error("{path}: {message}")]
     Input { path: PathBuf, message: String },
+    #[error("cancelled by the caller during {what}")]
+    Cancelled { what: String },
 }

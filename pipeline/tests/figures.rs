@@ -45,7 +45,9 @@ fn time_history_writes_png_and_svg_zoomed_on_a_window() {
     let curves = [("pad node 12 z", growing), ("rotor node 7 z", decaying)];
     let mut fig = time_history("Transient response", &t, &curves, Some((0.75, 1.0)));
     fig.size = (800, 500);
-    let files = write_figure(&fig, &out_dir().join("time_history")).unwrap();
+    let files = write_figure(&fig, &out_dir().join("time_history"))
+        .unwrap()
+        .unwrap();
     check_files(
         &files,
         (800, 500),
@@ -69,7 +71,9 @@ fn stability_map_writes_files_with_both_groups() {
     let fig = stability_map(&modes);
     assert_eq!(fig.series.len(), 2);
     assert_eq!(fig.series[1].x, vec![2400.0]);
-    let files = write_figure(&fig, &out_dir().join("stability_map")).unwrap();
+    let files = write_figure(&fig, &out_dir().join("stability_map"))
+        .unwrap()
+        .unwrap();
     check_files(
         &files,
         fig.size,
@@ -101,7 +105,9 @@ fn root_locus_writes_both_panels() {
     };
     let tracks = [("mode 5", track(1.0)), ("mode 6", track(-1.0))];
     let (by_f, by_mu) = root_locus(&tracks);
-    let a = write_figure(&by_f, &out_dir().join("root_locus_freq")).unwrap();
+    let a = write_figure(&by_f, &out_dir().join("root_locus_freq"))
+        .unwrap()
+        .unwrap();
     check_files(
         &a,
         by_f.size,
@@ -113,7 +119,9 @@ fn root_locus_writes_both_panels() {
             "mode 6",
         ],
     );
-    let b = write_figure(&by_mu, &out_dir().join("root_locus_mu")).unwrap();
+    let b = write_figure(&by_mu, &out_dir().join("root_locus_mu"))
+        .unwrap()
+        .unwrap();
     check_files(
         &b,
         by_mu.size,
@@ -132,7 +140,9 @@ fn work_precision_is_log_log_with_decade_ticks() {
     };
     let runs = [("BDF2", run(1e-6)), ("BDF1", run(1e-4))];
     let fig = work_precision(&runs);
-    let files = write_figure(&fig, &out_dir().join("work_precision")).unwrap();
+    let files = write_figure(&fig, &out_dir().join("work_precision"))
+        .unwrap()
+        .unwrap();
     // Decade tick labels are 10ⁿ (the y data spans 1e-12 .. 1e0).
     check_files(
         &files,
@@ -202,7 +212,9 @@ fn spectrum_of_nonuniform_sum_of_sines_finds_the_harmonics() {
     )
     .unwrap();
     fig.title = "Spectrum of pad node 12 z".into();
-    let files = write_figure(&fig, &out_dir().join("spectrum")).unwrap();
+    let files = write_figure(&fig, &out_dir().join("spectrum"))
+        .unwrap()
+        .unwrap();
     check_files(
         &files,
         fig.size,
@@ -287,6 +299,8 @@ fn nan_and_empty_data_are_errors_not_panics() {
 fn constant_data_gets_a_widened_range() {
     let t = [0.0, 1.0, 2.0];
     let fig = time_history("Constant signal", &t, &[("flat", [3.5, 3.5, 3.5])], None);
-    let files = write_figure(&fig, &out_dir().join("constant")).unwrap();
+    let files = write_figure(&fig, &out_dir().join("constant"))
+        .unwrap()
+        .unwrap();
     check_files(&files, fig.size, &["Constant signal", "flat"]);
 }

@@ -76,7 +76,7 @@ impl Case {
         std::fs::write(&path, text).unwrap();
         let scene = Scene::load(&path, &[]).unwrap();
         let rd = RunDir::create(&dir.join("run")).unwrap();
-        let m = model::build(&scene, &rd, Progress { quiet: true }).unwrap();
+        let m = model::build(&scene, &rd, &Progress::quiet()).unwrap();
         let problem = system::problem(&scene, &m).unwrap();
         let spec = scene.transient.clone().unwrap();
         let (y0, yp0) = initial_state(&problem, &m.gaps, spec.tolint).unwrap();

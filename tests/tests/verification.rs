@@ -25,7 +25,7 @@ fn check_scene(name: &str) {
     .unwrap_or_else(|e| panic!("{name}: {e}"));
     let out = fresh_out_dir(env!("CARGO_TARGET_TMPDIR"), name);
     let dir = RunDir::create(&out).unwrap();
-    let report = modes::run(&scene, None, &dir, Progress { quiet: true })
+    let report = modes::run(&scene, None, &dir, &Progress::quiet())
         .unwrap_or_else(|e| panic!("{name}: {e}"));
 
     let f = &report.frequencies_hz;

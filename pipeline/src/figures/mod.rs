@@ -12,6 +12,11 @@
 //! - [`spectrum`]: single-sided amplitude spectrum of a non-uniformly sampled signal, with peaks;
 //! - [`work_precision`]: error against CPU time, log–log.
 //!
+//! # Feature `figures`
+//! Drawing needs plotters, which only the `figures` feature compiles (the `squeal` command
+//! turns it on; the library and the Python package build without it). Without it
+//! [`write_figure`] draws nothing and returns `Ok(None)`; the figure data is still built.
+//!
 //! # Text
 //! Text in PNGs is rasterised by `ab_glyph` from DejaVu Sans, bundled in
 //! `pipeline/assets/fonts/` (licence beside it) and registered at run time as the
@@ -24,18 +29,23 @@
 //! Automatic ranges are padded by 5 % (of the decades, on a log axis); a range of equal values is
 //! widened. Data outside a given range is clipped at the plot frame.
 
+#[cfg(feature = "figures")]
 mod axis;
 mod builders;
+#[cfg(feature = "figures")]
 mod clip;
 mod error;
 mod fft;
+#[cfg(feature = "figures")]
 mod font;
+#[cfg(feature = "figures")]
 mod render;
 mod spectrum;
 
 pub use builders::{root_locus, stability_map, time_history, work_precision};
 pub use error::FigureError;
 pub use fft::fft_in_place;
+#[cfg(feature = "figures")]
 pub use render::write_figure;
 pub use spectrum::{amplitude_spectrum, spectrum, Peak, Spectrum, SpectrumOptions};
 
@@ -144,4 +154,14 @@ pub struct FigureFiles {
     pub png: PathBuf,
     /// `STEM.svg`.
     pub svg: PathBuf,
+}
+
+/// Without the `figures` feature nothing is drawn: `Ok(None)` (the data is still checked by
+/// the builders that made `fig`).
+#[cfg(not(feature = "figures"))]
+pub fn write_figure(
+    _fig: &Figure,
+    _path_stem: &std::path::Path,
+) -> Result<Option<FigureFiles>, FigureError> {
+    Ok(None)
 }

@@ -27,7 +27,8 @@ const PALETTE: [[u8; 3]; 10] = [
 ///
 /// Errors: the data problems of [`FigureError`] (checked before any file is written), or a
 /// failed write.
-pub fn write_figure(fig: &Figure, path_stem: &Path) -> Result<FigureFiles, FigureError> {
+/// Returns `Some` (always, with the feature `figures` on; see the module's documentation).
+pub fn write_figure(fig: &Figure, path_stem: &Path) -> Result<Option<FigureFiles>, FigureError> {
     let (xa, ya) = axes(fig)?;
     ensure_font()?;
     let png = with_ext(path_stem, "png");
@@ -52,7 +53,7 @@ pub fn write_figure(fig: &Figure, path_stem: &Path) -> Result<FigureFiles, Figur
         draw(&root, fig, &xa, &ya).map_err(draw_err(&svg))?;
         root.present().map_err(|e| draw_err(&svg)(e.to_string()))?;
     }
-    Ok(FigureFiles { png, svg })
+    Ok(Some(FigureFiles { png, svg }))
 }
 
 fn with_ext(stem: &Path, ext: &str) -> PathBuf {

@@ -3,6 +3,7 @@
 //! Each table maps to one Options struct of the stage that owns it, with `deny_unknown_fields`,
 //! so a typo is an error naming the key. Only what the scene names is computed.
 
+pub mod accuracy;
 mod brake;
 pub mod cea;
 pub mod contact;
@@ -10,6 +11,7 @@ mod overrides;
 pub mod reduction;
 pub mod transient;
 
+pub use accuracy::AccuracySpec;
 pub use cea::{CeaSpec, CeaState, CeaSweepSpec, SweepVary};
 pub use contact::{ContactPair, FrictionSpec, RotorSpec};
 pub use overrides::apply_override;
@@ -73,9 +75,9 @@ pub struct Scene {
     #[serde(default)]
     pub output: OutputSpec,
     /// Work–precision study ladders, read by `squeal accuracy` (default: absent = the defaults
-    /// of [`crate::stages::accuracy::AccuracySpec`]).
+    /// of [`AccuracySpec`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub accuracy: Option<crate::stages::accuracy::AccuracySpec>,
+    pub accuracy: Option<AccuracySpec>,
     /// Folder that relative paths in the scene are resolved against (not read from the file).
     #[serde(skip)]
     pub base_dir: PathBuf,
@@ -199,32 +201,84 @@ impl FixedSpec {
 }
 
 impl Scene {
-    /// Reads a scene, applies `--set` overrides, types and validates it.
+    /// Reads a scene, applies `--set` overrides, types and validates it; relative paths in it
+    /// are resolved against the file's folder.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Scene, PipelineError> {
         let text = std::fs::read_to_string(path).map_err(|source| PipelineError::Io {
             path: path.to_path_buf(),
             source,
         })?;
-        let mut doc: toml::Value =
-            toml::from_str(&text).map_err(|e| PipelineError::SceneParse {
-                path: path.to_path_buf(),
-                message: e.to_string(),
-            })?;
-        for assignment in overrides {
-            apply_override(&mut doc, assignment)?;
-        }
-        let mut scene: Scene =
-            doc.try_into()
-                .map_err(|e: toml::de::Error| PipelineError::SceneParse {
-                    path: path.to_path_buf(),
-                    message: e.to_string(),
-                })?;
-        scene.base_dir = path
+        let base = path
             .parent()
             .map(Path::to_path_buf)
             .unwrap_or_else(|| PathBuf::from("."));
+        Self::parse(&text, path, base, overrides)
+    }
+
+    /// A scene from TOML text (with `--set` overrides); relative paths in it are resolved
+    /// against `base_dir`. Errors name the source as `<string>`.
+    pub fn from_toml_str(
+        text: &str,
+        base_dir: impl Into<PathBuf>,
+        overrides: &[String],
+    ) -> Result<Scene, PipelineError> {
+        Self::parse(text, Path::new("<string>"), base_dir.into(), overrides)
+    }
+
+    fn parse(
+        text: &str,
+        source: &Path,
+        base_dir: PathBuf,
+        overrides: &[String],
+    ) -> Result<Scene, PipelineError> {
+        let mut doc: toml::Value = toml::from_str(text).map_err(|e| PipelineError::SceneParse {
+            path: source.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        for assignment in overrides {
+            apply_override(&mut doc, assignment)?;
+        }
+        Self::from_value(doc, source, base_dir)
+    }
+
+    /// Types and validates a scene document.
+    fn from_value(
+        doc: toml::Value,
+        source: &Path,
+        base_dir: PathBuf,
+    ) -> Result<Scene, PipelineError> {
+        let mut scene: Scene =
+            doc.try_into()
+                .map_err(|e: toml::de::Error| PipelineError::SceneParse {
+                    path: source.to_path_buf(),
+                    message: e.to_string(),
+                })?;
+        scene.base_dir = base_dir;
         scene.validate()?;
         Ok(scene)
+    }
+
+    /// Sets one value as `--set key=value` does (`key` dotted, `value` a TOML value text:
+    /// `0.5`, `"hex8"`, `[1, 2]`), then types and validates the whole scene again. On error
+    /// the scene is unchanged and the error names the key.
+    pub fn set(&mut self, key: &str, value: &str) -> Result<(), PipelineError> {
+        self.set_all(&[format!("{key}={value}")])
+    }
+
+    /// [`Scene::set`] for several `key=value` assignments at once (validated together).
+    pub fn set_all(&mut self, assignments: &[String]) -> Result<(), PipelineError> {
+        let mut doc = toml::Value::try_from(&*self).map_err(|e| PipelineError::Scene {
+            field: "<scene>".into(),
+            message: format!("cannot be written as TOML: {e}"),
+        })?;
+        for a in assignments {
+            apply_override(&mut doc, a)?;
+        }
+        let mut source = PathBuf::from("<scene set ");
+        source.as_mut_os_string().push(assignments.join(", "));
+        source.as_mut_os_string().push(">");
+        *self = Self::from_value(doc, &source, self.base_dir.clone())?;
+        Ok(())
     }
 
     /// Checks every table; errors name the field and the value.

@@ -22,7 +22,7 @@ pub fn mesh_component(
     scene: &Scene,
     c: &ComponentSpec,
     dir: &RunDir,
-    progress: Progress,
+    progress: &Progress,
 ) -> Result<(Mesh, MeshReport), PipelineError> {
     let err = |source| PipelineError::Mesh {
         component: c.name.clone(),
@@ -68,7 +68,7 @@ pub fn mesh_component(
 pub fn run(
     scene: &Scene,
     dir: &RunDir,
-    progress: Progress,
+    progress: &Progress,
 ) -> Result<Vec<MeshReport>, PipelineError> {
     let mut reports = Vec::new();
     for c in &scene.components {

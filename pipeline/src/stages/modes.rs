@@ -72,13 +72,25 @@ pub fn fixed_dofs(c: &ComponentSpec, mesh: &Mesh) -> Result<Vec<(usize, usize)>,
     Ok(fixed)
 }
 
-/// Runs the modal analysis of one component and writes its outputs.
-pub fn run(
+/// What the modal analysis of one component found, in memory.
+#[derive(Debug, Clone)]
+pub struct ModesComputed {
+    pub report: ModesReport,
+    /// The component's mesh (nodes and cells, for meshio or pyvista).
+    pub mesh: Mesh,
+    /// Mode shapes as nodal 3-vectors: `shapes[mode][node]` (zeros at fixed DOFs), mass
+    /// normalised as the Lanczos solver returns them.
+    pub shapes: Vec<Vec<[f64; 3]>>,
+}
+
+/// The modal analysis of one component (`component`: its name, or None for the scene's only
+/// one). gmsh writes its `.geo`/`.msh` into `work` (the mesh stage needs a folder).
+pub fn compute(
     scene: &Scene,
     component: Option<&str>,
-    dir: &RunDir,
-    progress: Progress,
-) -> Result<ModesReport, PipelineError> {
+    work: &RunDir,
+    progress: &Progress,
+) -> Result<ModesComputed, PipelineError> {
     let start = Instant::now();
     let c = scene.component(component)?;
     let opts = scene.modes.clone().unwrap_or_default();
@@ -86,14 +98,16 @@ pub fn run(
         component: c.name.clone(),
         source,
     };
-    let (mesh, mesh_report) = mesh_component(scene, c, dir, progress)?;
+    let (mesh, mesh_report) = mesh_component(scene, c, work, progress)?;
     let fixed = fixed_dofs(c, &mesh)?;
     let dofs = DofMap::new(mesh.nodes.len(), &fixed).map_err(fe_err)?;
     let materials = c.block_materials(&mesh)?;
+    progress.check("modes")?;
     let step = progress.step(format!("assembling K, M ({} DOFs)", dofs.n_free()));
     let asm_opts = AssemblyOptions { hex8: c.hex8 };
     let assembled = assemble(&mesh, &materials, &dofs, &asm_opts).map_err(fe_err)?;
     step.done(format!("assembled K, M ({} DOFs)", dofs.n_free()));
+    progress.check("modes")?;
     let step = progress.step("shift-invert Lanczos");
     // Node coordinates let the factorisation use nested dissection on large meshes.
     let coords = squeal_fe::dof_coordinates(&mesh, &dofs);
@@ -104,33 +118,14 @@ pub fn run(
         modes.frequencies_hz.len(),
         modes.stats.factor_s + modes.stats.lanczos_s
     ));
-
-    let mut names = Vec::new();
-    let mut fields = Vec::new();
-    for (j, f) in modes.frequencies_hz.iter().enumerate() {
-        let col: Vec<f64> = (0..modes.shapes.nrows())
-            .map(|i| modes.shapes[(i, j)])
-            .collect();
-        let per_node = dofs.expand(&col);
-        fields.push(
-            per_node
-                .iter()
-                .flat_map(|v| v.iter().copied())
-                .collect::<Vec<f64>>(),
-        );
-        names.push(format!("mode_{:02}_{:.1}Hz", j + 1, f));
-    }
-    let arrays: Vec<vtu::PointArray> = names
-        .iter()
-        .zip(&fields)
-        .map(|(n, v)| vtu::PointArray::vector(n, v))
+    let shapes = (0..modes.frequencies_hz.len())
+        .map(|j| {
+            let col: Vec<f64> = (0..modes.shapes.nrows())
+                .map(|i| modes.shapes[(i, j)])
+                .collect();
+            dofs.expand(&col)
+        })
         .collect();
-    vtu::write_vtu(&dir.path("modes.vtu"), &mesh, &arrays, &[]).map_err(|source| {
-        PipelineError::Mesh {
-            component: c.name.clone(),
-            source,
-        }
-    })?;
     let report = ModesReport {
         component: c.name.clone(),
         n_nodes: mesh.nodes.len(),
@@ -142,11 +137,56 @@ pub fn run(
         mesh: mesh_report,
         total_s: start.elapsed().as_secs_f64(),
     };
-    dir.write_json("modes.json", &report)?;
+    Ok(ModesComputed {
+        report,
+        mesh,
+        shapes,
+    })
+}
+
+/// Writes what [`compute`] found: `modes.vtu` (one point array `mode_NN_<f>Hz` per mode),
+/// `modes.json`, `scene.resolved.toml`, `summary.json`.
+pub fn write(scene: &Scene, m: &ModesComputed, dir: &RunDir) -> Result<(), PipelineError> {
+    let fields: Vec<Vec<f64>> = m
+        .shapes
+        .iter()
+        .map(|s| s.iter().flat_map(|v| v.iter().copied()).collect())
+        .collect();
+    let names: Vec<String> = m
+        .report
+        .frequencies_hz
+        .iter()
+        .enumerate()
+        .map(|(j, f)| format!("mode_{:02}_{:.1}Hz", j + 1, f))
+        .collect();
+    let arrays: Vec<vtu::PointArray> = names
+        .iter()
+        .zip(&fields)
+        .map(|(n, v)| vtu::PointArray::vector(n, v))
+        .collect();
+    vtu::write_vtu(&dir.path("modes.vtu"), &m.mesh, &arrays, &[]).map_err(|source| {
+        PipelineError::Mesh {
+            component: m.report.component.clone(),
+            source,
+        }
+    })?;
+    dir.write_json("modes.json", &m.report)?;
     dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
     dir.write_json(
         "summary.json",
-        &serde_json::json!({ "verb": "modes", "version": crate::VERSION, "modes": &report }),
+        &serde_json::json!({ "verb": "modes", "version": crate::VERSION, "modes": &m.report }),
     )?;
-    Ok(report)
+    Ok(())
+}
+
+/// Runs the modal analysis of one component and writes its outputs ([`compute`] + [`write`]).
+pub fn run(
+    scene: &Scene,
+    component: Option<&str>,
+    dir: &RunDir,
+    progress: &Progress,
+) -> Result<ModesReport, PipelineError> {
+    let m = compute(scene, component, dir, progress)?;
+    write(scene, &m, dir)?;
+    Ok(m.report)
 }

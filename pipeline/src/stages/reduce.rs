@@ -43,7 +43,11 @@ impl ReduceReport {
 }
 
 /// Builds (or reads) the reduced model and writes it with its checks.
-pub fn run(scene: &Scene, dir: &RunDir, progress: Progress) -> Result<ReduceReport, PipelineError> {
+pub fn run(
+    scene: &Scene,
+    dir: &RunDir,
+    progress: &Progress,
+) -> Result<ReduceReport, PipelineError> {
     let start = Instant::now();
     let model = model::build(scene, dir, progress)?;
     let files = model::write_stored(&model, dir)?;

@@ -8,7 +8,7 @@
 //! factorisations, CPU seconds. Outputs: `accuracy.json` (one object per run),
 //! `accuracy.md` (table), `work_precision.{png,svg}` (error against CPU, log–log).
 //!
-//! - [`options`]: the `[accuracy]` table.
+//! - the `[accuracy]` table: [`crate::scene::AccuracySpec`].
 //! - [`drive`]: one run with either integrator, sampled on the grid, nothing written.
 //! - [`compare`]: errors against the reference.
 //! - [`models`]: small stored-matrix models (belt, 2-DOF coupling, pad row).
@@ -16,10 +16,9 @@
 pub mod compare;
 pub mod drive;
 pub mod models;
-pub mod options;
 
+pub use crate::scene::AccuracySpec;
 pub use drive::{initial_state, integrate, Method, RunOutcome};
-pub use options::AccuracySpec;
 
 use crate::error::PipelineError;
 use crate::output::RunDir;
@@ -112,7 +111,7 @@ fn row(role: &'static str, r: &RunOutcome, errors: RunErrors, repeats: usize) ->
 pub fn run(
     scene: &Scene,
     dir: &RunDir,
-    progress: Progress,
+    progress: &Progress,
 ) -> Result<AccuracyReport, PipelineError> {
     let wall = std::time::Instant::now();
     let spec = scene.transient.clone().unwrap_or_default();

@@ -113,6 +113,9 @@ pub struct CeaReport {
     /// How the reduced model came through the cache (`--cache` only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub model_cache: Option<model::CacheUse>,
+    /// The friction sweep, in memory (written to `cea.sweep.json`).
+    #[serde(skip)]
+    pub sweep: Option<sweep::SweepReport>,
 }
 
 fn cea_err(what: &str) -> impl FnOnce(squeal_solver::cea::CeaError) -> PipelineError + '_ {
@@ -131,7 +134,7 @@ component's Craig-Bampton transformation on its full mesh (models built from mes
 pub fn run(
     scene: &Scene,
     dir: &RunDir,
-    progress: Progress,
+    progress: &Progress,
     args: &CeaArgs,
 ) -> Result<CeaReport, PipelineError> {
     let wall = Instant::now();
@@ -166,29 +169,63 @@ fn spec_of(scene: &Scene, args: &CeaArgs) -> Result<CeaSpec, PipelineError> {
     Ok(spec)
 }
 
-/// `squeal cea` on a reduced model already built for `scene` (`wall`: when the run started;
-/// `cache_use`: reported in `summary.json`).
-pub fn run_on_model(
+/// What the CEA of a scene found, in memory: the state, the modes (eigenvalues and shapes on
+/// the reduced DOFs) up to `max_frequency_hz`, and the friction sweep's tracks.
+pub struct CeaComputed {
+    /// The `[cea]` table as run (command-line sweep applied).
+    pub spec: CeaSpec,
+    /// The problem linearised (M, B, K, G, loads).
+    pub problem: system::Problem,
+    /// The state and tangents.
+    pub lin: tangents::Linearisation,
+    /// Modes up to `max_frequency_hz`, sorted by frequency; `shape` holds the reduced
+    /// eigenvector (length n).
+    pub modes: Vec<Mode>,
+    /// `cea.json`'s content.
+    pub out: CeaOut,
+    /// The friction sweep (when asked for).
+    pub sweep: Option<sweep::SweepReport>,
+}
+
+impl CeaComputed {
+    /// The unstable modes, most unstable first, as (index into `modes`, mode).
+    pub fn unstable(&self) -> Vec<(usize, &Mode)> {
+        self.out
+            .unstable
+            .iter()
+            .map(|&i| (i, &self.modes[i]))
+            .collect()
+    }
+
+    /// Each component's full-mesh shape of the modes `which` (indices into `modes`): meshed
+    /// models only (stored matrices have no mesh: empty).
+    pub fn recover_shapes(
+        &self,
+        model: &model::ReducedModel,
+        which: &[usize],
+    ) -> Result<Vec<shapes::ComponentShapes>, PipelineError> {
+        let modes: Vec<(usize, &Mode)> = which.iter().map(|&i| (i, &self.modes[i])).collect();
+        shapes::recover(model, &modes)
+    }
+}
+
+/// The complex eigenvalue analysis of `scene` on `model` (and its friction sweep), in memory.
+pub fn compute(
     scene: &Scene,
-    dir: &RunDir,
-    progress: Progress,
+    model: &model::ReducedModel,
+    progress: &Progress,
     args: &CeaArgs,
-    model: model::ReducedModel,
-    cache_use: Option<model::CacheUse>,
-    wall: Instant,
-) -> Result<CeaReport, PipelineError> {
+) -> Result<CeaComputed, PipelineError> {
     let spec = spec_of(scene, args)?;
-    dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
-    let problem = system::problem(scene, &model)?;
+    let problem = system::problem(scene, model)?;
     let gaps = &model.gaps;
     let (n, ng) = (model.n(), gaps.len());
-    let mut files = Vec::new();
-
     let step = progress.step("linearising about the sliding state");
     let lin = tangents::linearise(scene, &spec, &problem, gaps)?;
     step.done("tangents at the state");
     let contact = tangents::contact_summary(gaps, &lin)?;
     let sys = tangents::cea_matrices(&problem, &lin, spec.friction_damping);
+    progress.check("cea")?;
     let step = progress.step(format!("complex eigenvalues ({n} DOFs, {ng} constraints)"));
     let res = complex_eigen(&sys, &spec.solver).map_err(cea_err("complex eigenvalues"))?;
     step.done(format!(
@@ -196,12 +233,12 @@ pub fn run_on_model(
         res.stats.n_modes, res.stats.n_unstable
     ));
     let fmax = spec.max_frequency_hz.unwrap_or(Real::INFINITY);
-    let kept: Vec<&Mode> = res
+    let kept: Vec<Mode> = res
         .modes
-        .iter()
+        .into_iter()
         .filter(|m| m.frequency_hz <= fmax)
         .collect();
-    let modes: Vec<ModeOut> = kept
+    let modes_out: Vec<ModeOut> = kept
         .iter()
         .enumerate()
         .map(|(i, m)| ModeOut {
@@ -212,12 +249,12 @@ pub fn run_on_model(
             unstable: m.unstable,
         })
         .collect();
-    let mut unstable: Vec<usize> = modes
+    let mut unstable: Vec<usize> = modes_out
         .iter()
         .filter(|m| m.unstable)
         .map(|m| m.index)
         .collect();
-    unstable.sort_by(|&a, &b| modes[b].real_part.total_cmp(&modes[a].real_part));
+    unstable.sort_by(|&a, &b| modes_out[b].real_part.total_cmp(&modes_out[a].real_part));
     let amax = |x: &[Real]| x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let out = CeaOut {
         verb: "cea",
@@ -231,11 +268,65 @@ pub fn run_on_model(
             max_abs_displacement: amax(&lin.u),
             max_abs_velocity: amax(&lin.v),
         },
-        modes: modes.clone(),
-        unstable: unstable.clone(),
-        stats: res.stats.clone(),
+        modes: modes_out,
+        unstable,
+        stats: res.stats,
     };
-    files.push(dir.write_json("cea.json", &out)?.display().to_string());
+    let mut sweep_rep = None;
+    if let Some(sw) = &spec.sweep {
+        progress.check("cea sweep")?;
+        let values = sw.values()?;
+        let step = progress.step(format!("friction sweep over {} values", values.len()));
+        let (_, rep) = sweep::run_sweep(&problem, gaps, &lin, &spec, sw, &values)?;
+        step.done(format!(
+            "{} tracks, lowest critical mu {:?}",
+            rep.tracks.len(),
+            rep.lowest_critical_mu
+        ));
+        sweep_rep = Some(rep);
+    }
+    Ok(CeaComputed {
+        spec,
+        problem,
+        lin,
+        modes: kept,
+        out,
+        sweep: sweep_rep,
+    })
+}
+
+/// `squeal cea` on a reduced model already built for `scene`: [`compute`], then the files
+/// (`wall`: when the run started; `cache_use`: reported in `summary.json`).
+pub fn run_on_model(
+    scene: &Scene,
+    dir: &RunDir,
+    progress: &Progress,
+    args: &CeaArgs,
+    model: model::ReducedModel,
+    cache_use: Option<model::CacheUse>,
+    wall: Instant,
+) -> Result<CeaReport, PipelineError> {
+    dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
+    let c = compute(scene, &model, progress, args)?;
+    write(&c, &model, dir, args, cache_use, wall)
+}
+
+/// Writes what [`compute`] found into `dir`: `cea.json`, `stability_map.{png,svg}`,
+/// `cea_modes.vtu`, `cea_modes_<component>.vtu`, optionally `tangents.{op4,pch}`, and with a
+/// sweep `cea.sweep.json` and `root_locus*.{png,svg}`; then `summary.json`.
+pub fn write(
+    c: &CeaComputed,
+    model: &model::ReducedModel,
+    dir: &RunDir,
+    args: &CeaArgs,
+    cache_use: Option<model::CacheUse>,
+    wall: Instant,
+) -> Result<CeaReport, PipelineError> {
+    let (n, ng) = (model.n(), model.gaps.len());
+    let (modes, unstable) = (&c.out.modes, &c.out.unstable);
+    let mut files = Vec::new();
+    files.push(dir.write_json("cea.json", &c.out)?.display().to_string());
+    let kept: Vec<&Mode> = c.modes.iter().collect();
     if let Some(stem) = outputs::write_stability_map(
         dir,
         &kept,
@@ -246,43 +337,25 @@ pub fn run_on_model(
     }
     let shown: Vec<(usize, &Mode)> = unstable
         .iter()
-        .take(spec.max_shapes)
+        .take(c.spec.max_shapes)
         .map(|&i| (i, kept[i]))
         .collect();
-    let vtu_points = outputs::write_mode_shapes(dir, &model, &shown)?;
+    let vtu_points = outputs::write_mode_shapes(dir, model, &shown)?;
     if vtu_points > 0 {
         files.push(dir.path("cea_modes.vtu").display().to_string());
     }
-    let full_mesh_shapes = shapes::write_full_mode_shapes(dir, &model, &shown)?;
+    let full_mesh_shapes = shapes::write_full_mode_shapes(dir, model, &shown)?;
     files.extend(full_mesh_shapes.iter().cloned());
     if args.export_tangents {
-        files.extend(outputs::export_tangents(dir, &model, &problem, &lin)?);
+        files.extend(outputs::export_tangents(dir, model, &c.problem, &c.lin)?);
     }
-
-    let mut sweep_stats = None;
-    let mut lowest_critical_mu = None;
-    if let Some(sw) = &spec.sweep {
-        let values = sw.values()?;
-        let step = progress.step(format!("friction sweep over {} values", values.len()));
-        let (_, rep) = sweep::run_sweep(&problem, gaps, &lin, &spec, sw, &values)?;
-        step.done(format!(
-            "{} tracks, lowest critical mu {:?}",
-            rep.tracks.len(),
-            rep.lowest_critical_mu
-        ));
-        files.push(
-            dir.write_json("cea.sweep.json", &rep)?
-                .display()
-                .to_string(),
-        );
-        for stem in outputs::write_root_locus(dir, &rep)? {
+    if let Some(rep) = &c.sweep {
+        files.push(dir.write_json("cea.sweep.json", rep)?.display().to_string());
+        for stem in outputs::write_root_locus(dir, rep)? {
             files.push(format!("{stem}.png"));
             files.push(format!("{stem}.svg"));
         }
-        lowest_critical_mu = rep.lowest_critical_mu;
-        sweep_stats = Some(rep.stats.clone());
     }
-
     let report = CeaReport {
         verb: "cea",
         version: crate::VERSION,
@@ -301,15 +374,16 @@ pub fn run_on_model(
             .filter_map(|m| m.damping_ratio)
             .reduce(f64::min),
         unstable_modes: unstable.iter().map(|&i| modes[i].clone()).collect(),
-        cea_stats: res.stats,
-        sweep_stats,
-        lowest_critical_mu,
+        cea_stats: c.out.stats.clone(),
+        sweep_stats: c.sweep.as_ref().map(|r| r.stats.clone()),
+        lowest_critical_mu: c.sweep.as_ref().and_then(|r| r.lowest_critical_mu),
         vtu_points,
         full_mesh_shapes,
         mode_shapes_note: SHAPES_NOTE,
         files,
-        model_hash: problem.model_hash(),
+        model_hash: c.problem.model_hash(),
         model_cache: cache_use,
+        sweep: c.sweep.clone(),
     };
     dir.write_json("summary.json", &report)?;
     Ok(report)

@@ -248,8 +248,9 @@ pub fn write_stability_map(
     let mut fig = stability_map(&pts);
     fig.title = title.to_string();
     let stem = dir.path("stability_map");
-    write_figure(&fig, &stem).map_err(|e| out_err(dir, "stability_map.png")(e.to_string()))?;
-    Ok(Some(stem.display().to_string()))
+    let drawn =
+        write_figure(&fig, &stem).map_err(|e| out_err(dir, "stability_map.png")(e.to_string()))?;
+    Ok(drawn.map(|_| stem.display().to_string()))
 }
 
 /// `root_locus.{png,svg}` (Re p vs frequency) and `root_locus_mu.{png,svg}` (Re p vs μ) of the
@@ -309,9 +310,12 @@ pub fn write_root_locus(dir: &RunDir, rep: &SweepReport) -> Result<Vec<String>, 
     let mut out = Vec::new();
     for (fig, name) in [(by_f, "root_locus"), (by_mu, "root_locus_mu")] {
         let stem = dir.path(name);
-        write_figure(&fig, &stem)
-            .map_err(|e| out_err(dir, &format!("{name}.png"))(e.to_string()))?;
-        out.push(stem.display().to_string());
+        if write_figure(&fig, &stem)
+            .map_err(|e| out_err(dir, &format!("{name}.png"))(e.to_string()))?
+            .is_some()
+        {
+            out.push(stem.display().to_string());
+        }
     }
     Ok(out)
 }

@@ -25,6 +25,57 @@ pub fn array_stem(k: usize, frequency_hz: Real) -> String {
     format!("mode{k}_{frequency_hz:.1}Hz")
 }
 
+/// One mode's shape on one component's mesh.
+#[derive(Debug, Clone)]
+pub struct NodalShape {
+    /// Index into the CEA's modes.
+    pub mode: usize,
+    pub frequency_hz: Real,
+    /// Real and imaginary parts as nodal 3-vectors (zeros at fixed DOFs).
+    pub re: Vec<[Real; 3]>,
+    pub im: Vec<[Real; 3]>,
+}
+
+/// The shapes of some modes on one component's full mesh.
+#[derive(Debug, Clone)]
+pub struct ComponentShapes {
+    pub component: String,
+    /// Merged grid id of each mesh node.
+    pub grid_of: Vec<u64>,
+    pub modes: Vec<NodalShape>,
+}
+
+/// The shapes of `modes` recovered on every component the model can recover (meshed models;
+/// none for stored matrices).
+pub fn recover(
+    model: &ReducedModel,
+    modes: &[(usize, &Mode)],
+) -> Result<Vec<ComponentShapes>, PipelineError> {
+    let mut out = Vec::new();
+    if modes.is_empty() {
+        return Ok(out);
+    }
+    for comp in &model.recovery {
+        let mut shapes = Vec::with_capacity(modes.len());
+        for (k, m) in modes {
+            let re: Vec<Real> = m.shape.iter().map(|z| z.re).collect();
+            let im: Vec<Real> = m.shape.iter().map(|z| z.im).collect();
+            shapes.push(NodalShape {
+                mode: *k,
+                frequency_hz: m.frequency_hz,
+                re: comp.expand(&re)?,
+                im: comp.expand(&im)?,
+            });
+        }
+        out.push(ComponentShapes {
+            component: comp.name.clone(),
+            grid_of: comp.grid_of.clone(),
+            modes: shapes,
+        });
+    }
+    Ok(out)
+}
+
 /// Writes `cea_modes_<component>.vtu` for every component the model can recover (meshed
 /// models; none for stored matrices): the component's mesh with the point array `grid` (merged
 /// grid id of each node, as a real) and, for each mode `k` in `modes`, the 3-vector point
@@ -35,20 +86,14 @@ pub fn write_full_mode_shapes(
     model: &ReducedModel,
     modes: &[(usize, &Mode)],
 ) -> Result<Vec<String>, PipelineError> {
-    if modes.is_empty() {
-        return Ok(Vec::new());
-    }
     let mut written = Vec::new();
-    for comp in &model.recovery {
-        let grid: Vec<Real> = comp.grid_of.iter().map(|&g| g as Real).collect();
+    for (comp, shapes) in model.recovery.iter().zip(recover(model, modes)?) {
+        let grid: Vec<Real> = shapes.grid_of.iter().map(|&g| g as Real).collect();
         let mut names = vec!["grid".to_string()];
-        let mut fields = Vec::with_capacity(2 * modes.len());
-        for (k, m) in modes {
-            let re: Vec<Real> = m.shape.iter().map(|z| z.re).collect();
-            let im: Vec<Real> = m.shape.iter().map(|z| z.im).collect();
-            let stem = array_stem(*k, m.frequency_hz);
-            for (part, x) in [("re", re), ("im", im)] {
-                let nodal = comp.expand(&x)?;
+        let mut fields: Vec<Vec<Real>> = Vec::with_capacity(2 * modes.len());
+        for m in &shapes.modes {
+            let stem = array_stem(m.mode, m.frequency_hz);
+            for (part, nodal) in [("re", &m.re), ("im", &m.im)] {
                 fields.push(nodal.iter().flat_map(|v| v.iter().copied()).collect());
                 names.push(format!("{stem}_{part}"));
             }

@@ -140,7 +140,7 @@ fn match_pairs(
 pub fn build_from_mesh(
     scene: &Scene,
     dir: &RunDir,
-    progress: Progress,
+    progress: &Progress,
 ) -> Result<ReducedModel, PipelineError> {
     if scene.components.is_empty() {
         return Err(PipelineError::Scene {

@@ -182,7 +182,7 @@ pub(crate) fn symmetrise(a: &Mat<Real>) -> Mat<Real> {
 pub fn build(
     scene: &Scene,
     dir: &RunDir,
-    progress: Progress,
+    progress: &Progress,
 ) -> Result<ReducedModel, PipelineError> {
     match scene.model.from {
         ModelSource::Mesh => build_from_mesh(scene, dir, progress),
@@ -196,7 +196,7 @@ pub fn build(
 pub fn build_cached(
     scene: &Scene,
     dir: &RunDir,
-    progress: Progress,
+    progress: &Progress,
     cache: Option<&ModelCache>,
 ) -> Result<(ReducedModel, Option<CacheUse>), PipelineError> {
     match (cache, scene.model.from) {

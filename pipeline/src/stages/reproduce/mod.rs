@@ -13,7 +13,6 @@
 //! the base scene's complex eigenvalues (`cea_sweep/`), so the report can say which mode pairs
 //! couple at which μ.
 
-pub mod drive;
 pub mod report;
 pub mod study;
 
@@ -71,8 +70,8 @@ pub struct CaseResult {
     pub wall_s: Real,
     /// Time reached (= tf unless the run stopped early).
     pub t_end: Real,
-    /// How the integration ended.
-    pub status: String,
+    /// How the integration ended (`max_steps`: stopped at the study's step cap).
+    pub status: squeal_solver::bdf::Status,
     pub squeal: bool,
     pub growth_rate_per_s: Option<Real>,
     pub dominant_frequency_hz: Option<Real>,
@@ -104,7 +103,7 @@ pub struct ReproduceReport {
 pub fn run(
     study_path: &Path,
     dir: &RunDir,
-    progress: Progress,
+    progress: &Progress,
     args: &ReproduceArgs,
 ) -> Result<ReproduceReport, PipelineError> {
     let wall = Instant::now();
@@ -135,9 +134,8 @@ pub fn run(
     // Each case's scene, checked before anything runs.
     let mut scenes = Vec::new();
     for c in &selected {
-        let mut sets = args.set.clone();
-        sets.extend(c.overrides(n_contact)?);
-        let scene = Scene::load(&base_path, &sets)?;
+        let mut scene = base.clone();
+        scene.set_all(&c.overrides(n_contact)?)?;
         let cap = match (h_max, scene.transient.as_ref()) {
             (Some(h), Some(t)) => Some((study.step_cap * t.tfinal / h).ceil() as usize + 100),
             _ => None,
@@ -160,7 +158,7 @@ pub fn run(
             path: dir.path(""),
             message: format!("thread pool: {e}"),
         })?;
-    let quiet = Progress { quiet: true };
+    let quiet = progress.silenced();
     let cache = args.cache.as_ref().map(ModelCache::new);
     if let (Some(c), Some((_, scene, _))) = (&cache, scenes.first()) {
         // Built once here, so the parallel cases all hit.
@@ -170,7 +168,7 @@ pub fn run(
         scenes
             .par_iter()
             .map(|(c, scene, cap)| {
-                let r = run_case(c, scene, *cap, &study, dir, quiet, cache.as_ref());
+                let r = run_case(c, scene, *cap, &study, dir, &quiet, cache.as_ref());
                 match &r {
                     Ok(r) => progress.info(format!(
                         "case {}: {} steps, {:.1} s, t_end {:.4e}, squeal = {}, growth {:?} /s, f {:?} Hz",
@@ -185,7 +183,7 @@ pub fn run(
     let cases: Vec<CaseResult> = results.into_iter().collect::<Result<_, _>>()?;
     let sweep = study
         .cea_sweep
-        .map(|range| cea_sweep(&base, range, dir, quiet, &progress, cache.as_ref()));
+        .map(|range| cea_sweep(&base, range, dir, &quiet, progress, cache.as_ref()));
     let (findings, files) = report::write(&study, &cases, dir, &base, sweep.as_ref())?;
     let rep = ReproduceReport {
         verb: "reproduce",
@@ -206,7 +204,7 @@ fn cea_sweep(
     base: &Scene,
     range: study::MuRange,
     dir: &RunDir,
-    quiet: Progress,
+    quiet: &Progress,
     progress: &Progress,
     cache: Option<&ModelCache>,
 ) -> report::SweepSummary {
@@ -224,8 +222,11 @@ fn cea_sweep(
             cache: cache.cloned(),
             ..Default::default()
         };
-        cea::run(&scene, &sdir, quiet, &args)?;
-        report::SweepSummary::read(&sdir)
+        let rep = cea::run(&scene, &sdir, quiet, &args)?;
+        rep.sweep
+            .as_ref()
+            .map(report::SweepSummary::of)
+            .ok_or_else(|| PipelineError::Model("the CEA ran no friction sweep".into()))
     };
     let t0 = Instant::now();
     let out = run().unwrap_or_else(|e| report::SweepSummary::failed(e.to_string()));
@@ -240,65 +241,38 @@ fn cea_sweep(
     out
 }
 
+/// One case in process: its transient (capped at `cap` steps, judged on the growth phase
+/// before a step collapse when the scene bounds the step) and its CEA, files in `caseN/`.
 fn run_case(
     c: &CaseSpec,
     scene: &Scene,
     cap: Option<usize>,
     study: &StudySpec,
     dir: &RunDir,
-    quiet: Progress,
+    quiet: &Progress,
     cache: Option<&ModelCache>,
 ) -> Result<CaseResult, PipelineError> {
     let wall = Instant::now();
     let cdir = RunDir::create(&dir.path(&format!("case{}", c.case)))?;
-    let t_load = scene.loads.as_ref().map_or(0.0, |l| l.tload);
-    let r = match cap {
-        Some(cap) => {
-            let file = cdir.write_bytes("case.toml", scene.resolved_toml().as_bytes())?;
-            drive::run_capped(
-                &file,
-                &cdir,
-                cap,
-                t_load,
-                scene
-                    .transient
-                    .as_ref()
-                    .and_then(|t| t.h_max)
-                    .unwrap_or(Real::INFINITY),
-                (
-                    scene.output.squeal_growth_threshold,
-                    scene.output.squeal_min_growth_factor,
-                ),
-                cache.map(|c| c.root.as_path()),
-            )?
-        }
-        None => {
-            let r = transient::run_cached(scene, &cdir, quiet, None, cache)?;
-            drive::CappedRun {
-                steps: r.steps,
-                cpu_s: r.cpu_s,
-                t_end: r.t_end,
-                status: status_text(&r.status),
-                squeal: r.squeal,
-                growth_rate_per_s: r.growth_rate_per_s,
-                dominant_frequency_hz: r.dominant_frequency_hz,
-                response: r.response.clone(),
-                n_dofs: r.n_dofs,
-                n_gaps: r.n_gaps,
-            }
-        }
+    cdir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
+    let (model, _) = crate::stages::model::build_cached(scene, &cdir, quiet, cache)?;
+    let h_max = scene.transient.as_ref().and_then(|t| t.h_max);
+    let opts = transient::TransientOptions {
+        step_cap: cap,
+        // The growth phase only: up to the first step below h_max/100 after the ramp (the
+        // start of stick-slip, where the step collapses).
+        stall_h: cap.and(h_max).map(|h| 1e-2 * h),
+        ..Default::default()
     };
+    let r = transient::run_on_model(scene, &cdir, quiet, None, &model, wall, &opts)?.result;
     let (cea_unstable_modes, cea_error) = if study.cea {
         let mut cs = scene.clone();
         if cs.cea.is_none() {
             cs.cea = Some(Default::default());
         }
         let cea_dir = RunDir::create(&cdir.path("cea"))?;
-        let args = cea::CeaArgs {
-            cache: cache.cloned(),
-            ..Default::default()
-        };
-        match cea::run(&cs, &cea_dir, quiet, &args) {
+        let args = cea::CeaArgs::default();
+        match cea::run_on_model(&cs, &cea_dir, quiet, &args, model, None, Instant::now()) {
             Ok(rep) => (
                 Some(
                     rep.unstable_modes
@@ -336,23 +310,15 @@ fn run_case(
         cpu_s: r.cpu_s,
         wall_s: wall.elapsed().as_secs_f64(),
         t_end: r.t_end,
-        status: r.status.clone(),
+        status: r.status,
         squeal: r.squeal,
         growth_rate_per_s: r.growth_rate_per_s,
         dominant_frequency_hz: r.dominant_frequency_hz,
-        response: r.response.clone(),
+        response: r.response,
         onset_s,
         n_dofs: r.n_dofs,
         n_gaps: r.n_gaps,
         cea_unstable_modes,
         cea_error,
     })
-}
-
-fn status_text(s: &squeal_solver::bdf::Status) -> String {
-    if s.is_success() {
-        "reached TF".into()
-    } else {
-        format!("{s:?}")
-    }
 }

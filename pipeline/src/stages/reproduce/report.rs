@@ -8,7 +8,7 @@ use crate::history::npy::read_npy;
 use crate::history::HistoryMap;
 use crate::output::RunDir;
 use crate::scene::Scene;
-use crate::stages::cea::sweep::CouplingOut;
+use crate::stages::cea::sweep::{CouplingOut, SweepReport};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -41,15 +41,14 @@ pub struct SweepSummary {
 }
 
 impl SweepSummary {
-    /// Reads `cea.sweep.json` of a `squeal cea --mu` run in `dir`.
-    pub fn read(dir: &RunDir) -> Result<Self, PipelineError> {
-        let path = dir.path("cea.sweep.json");
-        let bad = |message: String| PipelineError::Input {
-            path: path.clone(),
-            message,
-        };
-        let text = std::fs::read_to_string(&path).map_err(|e| bad(e.to_string()))?;
-        serde_json::from_str(&text).map_err(|e| bad(e.to_string()))
+    /// The fields the report uses of a CEA friction sweep.
+    pub fn of(rep: &SweepReport) -> Self {
+        Self {
+            mu: rep.mu.clone(),
+            couplings: rep.couplings.clone(),
+            lowest_critical_mu: rep.lowest_critical_mu,
+            error: None,
+        }
     }
 
     /// A sweep that did not run.
@@ -424,7 +423,9 @@ pub fn write(
             fig.x_range = Some(((t_min_end - last).max(0.0), t_min_end));
         }
         let stem = dir.path(&f.name);
-        write_figure(&fig, &stem).map_err(fig_err(&stem))?;
+        if write_figure(&fig, &stem).map_err(fig_err(&stem))?.is_none() {
+            continue;
+        }
         files.push(format!("{}.png", f.name));
         files.push(format!("{}.svg", f.name));
         let _ = writeln!(
@@ -450,9 +451,10 @@ pub fn write(
         let stem = dir.path("spectrum");
         let (mut fig, s) = spectrum(&t[start..], &v[start..], &opts).map_err(fig_err(&stem))?;
         fig.title = format!("Spectrum of {} (case {}), t > TLOAD", c.response, c.case);
-        write_figure(&fig, &stem).map_err(fig_err(&stem))?;
-        files.push("spectrum.png".into());
-        files.push("spectrum.svg".into());
+        if write_figure(&fig, &stem).map_err(fig_err(&stem))?.is_some() {
+            files.push("spectrum.png".into());
+            files.push("spectrum.svg".into());
+        }
         let f0 = s
             .peaks
             .iter()

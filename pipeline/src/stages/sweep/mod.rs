@@ -62,8 +62,6 @@ pub struct SweepArgs {
     pub param: String,
     /// The values as TOML value texts ([`values::parse_values`]).
     pub values: Vec<String>,
-    /// Overrides applied before the parameter.
-    pub set: Vec<String>,
     pub analysis: Analysis,
     /// Model cache folder (default: [`default_cache_dir`]).
     pub cache: Option<PathBuf>,
@@ -97,7 +95,7 @@ pub struct CeaIndicators {
 #[derive(Debug, Clone, Serialize)]
 pub struct TransientIndicators {
     /// How the integration ended (`reached` or why it stopped).
-    pub status: String,
+    pub status: squeal_solver::bdf::Status,
     pub squeal: bool,
     pub growth_rate_per_s: Option<Real>,
     pub dominant_frequency_hz: Option<Real>,
@@ -163,27 +161,19 @@ fn value_dir(index: usize, label: &str) -> String {
     format!("{index:02}_{clean}")
 }
 
-fn status_text(s: &squeal_solver::bdf::Status) -> String {
-    if s.is_success() {
-        "reached".into()
-    } else {
-        format!("{s:?}")
-    }
-}
-
 /// Runs the sweep into `dir`.
 pub fn run(
-    scene_path: &Path,
+    base: &Scene,
+    scene_name: &str,
     dir: &RunDir,
-    progress: Progress,
+    progress: &Progress,
     args: &SweepArgs,
 ) -> Result<SweepReport, PipelineError> {
     let wall = Instant::now();
     // Every value's scene, checked before anything runs.
-    let base = Scene::load(scene_path, &args.set)?;
     let mut scenes = Vec::with_capacity(args.values.len());
     for v in &args.values {
-        let mut s = values::scene_for(scene_path, &args.set, &args.param, v)?;
+        let mut s = values::scene_for(base, &args.param, v)?;
         if args.analysis.cea() && s.cea.is_none() {
             s.cea = Some(Default::default());
         }
@@ -209,11 +199,11 @@ pub fn run(
         args.analysis,
         cache.root.display()
     ));
-    let quiet = Progress { quiet: true };
+    let quiet = progress.silenced();
     let mut points = Vec::with_capacity(scenes.len());
     for (i, (label, scene)) in args.values.iter().zip(&scenes).enumerate() {
         let vdir = RunDir::create(&dir.path(&value_dir(i, label)))?;
-        let p = run_value(i, label, scene, &vdir, &cache, args.analysis, quiet);
+        let p = run_value(i, label, scene, &vdir, &cache, args.analysis, &quiet);
         progress.info(outputs::progress_line(&args.param, &p));
         points.push(p);
     }
@@ -222,7 +212,7 @@ pub fn run(
     let mut report = SweepReport {
         verb: "sweep",
         version: crate::VERSION,
-        scene: scene_path.display().to_string(),
+        scene: scene_name.to_string(),
         param: args.param.clone(),
         analysis: args.analysis,
         cache_dir: cache.root.display().to_string(),
@@ -253,7 +243,7 @@ fn run_value(
     vdir: &RunDir,
     cache: &ModelCache,
     analysis: Analysis,
-    quiet: Progress,
+    quiet: &Progress,
 ) -> SweepPoint {
     let mut p = SweepPoint {
         index,
@@ -313,12 +303,22 @@ fn run_value(
         }
     }
     if let Some(m) = for_transient {
-        let r = RunDir::create(&vdir.path("transient"))
-            .and_then(|d| transient::run_on_model(scene, &d, quiet, None, m, Instant::now()));
+        let r = RunDir::create(&vdir.path("transient")).and_then(|d| {
+            transient::run_on_model(
+                scene,
+                &d,
+                quiet,
+                None,
+                &m,
+                Instant::now(),
+                &Default::default(),
+            )
+        });
         match r {
             Ok(r) => {
+                let r = r.result;
                 p.transient = Some(TransientIndicators {
-                    status: status_text(&r.status),
+                    status: r.status,
                     squeal: r.squeal,
                     growth_rate_per_s: r.growth_rate_per_s,
                     dominant_frequency_hz: r.dominant_frequency_hz,

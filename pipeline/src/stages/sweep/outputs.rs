@@ -146,8 +146,11 @@ pub fn markdown(rep: &SweepReport) -> String {
             }
         }
         let mut note = Vec::new();
-        if let Some(t) = p.transient.as_ref().filter(|t| t.status != "reached") {
-            note.push(format!("transient: {}", t.status));
+        if let Some(t) = p.transient.as_ref().filter(|t| !t.status.is_success()) {
+            note.push(format!(
+                "transient: {}",
+                crate::stages::transient::status_text(&t.status)
+            ));
         }
         if let Some(n) = &p.cache_note {
             note.push(n.clone());
@@ -186,10 +189,9 @@ fn write_fig(dir: &RunDir, fig: &Figure, stem: &str) -> Result<Vec<String>, Pipe
         path: dir.path(&format!("{stem}.png")),
         message: e.to_string(),
     })?;
-    Ok(vec![
-        files.png.display().to_string(),
-        files.svg.display().to_string(),
-    ])
+    Ok(files
+        .map(|f| vec![f.png.display().to_string(), f.svg.display().to_string()])
+        .unwrap_or_default())
 }
 
 /// Writes `sweep.md` and the figures; returns the paths written.

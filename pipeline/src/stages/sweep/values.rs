@@ -3,7 +3,6 @@
 
 use crate::error::PipelineError;
 use crate::scene::Scene;
-use std::path::Path;
 
 type Real = f64;
 
@@ -94,14 +93,9 @@ pub fn value_json(text: &str) -> serde_json::Value {
         .unwrap_or_else(|| serde_json::Value::String(text.to_string()))
 }
 
-/// The scene of one value: `sets`, then `param=value`, loaded and validated. Errors name the
-/// parameter: the key must be a value the scene accepts and holds once resolved.
-pub fn scene_for(
-    path: &Path,
-    sets: &[String],
-    param: &str,
-    value: &str,
-) -> Result<Scene, PipelineError> {
+/// The scene of one value: `base` with `param=value`, validated. Errors name the parameter:
+/// the key must be a value the scene accepts and holds once resolved.
+pub fn scene_for(base: &Scene, param: &str, value: &str) -> Result<Scene, PipelineError> {
     let assignment = format!("{param}={value}");
     let wrap = |message: String| PipelineError::Option {
         option: format!("--param {param}"),
@@ -112,9 +106,8 @@ pub fn scene_for(
             "must be a dotted scene key such as friction.law.mu".into(),
         ));
     }
-    let mut all = sets.to_vec();
-    all.push(assignment.clone());
-    let scene = Scene::load(path, &all).map_err(|e| {
+    let mut scene = base.clone();
+    scene.set_all(&[assignment]).map_err(|e| {
         wrap(format!(
             "not a value this scene accepts (set to {value}): {e}"
         ))

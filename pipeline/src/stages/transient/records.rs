@@ -2,6 +2,7 @@
 //! their values at one step, the writers of `history.npy` + `history_map.json` and
 //! `energy.csv` ([`Recorder`]), and the response the squeal verdict analyses ([`Response`]).
 
+use super::driver::{ChunkView, EndView, Sink, StepView};
 use super::verdict::{self, Verdict};
 use crate::error::PipelineError;
 use crate::history::npy::NpyAppender;
@@ -9,21 +10,49 @@ use crate::history::{Column, HistoryMap, RecordKind};
 use crate::output::RunDir;
 use crate::scene::Scene;
 use crate::stages::model::ReducedModel;
+use serde::Serialize;
 use squeal_contact::GapSet;
 use squeal_reduction::superelement::DofKey;
-use squeal_solver::bsql::{EnergyBalance, PowerTerms};
 use std::io::Write;
 use std::path::PathBuf;
 
 type Real = f64;
 
-/// Header of `energy.csv`.
-const ENERGY_HEADER: &str =
+/// Header of `energy.csv`, and the names of [`History::energy`]'s columns.
+pub const ENERGY_HEADER: &str =
     "t,kinetic,strain,damping_dissipation,friction_work,external_work,constraint_work,balance";
 
-/// The history database and the energy file of a run: the initial point, every NOUTPT-th
-/// accepted step and the final time. With `output.history = false` nothing is opened or
-/// written (effects on demand); the columns are still known (for the verdict's response).
+/// The recorded history of a run, in memory: the rows `history.npy` holds, and the rows of
+/// `energy.csv`.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct History {
+    /// What each column is (column 0 is t).
+    pub columns: Vec<Column>,
+    /// Row-major values, `columns.len()` per row.
+    pub values: Vec<Real>,
+    /// One row per recorded step after the initial point: the columns of [`ENERGY_HEADER`].
+    pub energy: Vec<[Real; 8]>,
+}
+
+impl History {
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.values.len() / self.columns.len().max(1)
+    }
+
+    /// Column `name` as a vector (None: no such column).
+    pub fn column(&self, name: &str) -> Option<Vec<Real>> {
+        let c = self.columns.iter().position(|c| c.name == name)?;
+        let w = self.columns.len();
+        Some(self.values.iter().skip(c).step_by(w).copied().collect())
+    }
+}
+
+/// The history of a run — initial point, every NOUTPT-th accepted step, the final time — and
+/// its energy rows, written to `history.npy` + `history_map.json` and `energy.csv` when given a
+/// folder and `output.history` is on, and kept in memory when asked ([`History`]). With
+/// `output.history = false` nothing is opened, written or kept (effects on demand); the
+/// columns are still known (for the verdict's response).
 pub struct Recorder {
     cols: Vec<Column>,
     gaps: GapSet,
@@ -32,25 +61,35 @@ pub struct Recorder {
     row: Vec<Real>,
     history: Option<NpyAppender>,
     energy: Option<std::io::BufWriter<std::fs::File>>,
+    memory: Option<History>,
     history_path: PathBuf,
     energy_path: PathBuf,
     /// Time of the last history row.
     last_t: Option<Real>,
+    rows: usize,
+    /// The initial point was recorded.
+    started: bool,
 }
 
 impl Recorder {
-    /// Writes `history_map.json` and opens `history.npy` and `energy.csv` in `dir` (when
-    /// `output.history`); errors name the grids or gaps the scene asks for that do not exist.
+    /// The recorder of `scene`'s `[output]` on `model`: files in `dir` (when given; writes
+    /// `history_map.json` and opens `history.npy` and `energy.csv`), rows in memory when
+    /// `keep`. Errors name the grids or gaps the scene asks for that do not exist.
     pub fn open(
         scene: &Scene,
         model: &ReducedModel,
-        dir: &RunDir,
-        noutpt: usize,
+        dir: Option<&RunDir>,
+        keep: bool,
     ) -> Result<Self, PipelineError> {
         let cols = columns(scene, model)?;
-        let (history_path, energy_path) = (dir.path("history.npy"), dir.path("energy.csv"));
+        let noutpt = scene.transient.as_ref().map_or(1, |t| t.noutpt).max(1);
+        let (history_path, energy_path) = match dir {
+            Some(d) => (d.path("history.npy"), d.path("energy.csv")),
+            None => (PathBuf::from("history.npy"), PathBuf::from("energy.csv")),
+        };
+        let on = scene.output.history;
         let (mut history, mut energy) = (None, None);
-        if scene.output.history {
+        if let (Some(dir), true) = (dir, on) {
             dir.write_json(
                 "history_map.json",
                 &HistoryMap {
@@ -70,75 +109,88 @@ impl Recorder {
         }
         Ok(Self {
             row: Vec::with_capacity(cols.len()),
+            memory: (keep && on).then(|| History {
+                columns: cols.clone(),
+                ..Default::default()
+            }),
             cols,
             gaps: model.gaps.clone(),
             n: model.n(),
-            noutpt: noutpt.max(1),
+            noutpt,
             history,
             energy,
             history_path,
             energy_path,
             last_t: None,
+            rows: 0,
+            started: false,
         })
     }
 
-    /// The columns of `history.npy`.
+    /// The columns of the history.
     pub fn columns(&self) -> &[Column] {
         &self.cols
     }
 
-    /// Rows written to `history.npy` so far.
+    /// Rows recorded so far.
     pub fn rows(&self) -> usize {
-        self.history.as_ref().map_or(0, |h| h.rows())
+        self.rows
     }
 
-    /// A history row at (t, y, y') (the initial point; no energy line).
+    /// The history kept in memory (None unless asked for), leaving none behind.
+    pub fn take_history(&mut self) -> Option<History> {
+        self.memory.take()
+    }
+
+    fn recording(&self) -> bool {
+        self.history.is_some() || self.memory.is_some()
+    }
+
+    /// A history row at (t, y, y') (no energy line).
     pub fn point(&mut self, t: Real, y: &[Real], yp: &[Real]) -> Result<(), PipelineError> {
-        if let Some(h) = self.history.as_mut() {
-            fill_row(&self.cols, &self.gaps, self.n, t, y, yp, &mut self.row)
-                .map_err(PipelineError::Model)?;
-            h.push(&self.row)?;
-            self.last_t = Some(t);
+        if !self.recording() {
+            return Ok(());
         }
+        fill_row(&self.cols, &self.gaps, self.n, t, y, yp, &mut self.row)
+            .map_err(PipelineError::Model)?;
+        if let Some(h) = self.history.as_mut() {
+            h.push(&self.row)?;
+        }
+        if let Some(m) = self.memory.as_mut() {
+            m.values.extend_from_slice(&self.row);
+        }
+        self.last_t = Some(t);
+        self.rows += 1;
         Ok(())
     }
 
-    /// The row at the final time TFINAL (unless the last recorded step ended exactly there,
-    /// as fixed steps do), and a flush.
-    pub fn finish(&mut self, t: Real, y: &[Real], yp: &[Real]) -> Result<(), PipelineError> {
-        if self.last_t != Some(t) {
-            self.point(t, y, yp)?;
-        }
-        self.flush()
-    }
-
-    /// After accepted step number `step` (counted from the start of the run): on every
-    /// NOUTPT-th, a history row and an `energy.csv` line (the energies at `p`, the integrals
-    /// of `balance`).
-    pub fn step(
-        &mut self,
-        step: usize,
-        t: Real,
-        y: &[Real],
-        yp: &[Real],
-        p: &PowerTerms,
-        balance: &EnergyBalance,
-    ) -> Result<(), PipelineError> {
-        if step % self.noutpt != 0 || self.history.is_none() {
+    /// On every NOUTPT-th accepted step: a history row and an energy row (the energies at `p`,
+    /// the integrals of `balance`).
+    fn record_step(&mut self, s: &StepView<'_>) -> Result<(), PipelineError> {
+        if s.step % self.noutpt != 0 || !self.recording() {
             return Ok(());
         }
-        self.point(t, y, yp)?;
-        if let Some(e) = self.energy.as_mut() {
+        self.point(s.t, s.y, s.yp)?;
+        let (kinetic, strain) = s.power.map_or((0.0, 0.0), |p| (p.kinetic, p.strain));
+        let b = s.balance;
+        let e = [
+            s.t,
+            kinetic,
+            strain,
+            b.damping_dissipated,
+            b.friction_work,
+            b.external_work,
+            b.constraint_work,
+            b.residual(),
+        ];
+        if let Some(m) = self.memory.as_mut() {
+            m.energy.push(e);
+        }
+        if let Some(w) = self.energy.as_mut() {
             writeln!(
-                e,
-                "{t:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
-                p.kinetic,
-                p.strain,
-                balance.damping_dissipated,
-                balance.friction_work,
-                balance.external_work,
-                balance.constraint_work,
-                balance.residual()
+                w,
+                "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
+                e[0], e[1], e[2], e[3], e[4], e[5], e[6], e[7]
             )
             .map_err(|source| PipelineError::Io {
                 path: self.energy_path.clone(),
@@ -162,35 +214,39 @@ impl Recorder {
         Ok(())
     }
 
-    /// The end of one integration chunk: flushes what was recorded (also when the chunk
-    /// failed, so no output already written is lost) and maps the integrator's error — or a
-    /// write error the step callback stashed in `out_err` — to the pipeline's (`what`: which
-    /// integration).
-    pub fn end_chunk<S>(
-        &mut self,
-        st: Result<S, squeal_solver::SolverError>,
-        out_err: &mut Option<String>,
-        what: &str,
-    ) -> Result<S, PipelineError> {
-        match st {
-            Ok(st) => {
-                self.flush()?;
-                Ok(st)
-            }
-            Err(source) => {
-                let _ = self.flush();
-                Err(match out_err.take() {
-                    Some(message) => PipelineError::Output {
-                        path: self.history_path.clone(),
-                        message,
-                    },
-                    None => PipelineError::Solver {
-                        what: what.into(),
-                        source,
-                    },
-                })
-            }
+    /// Where the history goes (for error messages).
+    pub fn history_path(&self) -> &std::path::Path {
+        &self.history_path
+    }
+}
+
+impl Sink for Recorder {
+    fn step(&mut self, s: &StepView<'_>) -> Result<(), PipelineError> {
+        if self.started {
+            return self.record_step(s);
         }
+        self.started = true;
+        self.point(s.t, s.y, s.yp)
+    }
+
+    fn chunk_end(&mut self, c: &ChunkView<'_>) -> Result<(), PipelineError> {
+        match c.failed {
+            // Keep what was recorded; the chunk's own error is the one reported.
+            true => {
+                let _ = self.flush();
+                Ok(())
+            }
+            false => self.flush(),
+        }
+    }
+
+    /// The row at the final time TFINAL (unless the last recorded step ended exactly there, as
+    /// fixed steps do), and a flush.
+    fn end(&mut self, e: &EndView<'_>) -> Result<(), PipelineError> {
+        if e.status.is_success() && self.last_t != Some(e.tfinal) {
+            self.point(e.tfinal, e.stepper.y(), e.stepper.yp())?;
+        }
+        self.flush()
     }
 }
 
@@ -250,18 +306,36 @@ impl Response {
         }
     }
 
+    /// Times of the recorded steps.
+    pub fn times(&self) -> &[Real] {
+        &self.t
+    }
+
     /// The verdict on the response after `t_after` (the end of the load ramp), and the name
     /// of the history column it analysed.
-    pub fn verdict(&self, t_after: Real, cols: &[Column]) -> (String, Verdict) {
-        let pick = self
-            .v
+    ///
+    /// With `stall_h`, only the growth phase is analysed: the steps up to the first one
+    /// shorter than `stall_h` after the ramp (where a squealing response reaches slip reversal
+    /// and the step collapses).
+    pub fn verdict(
+        &self,
+        t_after: Real,
+        stall_h: Option<Real>,
+        cols: &[Column],
+    ) -> (String, Verdict) {
+        let t = &self.t;
+        let end = stall_h
+            .and_then(|h| (1..t.len()).find(|&i| t[i] > t_after && t[i] - t[i - 1] < h))
+            .unwrap_or(t.len());
+        let (t, v): (&[Real], Vec<&[Real]>) =
+            (&t[..end], self.v.iter().map(|v| &v[..end]).collect());
+        let pick = v
             .iter()
             .enumerate()
             .map(|(k, v)| {
-                let peak = self
-                    .t
+                let peak = t
                     .iter()
-                    .zip(v)
+                    .zip(v.iter())
                     .filter(|(t, _)| **t > t_after)
                     .fold(0.0f64, |m, (_, x)| m.max(x.abs()));
                 (k, peak)
@@ -276,10 +350,17 @@ impl Response {
                     .find(|c| c.kind == RecordKind::Velocity && c.dof == Some(d))
                     .map(|c| c.name.clone())
                     .unwrap_or_else(|| format!("v_dof{d}"));
-                (name, verdict::analyse(&self.t, &self.v[k], t_after))
+                (name, verdict::analyse(t, v[k], t_after))
             }
             None => ("none".into(), verdict::analyse(&[], &[], 0.0)),
         }
+    }
+}
+
+impl Sink for Response {
+    fn step(&mut self, s: &StepView<'_>) -> Result<(), PipelineError> {
+        self.push(s.t, s.y);
+        Ok(())
     }
 }
 

@@ -1,6 +1,7 @@
 //! The restart file: the integrator's complete state, the model hash and the time, written
 //! atomically every NRSTRT steps and at the end of a run.
 
+use super::driver::{ChunkView, EndView, Sink, StepView, Stepper};
 use crate::error::PipelineError;
 use crate::output::write_atomic;
 use serde::{Deserialize, Serialize};
@@ -56,5 +57,53 @@ impl RestartFile {
             });
         }
         Ok(r)
+    }
+}
+
+/// Writes `restart.json` every NRSTRT accepted steps (at the end of that chunk) and at the end
+/// of a BDF run (generalized-α has no restart: nothing is written).
+pub struct RestartSink {
+    pub path: std::path::PathBuf,
+    pub model_hash: String,
+    pub n: usize,
+    pub ng: usize,
+    pub max_order: usize,
+    /// NRSTRT (0: only at the end).
+    pub every: usize,
+}
+
+impl RestartSink {
+    fn write(&self, stepper: &Stepper) -> Result<(), PipelineError> {
+        let Some(state) = stepper.bdf_state() else {
+            return Ok(());
+        };
+        RestartFile {
+            version: crate::VERSION.into(),
+            model_hash: self.model_hash.clone(),
+            n: self.n,
+            ng: self.ng,
+            t: stepper.t(),
+            max_order: self.max_order,
+            state: state.clone(),
+        }
+        .write(&self.path)
+    }
+}
+
+impl Sink for RestartSink {
+    fn step(&mut self, _: &StepView<'_>) -> Result<(), PipelineError> {
+        Ok(())
+    }
+    fn wants_break(&self, step: usize) -> bool {
+        self.every > 0 && step % self.every == 0
+    }
+    fn chunk_end(&mut self, c: &ChunkView<'_>) -> Result<(), PipelineError> {
+        if !c.failed && self.wants_break(c.steps) {
+            self.write(c.stepper)?;
+        }
+        Ok(())
+    }
+    fn end(&mut self, e: &EndView<'_>) -> Result<(), PipelineError> {
+        self.write(e.stepper)
     }
 }

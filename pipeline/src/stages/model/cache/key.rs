@@ -11,8 +11,9 @@
 //! - the load sets `loads.pressure` and `loads.force` (the unit brake load; PMAX scales it later);
 //! - the element-damping factors GE_c/W4 per component (they scale each component's reduced
 //!   stiffness into B at superelement assembly);
-//! - a format number, the crate version and the build (length and modification time of the
-//!   running executable), so a rebuilt squeal never reads an entry an older builder wrote.
+//! - a format number, the crate version and the build id (a hash of the model-building
+//!   crates' sources and the build profile, `pipeline/build.rs`), so a squeal built from
+//!   changed sources never reads an entry an older builder wrote.
 //!
 //! **Not in the key** (applied to a cached model by [`super::entry::finish`], or read later by
 //! the stages): `[friction]` (law, VTOL), `[rotor]` (rpm, axis, origin → sliding velocities),
@@ -58,24 +59,11 @@ pub fn hex128(bytes: &[u8]) -> String {
     format!("{:032x}", hash128(bytes))
 }
 
-/// The running executable's length and modification time: any rebuild of squeal (or of the
-/// test binary that links the pipeline) changes it.
+/// A hash of the sources of the crates that build reduced models and of the build profile
+/// (`pipeline/build.rs`): the `squeal` command, the tests and the Python module built from the
+/// same sources share entries; a change to those sources starts a fresh cache.
 fn build_id() -> &'static str {
-    static ID: std::sync::OnceLock<String> = std::sync::OnceLock::new();
-    ID.get_or_init(|| {
-        let meta = std::env::current_exe().and_then(std::fs::metadata);
-        match meta {
-            Ok(m) => {
-                let t = m
-                    .modified()
-                    .ok()
-                    .and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok())
-                    .map_or(0, |d| d.as_nanos());
-                format!("{}-{t}", m.len())
-            }
-            Err(_) => "unknown".into(),
-        }
-    })
+    env!("SQUEAL_BUILD_ID")
 }
 
 #[derive(Serialize)]

@@ -84,7 +84,7 @@ impl ModelCache {
         &self,
         scene: &Scene,
         dir: &RunDir,
-        progress: Progress,
+        progress: &Progress,
     ) -> Result<(ReducedModel, CacheUse), PipelineError> {
         let start = Instant::now();
         let key = ModelKey::of(scene)?;

@@ -1,4 +1,9 @@
 //! The `squeal` command: `squeal <verb> SCENE.toml [--out DIR] [--set key=value ...]`.
+//!
+//! Argument parsing, progress bars and exit codes over the `squeal-pipeline` library; every
+//! verb is one library call.
+
+mod bars;
 
 use anyhow::Result;
 use clap::{Args, Parser, Subcommand};
@@ -6,6 +11,7 @@ use squeal_pipeline::progress::Progress;
 use squeal_pipeline::{stages, RunDir, Scene};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::Arc;
 
 #[derive(Parser)]
 #[command(
@@ -197,7 +203,12 @@ fn main() -> ExitCode {
 }
 
 fn run(cli: Cli) -> Result<()> {
-    let progress = Progress { quiet: cli.quiet };
+    let progress = if cli.quiet {
+        Progress::quiet()
+    } else {
+        Progress::new(Arc::new(bars::Bars::default()))
+    };
+    let progress = &progress;
     match cli.verb {
         Verb::Check(args) => {
             let scene = Scene::load(&args.scene, &args.set)?;
@@ -235,6 +246,7 @@ fn run(cli: Cli) -> Result<()> {
                 export_dae.as_deref(),
                 cache.as_ref(),
             )?;
+            let r = r.result;
             progress.info(format!(
                 "{} steps, {:.2} s: squeal = {}, growth rate {:?} /s, dominant frequency {:?} Hz ({})",
                 r.steps, r.cpu_s, r.squeal, r.growth_rate_per_s, r.dominant_frequency_hz, r.response
@@ -299,14 +311,15 @@ fn run(cli: Cli) -> Result<()> {
                 PathBuf::from("out").join(format!("{stem}-sweep"))
             });
             let dir = RunDir::create(&out)?;
+            let base = Scene::load(&run.scene.scene, &run.scene.set)?;
             let args = stages::sweep::SweepArgs {
                 param,
                 values,
-                set: run.scene.set.clone(),
                 analysis: stages::sweep::Analysis::parse(&analysis)?,
                 cache: CacheArgs { cache }.dir(),
             };
-            let r = stages::sweep::run(&run.scene.scene, &dir, progress, &args)?;
+            let name = run.scene.scene.display().to_string();
+            let r = stages::sweep::run(&base, &name, &dir, progress, &args)?;
             progress.info(format!(
                 "{} values in {:.1} s (models built {}, read from the cache {}); table: {}",
                 r.points.len(),

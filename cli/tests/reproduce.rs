@@ -121,7 +121,7 @@ fn study_brake_squeals_at_mu_07_as_its_cea_says_and_not_at_mu_03() {
     assert_eq!(c4["case"], 4);
     assert_eq!(c5["case"], 5);
     for c in [c4, c5] {
-        assert_eq!(c["status"], "reached TF", "{c}");
+        assert_eq!(c["status"]["status"], "reached", "{c}");
     }
     // Case 4 squeals; its growth is the CEA's most unstable root in the squeal band.
     assert_eq!(c4["squeal"], true, "{c4}");

@@ -78,9 +78,9 @@ fn transient_writes_every_output_and_plotit_extracts_records() {
     // Only named effects are on: a linear-speed law has no pressure or temperature dependence.
     let effects = s["active_effects"].to_string();
     assert!(
-        effects.contains("speed dependence")
-            && !effects.contains("temperature")
-            && !effects.contains("pressure dependence"),
+        effects.contains("friction_speed_dependence")
+            && !effects.contains("temperature_lookups")
+            && !effects.contains("friction_pressure_dependence"),
         "{effects}"
     );
 

@@ -12,7 +12,9 @@ use squeal_pipeline::stages::{cea, sweep};
 use squeal_pipeline::{RunDir, Scene};
 use std::path::{Path, PathBuf};
 
-const QUIET: Progress = Progress { quiet: true };
+fn quiet() -> Progress {
+    Progress::quiet()
+}
 
 /// The tiny brake with a `[cea]` table, written into `dir`.
 fn tiny_scene(dir: &Path) -> PathBuf {
@@ -111,7 +113,8 @@ fn mu_sweep_builds_once_and_cached_models_equal_fresh_builds() {
         cache: Some(cache_dir.clone()),
         ..Default::default()
     };
-    let rep = sweep::run(&scene_path, &out, QUIET, &args).unwrap();
+    let base = Scene::load(&scene_path, &[]).unwrap();
+    let rep = sweep::run(&base, "tiny", &out, &quiet(), &args).unwrap();
     let flags: Vec<Option<bool>> = rep.points.iter().map(|p| p.cache_hit).collect();
     assert_eq!(flags, [Some(false), Some(true), Some(true)]);
     assert_eq!((rep.n_built, rep.n_cached), (1, 2));
@@ -130,7 +133,7 @@ fn mu_sweep_builds_once_and_cached_models_equal_fresh_builds() {
     // CEA at μ0 = 0.9 on a fresh build (no cache) = the sweep's, read from the cache.
     let scene = Scene::load(&scene_path, &["friction.law.mu0=0.9".into()]).unwrap();
     let fresh_dir = RunDir::create(&dir.join("fresh")).unwrap();
-    cea::run(&scene, &fresh_dir, QUIET, &cea::CeaArgs::default()).unwrap();
+    cea::run(&scene, &fresh_dir, &quiet(), &cea::CeaArgs::default()).unwrap();
     let fresh = json(&fresh_dir.path("cea.json"));
     let cached = json(&out.path("02_0.9/cea/cea.json"));
     assert_eq!(fresh["modes"], cached["modes"]);
@@ -151,10 +154,10 @@ fn mu_sweep_builds_once_and_cached_models_equal_fresh_builds() {
     let scene = Scene::load(&scene_path, &sets).unwrap();
     let d = RunDir::create(&dir.join("late")).unwrap();
     let (from_cache, used) = ModelCache::new(&cache_dir)
-        .get_or_build(&scene, &d, QUIET)
+        .get_or_build(&scene, &d, &quiet())
         .unwrap();
     assert!(used.hit, "{used:?}");
-    let built = model::build(&scene, &d, QUIET).unwrap();
+    let built = model::build(&scene, &d, &quiet()).unwrap();
     assert!(from_cache.k == built.k && from_cache.m == built.m);
     assert_eq!(from_cache.b.is_some(), built.b.is_some());
     assert_eq!(from_cache.p_brake, built.p_brake);
@@ -170,7 +173,7 @@ fn damaged_cache_entries_are_rebuilt() {
     let scene = Scene::load(&tiny_scene(&dir), &[]).unwrap();
     let run_dir = RunDir::create(&dir.join("run")).unwrap();
     let cache = ModelCache::new(dir.join("cache"));
-    let (first, u) = cache.get_or_build(&scene, &run_dir, QUIET).unwrap();
+    let (first, u) = cache.get_or_build(&scene, &run_dir, &quiet()).unwrap();
     assert!(!u.hit && u.note.is_none());
     let entry = PathBuf::from(&u.entry);
     // One flipped byte in the matrices.
@@ -179,7 +182,7 @@ fn damaged_cache_entries_are_rebuilt() {
     let mid = bytes.len() / 2;
     bytes[mid] ^= 0x40;
     std::fs::write(&op4, bytes).unwrap();
-    let (m, u) = cache.get_or_build(&scene, &run_dir, QUIET).unwrap();
+    let (m, u) = cache.get_or_build(&scene, &run_dir, &quiet()).unwrap();
     assert!(!u.hit, "{u:?}");
     assert!(u.note.as_deref().unwrap().contains("reduced.op4"), "{u:?}");
     assert!(m.k == first.k);
@@ -187,17 +190,17 @@ fn damaged_cache_entries_are_rebuilt() {
     let gaps = entry.join("gaps.json");
     let text = std::fs::read(&gaps).unwrap();
     std::fs::write(&gaps, &text[..text.len() / 3]).unwrap();
-    let (_, u) = cache.get_or_build(&scene, &run_dir, QUIET).unwrap();
+    let (_, u) = cache.get_or_build(&scene, &run_dir, &quiet()).unwrap();
     assert!(
         !u.hit && u.note.as_deref().unwrap().contains("gaps.json"),
         "{u:?}"
     );
     // A missing description (e.g. a copy interrupted by hand).
     std::fs::remove_file(entry.join("entry.json")).unwrap();
-    let (_, u) = cache.get_or_build(&scene, &run_dir, QUIET).unwrap();
+    let (_, u) = cache.get_or_build(&scene, &run_dir, &quiet()).unwrap();
     assert!(!u.hit && u.note.is_some(), "{u:?}");
     // Rebuilt entries are good again.
-    let (m, u) = cache.get_or_build(&scene, &run_dir, QUIET).unwrap();
+    let (m, u) = cache.get_or_build(&scene, &run_dir, &quiet()).unwrap();
     assert!(u.hit && u.note.is_none(), "{u:?}");
     assert!(m.k == first.k && m.gaps == first.gaps);
     // No temporary or discarded folders are left behind.
