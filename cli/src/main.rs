@@ -248,8 +248,13 @@ fn run(cli: Cli) -> Result<()> {
             )?;
             let r = r.result;
             progress.info(format!(
-                "{} steps, {:.2} s: squeal = {}, growth rate {:?} /s, dominant frequency {:?} Hz ({})",
-                r.steps, r.cpu_s, r.squeal, r.growth_rate_per_s, r.dominant_frequency_hz, r.response
+                "{} steps, {:.2} s: {}, growth rate {:?} /s, dominant frequency {:?} Hz ({})",
+                r.steps,
+                r.cpu_s,
+                stages::reproduce::report::verdict_text(&r.verdict.state),
+                r.growth_rate_per_s,
+                r.dominant_frequency_hz,
+                r.response
             ));
             if !r.status.is_success() {
                 anyhow::bail!(

@@ -16,7 +16,7 @@ pub use cea::{CeaSpec, CeaState, CeaSweepSpec, SweepVary};
 pub use contact::{ContactPair, FrictionSpec, RotorSpec};
 pub use overrides::apply_override;
 pub use reduction::{ModelSource, ModelSpec, ReductionSpec};
-pub use transient::{DampingSpec, Integrator, LoadsSpec, OutputSpec, TransientSpec};
+pub use transient::{DampingSpec, Integrator, LoadsSpec, OutputSpec, TransientSpec, VerdictCea};
 
 use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
@@ -420,6 +420,20 @@ impl Scene {
             .map(|c| c.name.as_str())
             .collect::<Vec<_>>()
             .join(", ")
+    }
+
+    /// The band the reduced model was made for, Hz: `reduction.frequency_of_interest_hz`
+    /// (default 10 kHz) for meshed models, `model.band_hz` for stored matrices (None: unknown).
+    pub fn band_hz(&self) -> Option<f64> {
+        match self.model.from {
+            ModelSource::Mesh => self
+                .reduction
+                .clone()
+                .unwrap_or_default()
+                .frequency_of_interest_hz
+                .or(ReductionSpec::default().frequency_of_interest_hz),
+            _ => self.model.band_hz,
+        }
     }
 
     /// Resolves a path written in the scene against the scene's folder.

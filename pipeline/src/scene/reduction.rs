@@ -98,6 +98,11 @@ pub struct ModelSpec {
     /// Distance below which nodes of different components are merged into one grid (shared,
     /// superelement-connected), except contact-face nodes of a pad/rotor pair (default: 1e-6).
     pub merge_tolerance: Real,
+    /// The band stored matrices were reduced for, Hz (default: none = unknown; meshed models
+    /// use `reduction.frequency_of_interest_hz`). Bounds the transient's step and separates
+    /// the CEA's roots outside the band.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub band_hz: Option<Real>,
 }
 
 impl Default for ModelSpec {
@@ -110,6 +115,7 @@ impl Default for ModelSpec {
             p0: None,
             temperature: None,
             merge_tolerance: 1e-6,
+            band_hz: None,
         }
     }
 }
@@ -126,6 +132,11 @@ impl ModelSpec {
                 "merge_tolerance",
                 format!("{} must be finite and > 0", self.merge_tolerance),
             ));
+        }
+        if let Some(b) = self.band_hz {
+            if !(b.is_finite() && b > 0.0) {
+                return Err(bad("band_hz", format!("{b} must be finite and > 0")));
+            }
         }
         if self.from != ModelSource::Mesh {
             if self.matrices.is_none() {

@@ -73,10 +73,16 @@ pub struct CaseResult {
     /// How the integration ended (`max_steps`: stopped at the study's step cap).
     pub status: squeal_solver::bdf::Status,
     pub squeal: bool,
+    /// `squeal`, `no_squeal`, or `unresolved` with its reasons.
+    pub verdict: crate::stages::transient::guard::VerdictState,
     pub growth_rate_per_s: Option<Real>,
     pub dominant_frequency_hz: Option<Real>,
     /// History column of the verdict's response.
     pub response: String,
+    /// What the contact did (tensile gap-steps, first separation, smallest p_n).
+    pub contact: crate::stages::transient::validity::ContactValidity,
+    /// The step bound of the run.
+    pub h_max: Option<Real>,
     /// First time the response velocity exceeds the study's onset level.
     pub onset_s: Option<Real>,
     pub n_dofs: usize,
@@ -111,7 +117,6 @@ pub fn run(
     let base_path = study.base_path();
     let base = Scene::load(&base_path, &args.set)?;
     let n_contact = base.contact.len();
-    let h_max = base.transient.as_ref().and_then(|t| t.h_max);
     let selected: Vec<&CaseSpec> = match &args.cases {
         Some(list) => {
             if let Some(c) = list
@@ -136,6 +141,11 @@ pub fn run(
     for c in &selected {
         let mut scene = base.clone();
         scene.set_all(&c.overrides(n_contact)?)?;
+        // The run's step bound: the scene's h_max or the band bound.
+        let h_max = scene
+            .transient
+            .as_ref()
+            .and_then(|t| transient::step_bound(t, scene.band_hz()).h_max);
         let cap = match (h_max, scene.transient.as_ref()) {
             (Some(h), Some(t)) => Some((study.step_cap * t.tfinal / h).ceil() as usize + 100),
             _ => None,
@@ -256,7 +266,10 @@ fn run_case(
     let cdir = RunDir::create(&dir.path(&format!("case{}", c.case)))?;
     cdir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
     let (model, _) = crate::stages::model::build_cached(scene, &cdir, quiet, cache)?;
-    let h_max = scene.transient.as_ref().and_then(|t| t.h_max);
+    let h_max = scene
+        .transient
+        .as_ref()
+        .and_then(|t| transient::step_bound(t, scene.band_hz()).h_max);
     let opts = transient::TransientOptions {
         step_cap: cap,
         // The growth phase only: up to the first step below h_max/100 after the ramp (the
@@ -312,9 +325,12 @@ fn run_case(
         t_end: r.t_end,
         status: r.status,
         squeal: r.squeal,
+        verdict: r.verdict.state.clone(),
         growth_rate_per_s: r.growth_rate_per_s,
         dominant_frequency_hz: r.dominant_frequency_hz,
         response: r.response,
+        contact: r.contact.clone(),
+        h_max: r.step_bound.h_max,
         onset_s,
         n_dofs: r.n_dofs,
         n_gaps: r.n_gaps,

@@ -97,6 +97,8 @@ pub struct TransientIndicators {
     /// How the integration ended (`reached` or why it stopped).
     pub status: squeal_solver::bdf::Status,
     pub squeal: bool,
+    /// `squeal`, `no_squeal`, or `unresolved` with its reasons.
+    pub verdict: crate::stages::transient::guard::VerdictState,
     pub growth_rate_per_s: Option<Real>,
     pub dominant_frequency_hz: Option<Real>,
     pub steps: u64,
@@ -320,6 +322,7 @@ fn run_value(
                 p.transient = Some(TransientIndicators {
                     status: r.status,
                     squeal: r.squeal,
+                    verdict: r.verdict.state.clone(),
                     growth_rate_per_s: r.growth_rate_per_s,
                     dominant_frequency_hz: r.dominant_frequency_hz,
                     steps: r.steps,

@@ -58,8 +58,8 @@ pub fn progress_line(param: &str, p: &SweepPoint) -> String {
     if let Some(t) = &p.transient {
         let _ = write!(
             s,
-            "; transient squeal = {}, growth {} 1/s, {} Hz",
-            t.squeal,
+            "; transient {}, growth {} 1/s, {} Hz",
+            t.verdict.label(),
             opt_e(t.growth_rate_per_s),
             opt(t.dominant_frequency_hz, 1)
         );
@@ -98,7 +98,7 @@ pub fn markdown(rep: &SweepReport) -> String {
         ]);
     }
     if with_tr {
-        head.extend(["squeal", "growth (1/s)", "f dom (Hz)", "steps", "cpu s"]);
+        head.extend(["verdict", "growth (1/s)", "f dom (Hz)", "steps", "cpu s"]);
     }
     head.push("note");
     let _ = writeln!(s, "| {} |", head.join(" | "));
@@ -136,7 +136,7 @@ pub fn markdown(rep: &SweepReport) -> String {
         if with_tr {
             match &p.transient {
                 Some(t) => row.extend([
-                    if t.squeal { "yes" } else { "no" }.to_string(),
+                    t.verdict.label().to_string(),
                     opt_e(t.growth_rate_per_s),
                     opt(t.dominant_frequency_hz, 1),
                     t.steps.to_string(),

@@ -16,9 +16,11 @@
 pub mod driver;
 pub mod effects;
 pub mod export;
+pub mod guard;
 pub mod records;
 pub mod restart;
 pub mod system;
+pub mod validity;
 pub mod verdict;
 
 use crate::error::PipelineError;
@@ -103,6 +105,50 @@ pub fn status_text(s: &Status) -> String {
     }
 }
 
+/// The step bound a run used.
+#[derive(Debug, Clone, Serialize)]
+pub struct StepBound {
+    /// The bound applied (None: unbounded).
+    pub h_max: Option<Real>,
+    /// The scene's own `h_max`.
+    pub scene_h_max: Option<Real>,
+    /// The model's band and the band bound 1/(N·f_band) (None: no band or bound off).
+    pub band_hz: Option<Real>,
+    pub band_h_max: Option<Real>,
+    /// N, steps per period at the top of the band.
+    pub band_samples_per_period: Real,
+}
+
+/// The step bound of `spec` on a model of band `band_hz`: the smaller of the scene's `h_max`
+/// and 1/(N·f_band) (unless `band_step_bound = false`).
+pub fn step_bound(spec: &TransientSpec, band_hz: Option<Real>) -> StepBound {
+    let band_h_max = band_hz
+        .filter(|_| spec.band_step_bound)
+        .map(|f| 1.0 / (spec.band_samples_per_period * f));
+    let h_max = match (spec.h_max, band_h_max) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    };
+    StepBound {
+        h_max,
+        scene_h_max: spec.h_max,
+        band_hz,
+        band_h_max,
+        band_samples_per_period: spec.band_samples_per_period,
+    }
+}
+
+/// The CEA a transient ran at its steady state for its verdict.
+#[derive(Debug, Clone, Serialize)]
+pub struct VerdictCeaResult {
+    /// Unstable roots in the band, most unstable first: (frequency Hz, Re p 1/s).
+    pub unstable_in_band: Vec<(Real, Real)>,
+    /// Unstable roots above the band (never squeal: outside what the model was reduced for).
+    pub unstable_outside_band: usize,
+    /// Why it failed, if it did (the verdict then goes without it).
+    pub error: Option<String>,
+}
+
 /// What a caller asks of a run besides the scene.
 #[derive(Debug, Clone, Default)]
 pub struct TransientOptions {
@@ -160,6 +206,12 @@ pub struct TransientResult {
     pub ignored: Vec<Ignored>,
     pub model_hash: String,
     pub restarted_from: Option<PathBuf>,
+    /// The step bound used (the scene's `h_max` and the band bound).
+    pub step_bound: StepBound,
+    /// What the contact did: tensile gap-steps, the first separation, the smallest p_n.
+    pub contact: validity::ContactValidity,
+    /// The CEA at the run's steady state, when the verdict ran one (`output.verdict_cea`).
+    pub verdict_cea: Option<VerdictCeaResult>,
     /// The sampled history (with [`TransientOptions::keep_history`]).
     #[serde(skip)]
     pub history: Option<History>,
@@ -184,6 +236,8 @@ pub struct Prepared<'a> {
     pub problem: system::Problem,
     /// Hash of the model a restart file must match.
     pub model_hash: String,
+    /// The step bound (`spec.h_max` holds it).
+    pub bound: StepBound,
 }
 
 /// Assembles the problem of `scene`'s transient on `model`; checks what the integrator can do.
@@ -200,12 +254,16 @@ pub fn prepare<'a>(
     }
     let problem = system::problem(scene, model)?;
     let model_hash = problem.model_hash();
+    let bound = step_bound(&spec, scene.band_hz());
+    let mut spec = spec;
+    spec.h_max = bound.h_max;
     Ok(Prepared {
         scene,
         model,
         spec,
         problem,
         model_hash,
+        bound,
     })
 }
 
@@ -252,8 +310,10 @@ impl Prepared<'_> {
         }
         let mut memory = Recorder::open(scene, model, None, opts.keep_history)?;
         let mut resp = Response::new(scene, model, memory.columns())?;
+        let mut contact = validity::ContactMonitor::new(&model.gaps, n);
         let outcome = {
-            let mut all: Vec<&mut dyn Sink> = vec![&mut resp as &mut dyn Sink];
+            let mut all: Vec<&mut dyn Sink> =
+                vec![&mut resp as &mut dyn Sink, &mut contact as &mut dyn Sink];
             if opts.keep_history {
                 all.push(&mut memory as &mut dyn Sink);
             }
@@ -273,9 +333,64 @@ impl Prepared<'_> {
         if !outcome.status.is_success() {
             progress.info(format!("integration stopped: {:?}", outcome.status));
         }
-        // Verdict on the response after the ramp.
+        // Verdict on the response after the ramp, before any tensile contact.
+        let contact = contact.validity;
+        let separation = false;
         let t_after = self.problem.load.t_load.max(t_start);
-        let (response, verdict) = resp.verdict(t_after, opts.stall_h, memory.columns());
+        let t_stop = contact
+            .first_separation
+            .filter(|_| !separation)
+            .map(|e| e.t);
+        // The growth and frequency are fitted on the whole window after the ramp; a clear
+        // growth counts as squeal only within the part where the contact was valid.
+        let (response, mut verdict) = resp.verdict(t_after, opts.stall_h, None, memory.columns());
+        let growth_while_valid = match t_stop {
+            Some(_) => {
+                resp.verdict(t_after, opts.stall_h, t_stop, memory.columns())
+                    .1
+            }
+            None => verdict.clone(),
+        };
+        verdict.valid_until = t_stop;
+        let verdict_cea = scene
+            .output
+            .verdict_cea
+            .runs(n)
+            .then(|| self.verdict_cea(progress));
+        let mut frequencies = Vec::new();
+        if let Some(f) = verdict.dominant_frequency_hz {
+            frequencies.push((guard::FrequencySource::Dominant, f));
+        }
+        match (&verdict_cea, scene.band_hz()) {
+            (Some(c), _) if c.error.is_none() => {
+                if let Some(f) = c.unstable_in_band.iter().map(|r| r.0).reduce(Real::max) {
+                    frequencies.push((guard::FrequencySource::CeaUnstable, f));
+                }
+            }
+            (_, Some(band)) => frequencies.push((guard::FrequencySource::BandTop, band)),
+            _ => {}
+        }
+        let (state, resolution, detectable) = guard::judge(&guard::Evidence {
+            clear_growth: growth_while_valid.is_squeal(
+                scene.output.squeal_growth_threshold,
+                scene.output.squeal_min_growth_factor,
+            ),
+            window: verdict.window,
+            h_max_window: verdict.h_max_window,
+            frequencies,
+            contact: &contact,
+            separation,
+            status: &outcome.status,
+            h_end: Some(stepper.h_order().0),
+            integrator: stepper.integrator(),
+            max_order: spec.maxord,
+            rho_inf: spec.rho_inf,
+            min_growth_rate_per_s: scene.output.min_growth_rate_per_s,
+            min_growth_factor: scene.output.squeal_min_growth_factor,
+        });
+        verdict.state = state;
+        verdict.resolution = resolution;
+        verdict.detectable_growth_per_s = detectable;
         let (active_effects, ignored) = effects::effects(scene, model, &self.problem);
         let stats = stepper.stats();
         let (drift, max_drift) = stats.constraint_drift();
@@ -292,10 +407,7 @@ impl Prepared<'_> {
             steps: stats.steps(),
             cpu_s: stats.cpu_s(),
             bookkeeping_s: outcome.bookkeeping_s,
-            squeal: verdict.is_squeal(
-                scene.output.squeal_growth_threshold,
-                scene.output.squeal_min_growth_factor,
-            ),
+            squeal: verdict.state.is_squeal(),
             growth_rate_per_s: verdict.growth_rate_per_s,
             dominant_frequency_hz: verdict.dominant_frequency_hz,
             response,
@@ -319,8 +431,48 @@ impl Prepared<'_> {
             ignored,
             model_hash: self.model_hash.clone(),
             restarted_from,
+            step_bound: self.bound.clone(),
+            contact,
+            verdict_cea,
             history,
         })
+    }
+
+    /// The CEA at the steady state under the full brake load (the state the response after
+    /// the ramp vibrates about), for the verdict; a failure is recorded, not fatal.
+    fn verdict_cea(&self, progress: &Progress) -> VerdictCeaResult {
+        let mut cs = self.scene.clone();
+        let mut spec = cs.cea.clone().unwrap_or_default();
+        spec.sweep = None;
+        cs.cea = Some(spec);
+        let band = self.scene.band_hz().unwrap_or(Real::INFINITY);
+        match crate::stages::cea::compute(
+            &cs,
+            self.model,
+            &progress.silenced(),
+            &Default::default(),
+        ) {
+            Ok(c) => {
+                let unstable = c.unstable();
+                VerdictCeaResult {
+                    unstable_in_band: unstable
+                        .iter()
+                        .filter(|(_, m)| m.frequency_hz <= band)
+                        .map(|(_, m)| (m.frequency_hz, m.real_part))
+                        .collect(),
+                    unstable_outside_band: unstable
+                        .iter()
+                        .filter(|(_, m)| m.frequency_hz > band)
+                        .count(),
+                    error: None,
+                }
+            }
+            Err(e) => VerdictCeaResult {
+                unstable_in_band: Vec::new(),
+                unstable_outside_band: 0,
+                error: Some(e.to_string()),
+            },
+        }
     }
 }
 

@@ -317,16 +317,21 @@ impl Response {
     /// With `stall_h`, only the growth phase is analysed: the steps up to the first one
     /// shorter than `stall_h` after the ramp (where a squealing response reaches slip reversal
     /// and the step collapses).
+    ///
+    /// With `t_stop`, only the steps before it are analysed (the contact went tensile there).
     pub fn verdict(
         &self,
         t_after: Real,
         stall_h: Option<Real>,
+        t_stop: Option<Real>,
         cols: &[Column],
     ) -> (String, Verdict) {
         let t = &self.t;
-        let end = stall_h
+        let stall = stall_h
             .and_then(|h| (1..t.len()).find(|&i| t[i] > t_after && t[i] - t[i - 1] < h))
             .unwrap_or(t.len());
+        let stop = t_stop.map_or(t.len(), |ts| t.partition_point(|&x| x < ts));
+        let end = stall.min(stop);
         let (t, v): (&[Real], Vec<&[Real]>) =
             (&t[..end], self.v.iter().map(|v| &v[..end]).collect());
         let pick = v

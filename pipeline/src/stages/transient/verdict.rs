@@ -1,5 +1,6 @@
 //! The squeal verdict: growth rate of the response envelope and its dominant frequency.
 
+use super::guard::{Resolution, Unresolved, VerdictState};
 use serde::Serialize;
 
 type Real = f64;
@@ -24,11 +25,24 @@ pub struct Verdict {
     pub n_peaks: usize,
     /// Window [t_start, t_end] analysed.
     pub window: [Real; 2],
+    /// `squeal`, `no_squeal`, or `unresolved` with its reasons (the guard: `guard.rs`).
+    #[serde(flatten)]
+    pub state: VerdictState,
+    /// How the run's steps resolve the frequencies it must (dominant, CEA, band top).
+    pub resolution: Vec<Resolution>,
+    /// Smallest growth rate the window can show, ln(G)/T (G: the required growth factor).
+    pub detectable_growth_per_s: Option<Real>,
+    /// Largest accepted step in the window.
+    pub h_max_window: Option<Real>,
+    /// The contact went tensile here (separation off): a growth counts as squeal only when
+    /// it is clear before this time (None: the contact stayed valid).
+    pub valid_until: Option<Real>,
 }
 
 impl Verdict {
-    /// Squeal: the envelope grows faster than `rate` (per unit time) and by at least
-    /// `min_factor` over the analysed window.
+    /// A clear growth: the envelope grows faster than `rate` (per unit time) and by at least
+    /// `min_factor` over the analysed window. (The verdict's `state` also weighs whether a run
+    /// without it could have seen squeal.)
     pub fn is_squeal(&self, rate: Real, min_factor: Real) -> bool {
         match (self.growth_rate_per_s, self.growth_factor) {
             (Some(g), Some(f)) => g > rate && f >= min_factor,
@@ -124,6 +138,16 @@ pub fn analyse(t: &[Real], x: &[Real], t_after: Real) -> Verdict {
             t.first().copied().unwrap_or(0.0),
             t.last().copied().unwrap_or(0.0),
         ],
+        // Judged by the guard once the run's validity is known.
+        state: VerdictState::Unresolved {
+            reasons: vec![Unresolved::NoResponse],
+        },
+        resolution: Vec::new(),
+        detectable_growth_per_s: None,
+        valid_until: None,
+        h_max_window: (1..t.len())
+            .map(|i| t[i] - t[i - 1])
+            .fold(None, |m: Option<Real>, h| Some(m.map_or(h, |m| m.max(h)))),
     }
 }
 

@@ -1,0 +1,368 @@
+//! The verdict's guard: a run says "no squeal" only when it could have seen squeal.
+//!
+//! A transient that finds no clear growth is a negative only if
+//! - its steps resolve the frequencies it must: the response's dominant frequency and the
+//!   highest in-band unstable frequency of a CEA of the same state (or, without a CEA, the top
+//!   of the model's band). At a frequency f and the largest step h of the analysed window, the
+//!   integrator's own numerical decay σ_num(h, f) (BDF1/BDF2: from the principal root of the
+//!   method's characteristic equation on y' = iωy; generalized-α: its algorithmic damping) must
+//!   stay below the smallest growth that matters, `output.min_growth_rate_per_s` — otherwise a
+//!   root growing that fast would be damped away numerically;
+//! - its window is long enough to see that growth: the detectable rate ln(G)/T of a window of
+//!   length T, with G = `output.squeal_min_growth_factor` (the growth the verdict requires),
+//!   must not exceed `min_growth_rate_per_s`;
+//! - its contact stayed valid (no gap went tensile while separation is off);
+//! - it reached TFINAL (no step-size collapse or convergence failure, no step cap).
+//!
+//! A clear growth before any of these failures is a positive (`squeal`): the A-stable
+//! integrators used here do not create growth, and the contact was valid while it grew.
+//! Anything else is `unresolved`, with every reason and its numbers.
+
+use super::validity::{ContactValidity, GapEvent};
+use crate::scene::Integrator;
+use num_complex::Complex64;
+use serde::Serialize;
+use squeal_solver::bdf::Status;
+
+type Real = f64;
+
+/// Where a frequency the run must resolve comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrequencySource {
+    /// The dominant frequency of the response.
+    Dominant,
+    /// The highest unstable root in the band of a CEA at the run's steady state.
+    CeaUnstable,
+    /// The top of the model's band (no CEA to say where an unstable root could be).
+    BandTop,
+}
+
+/// How well the run's steps resolve one frequency.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Resolution {
+    pub source: FrequencySource,
+    pub frequency_hz: Real,
+    /// 1/(h f) with h the largest step of the analysed window.
+    pub samples_per_period: Real,
+    pub h_times_f: Real,
+    /// The integrator's numerical decay rate of an undamped oscillation at f with step h, 1/s.
+    pub numerical_decay_per_s: Real,
+    /// `numerical_decay_per_s` ≤ the smallest growth that matters.
+    pub resolved: bool,
+}
+
+/// Why a run could not decide.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "reason", rename_all = "snake_case")]
+pub enum Unresolved {
+    /// The steps are too coarse for a frequency the run must resolve.
+    StepsTooCoarse(Resolution),
+    /// The analysed window is too short to see the smallest growth that matters.
+    WindowTooShort {
+        window_s: Real,
+        detectable_growth_per_s: Real,
+        min_growth_rate_per_s: Real,
+    },
+    /// A gap went tensile (p_n < 0) with separation off: the bilateral contact holds in
+    /// tension and the friction force reverses from then on.
+    ContactTensile(GapEvent),
+    /// The integration stopped before TFINAL.
+    Stopped {
+        t: Real,
+        h: Option<Real>,
+        status: Status,
+    },
+    /// No response after the load ramp to analyse.
+    NoResponse,
+}
+
+/// The verdict's state.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "state", rename_all = "snake_case")]
+pub enum VerdictState {
+    /// A clear growth while the run was valid.
+    Squeal,
+    /// No growth, and the run could have seen growth at `min_growth_rate_per_s`.
+    NoSqueal,
+    /// Neither can be claimed.
+    Unresolved { reasons: Vec<Unresolved> },
+}
+
+impl VerdictState {
+    pub fn is_squeal(&self) -> bool {
+        matches!(self, VerdictState::Squeal)
+    }
+    /// A short word for tables.
+    pub fn label(&self) -> &'static str {
+        match self {
+            VerdictState::Squeal => "squeal",
+            VerdictState::NoSqueal => "no squeal",
+            VerdictState::Unresolved { .. } => "unresolved",
+        }
+    }
+}
+
+impl std::fmt::Display for Unresolved {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Unresolved::StepsTooCoarse(r) => write!(
+                f,
+                "steps too coarse for {:.0} Hz ({:?}): {:.1} steps per period (h·f = {:.3}), \
+                 numerical decay {:.0} /s",
+                r.frequency_hz, r.source, r.samples_per_period, r.h_times_f, r.numerical_decay_per_s
+            ),
+            Unresolved::WindowTooShort {
+                window_s,
+                detectable_growth_per_s,
+                min_growth_rate_per_s,
+            } => write!(
+                f,
+                "window {window_s:.4e} s too short: detects growth above {detectable_growth_per_s:.0} /s, \
+                 not {min_growth_rate_per_s:.0} /s"
+            ),
+            Unresolved::ContactTensile(e) => write!(
+                f,
+                "contact tensile from t = {:.4e} (gap {}, p_n = {:.3e}) with separation off",
+                e.t, e.gap, e.pressure
+            ),
+            Unresolved::Stopped { t, h, status } => {
+                write!(f, "stopped at t = {t:.4e}")?;
+                if let Some(h) = h {
+                    write!(f, ", h = {h:.3e}")?;
+                }
+                write!(f, ": {}", super::status_text(status))
+            }
+            Unresolved::NoResponse => f.write_str("no response after the load ramp"),
+        }
+    }
+}
+
+/// Decay rate of the undamped oscillation y' = iωy, ω = 2πf, under the integrator at step h:
+/// σ = −ln|ξ|/h with ξ the principal root of its characteristic equation.
+///
+/// # Reference
+/// BDF1: ξ = 1/(1 − iωh). BDF2 (fixed step): (3/2 − iωh) ξ² − 2ξ + 1/2 = 0, the root of
+/// largest modulus. Generalized-α: the algorithmic damping ζ̄ of the principal root,
+/// σ = ζ̄ |ln ξ|/h (`squeal_solver::galpha::spectral`). At 40 steps per period BDF2 gives
+/// ζ = 9.1e-4, at 20 steps 6.2e-3, at 10 steps 3.1e-2.
+pub fn numerical_decay(
+    integrator: Integrator,
+    max_order: usize,
+    rho_inf: Real,
+    h: Real,
+    f: Real,
+) -> Real {
+    let th = 2.0 * std::f64::consts::PI * f * h;
+    if !(th.is_finite() && th > 0.0 && h > 0.0) {
+        return 0.0;
+    }
+    let ln_abs = match (integrator, max_order) {
+        (Integrator::GeneralizedAlpha, _) => {
+            let co = squeal_solver::galpha::GalphaCoeffs::from_rho_inf(rho_inf);
+            let d = squeal_solver::galpha::spectral::algorithmic_damping(&co, th);
+            let s_norm = th / (1.0 + d.period_error);
+            -d.zeta * s_norm / (1.0 - d.zeta * d.zeta).max(1e-300).sqrt()
+        }
+        (Integrator::Bdf, 1) => -0.5 * (1.0 + th * th).ln(),
+        (Integrator::Bdf, _) => {
+            // (3/2 − iθ) ξ² − 2ξ + 1/2 = 0.
+            let a = Complex64::new(1.5, -th);
+            let disc = (Complex64::new(4.0, 0.0) - 2.0 * a).sqrt();
+            let r1 = (Complex64::new(2.0, 0.0) + disc) / (2.0 * a);
+            let r2 = (Complex64::new(2.0, 0.0) - disc) / (2.0 * a);
+            r1.norm().max(r2.norm()).ln()
+        }
+    };
+    -ln_abs / h
+}
+
+/// Everything the guard weighs.
+pub struct Evidence<'a> {
+    /// A clear growth in the valid part of the window (the fit's verdict).
+    pub clear_growth: bool,
+    /// Analysed window [t0, t1] (after the ramp, before any invalidity).
+    pub window: [Real; 2],
+    /// Largest accepted step in the window (None: no steps there).
+    pub h_max_window: Option<Real>,
+    /// Frequencies to resolve.
+    pub frequencies: Vec<(FrequencySource, Real)>,
+    pub contact: &'a ContactValidity,
+    /// Separation on: tensile gaps open instead of holding.
+    pub separation: bool,
+    pub status: &'a Status,
+    /// Step size at the end of the run.
+    pub h_end: Option<Real>,
+    pub integrator: Integrator,
+    pub max_order: usize,
+    pub rho_inf: Real,
+    pub min_growth_rate_per_s: Real,
+    pub min_growth_factor: Real,
+}
+
+/// The resolution of each frequency, the window's detectable growth, and the state.
+pub fn judge(e: &Evidence<'_>) -> (VerdictState, Vec<Resolution>, Option<Real>) {
+    let resolutions: Vec<Resolution> = match e.h_max_window {
+        Some(h) => e
+            .frequencies
+            .iter()
+            .filter(|(_, f)| f.is_finite() && *f > 0.0)
+            .map(|&(source, f)| {
+                let decay = numerical_decay(e.integrator, e.max_order, e.rho_inf, h, f);
+                Resolution {
+                    source,
+                    frequency_hz: f,
+                    samples_per_period: 1.0 / (h * f),
+                    h_times_f: h * f,
+                    numerical_decay_per_s: decay,
+                    resolved: decay <= e.min_growth_rate_per_s,
+                }
+            })
+            .collect(),
+        None => Vec::new(),
+    };
+    let span = e.window[1] - e.window[0];
+    let detectable = (span > 0.0).then(|| e.min_growth_factor.max(2.0).ln() / span);
+    if e.clear_growth {
+        return (VerdictState::Squeal, resolutions, detectable);
+    }
+    let mut reasons = Vec::new();
+    if e.h_max_window.is_none() {
+        reasons.push(Unresolved::NoResponse);
+    }
+    reasons.extend(
+        resolutions
+            .iter()
+            .filter(|r| !r.resolved)
+            .map(|r| Unresolved::StepsTooCoarse(*r)),
+    );
+    if let Some(d) = detectable {
+        if d > e.min_growth_rate_per_s {
+            reasons.push(Unresolved::WindowTooShort {
+                window_s: span,
+                detectable_growth_per_s: d,
+                min_growth_rate_per_s: e.min_growth_rate_per_s,
+            });
+        }
+    }
+    if let (false, Some(ev)) = (e.separation, e.contact.first_separation) {
+        reasons.push(Unresolved::ContactTensile(ev));
+    }
+    if !e.status.is_success() {
+        let t = match e.status {
+            Status::StepSizeTooSmall { t, .. }
+            | Status::ErrorTestFailures { t, .. }
+            | Status::ConvergenceFailures { t, .. }
+            | Status::MaxSteps { t, .. }
+            | Status::Interrupted { t }
+            | Status::Reached { t } => *t,
+        };
+        let h = match e.status {
+            Status::StepSizeTooSmall { h, .. }
+            | Status::ErrorTestFailures { h, .. }
+            | Status::ConvergenceFailures { h, .. } => Some(*h),
+            _ => e.h_end,
+        };
+        reasons.push(Unresolved::Stopped {
+            t,
+            h,
+            status: e.status.clone(),
+        });
+    }
+    let state = match reasons.is_empty() {
+        true => VerdictState::NoSqueal,
+        false => VerdictState::Unresolved { reasons },
+    };
+    (state, resolutions, detectable)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// BDF2's numerical damping ratio at N steps per period against the values computed from
+    /// the characteristic root independently (numpy.roots on the same polynomial): 40 → 9.128e-4,
+    /// 20 → 6.227e-3, 10 → 3.124e-2; BDF1 against ln(1 + θ²)/(2θ).
+    #[test]
+    fn numerical_decay_of_bdf1_and_bdf2() {
+        let f = 1000.0;
+        for (n, zeta) in [(40.0, 9.128e-4), (20.0, 6.227e-3), (10.0, 3.124e-2)] {
+            let h = 1.0 / (n * f);
+            let s = numerical_decay(Integrator::Bdf, 2, 0.9, h, f);
+            let z = s / (2.0 * std::f64::consts::PI * f);
+            assert!((z / zeta - 1.0).abs() < 1e-3, "N = {n}: {z} vs {zeta}");
+        }
+        let h = 1e-4;
+        let th = 2.0 * std::f64::consts::PI * f * h;
+        let s1 = numerical_decay(Integrator::Bdf, 1, 0.9, h, f);
+        assert!((s1 - (1.0 + th * th).ln() / (2.0 * h)).abs() < 1e-9 * s1);
+        // Generalized-α with ρ∞ = 1 is energy conserving: no decay.
+        let s = numerical_decay(Integrator::GeneralizedAlpha, 2, 1.0, h, f);
+        assert!(s.abs() < 1e-6, "{s}");
+        assert!(numerical_decay(Integrator::GeneralizedAlpha, 2, 0.5, h, f) > 0.0);
+    }
+
+    fn base<'a>(c: &'a ContactValidity, st: &'a Status) -> Evidence<'a> {
+        Evidence {
+            clear_growth: false,
+            window: [0.0, 0.02],
+            h_max_window: Some(2.5e-6),
+            frequencies: vec![(FrequencySource::Dominant, 2000.0)],
+            contact: c,
+            separation: false,
+            status: st,
+            h_end: Some(2.5e-6),
+            integrator: Integrator::Bdf,
+            max_order: 2,
+            rho_inf: 0.9,
+            min_growth_rate_per_s: 100.0,
+            min_growth_factor: 2.0,
+        }
+    }
+
+    /// Each guard turns a negative into `unresolved` with its reason; a clear growth stays
+    /// `squeal` whatever else happened.
+    #[test]
+    fn guards_decide_the_state() {
+        let c = ContactValidity::default();
+        let ok = Status::Reached { t: 0.02 };
+        assert_eq!(judge(&base(&c, &ok)).0, VerdictState::NoSqueal);
+        // 0.02 s window: ln 2 / 0.02 = 34.7 /s ≤ 100.
+        assert!((judge(&base(&c, &ok)).2.unwrap() - 2f64.ln() / 0.02).abs() < 1e-12);
+        let mut e = base(&c, &ok);
+        e.h_max_window = Some(2.1e-3); // the hex20 example's last step: 1 step per period
+        let (s, r, _) = judge(&e);
+        assert!(
+            matches!(&s, VerdictState::Unresolved { reasons } if matches!(reasons[0], Unresolved::StepsTooCoarse(_))),
+            "{s:?}"
+        );
+        assert!(!r[0].resolved && r[0].samples_per_period < 1.0);
+        let mut e = base(&c, &ok);
+        e.window = [0.0025, 0.006];
+        assert!(matches!(judge(&e).0, VerdictState::Unresolved { .. }));
+        let tensile = ContactValidity {
+            first_separation: Some(GapEvent {
+                t: 0.0171,
+                gap: 0,
+                pressure: -3.0,
+            }),
+            ..Default::default()
+        };
+        let s = judge(&base(&tensile, &ok)).0;
+        assert!(format!("{s:?}").contains("ContactTensile"), "{s:?}");
+        let mut e = base(&tensile, &ok);
+        e.separation = true;
+        assert_eq!(judge(&e).0, VerdictState::NoSqueal);
+        let collapsed = Status::StepSizeTooSmall {
+            t: 0.019,
+            h: 1e-14,
+            order: 1,
+            residual_norm: 1.0,
+        };
+        let s = judge(&base(&c, &collapsed)).0;
+        assert!(matches!(s, VerdictState::Unresolved { .. }), "{s:?}");
+        let mut e = base(&tensile, &collapsed);
+        e.clear_growth = true;
+        assert_eq!(judge(&e).0, VerdictState::Squeal);
+    }
+}
