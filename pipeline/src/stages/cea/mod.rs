@@ -66,6 +66,27 @@ pub struct StateOut {
     pub max_abs_velocity: Real,
 }
 
+/// Roots above the validity band (the band the model was reduced for, or
+/// `cea.max_frequency_hz` if lower): outside what the reduced model represents — e.g. the
+/// flutter of the interface modes of rigid contact at the mesh scale — so never squeal.
+#[derive(Debug, Clone, Serialize)]
+pub struct OutsideBand {
+    /// The band's top (None: no band known, nothing is outside).
+    pub band_hz: Option<Real>,
+    /// Roots above it.
+    pub count: usize,
+    pub n_unstable: usize,
+    /// Highest frequency among them.
+    pub max_frequency_hz: Option<Real>,
+    /// The most unstable of them (at most [`OutsideBand::LISTED`]); `index` is not used.
+    pub unstable: Vec<ModeOut>,
+}
+
+impl OutsideBand {
+    /// Unstable roots listed.
+    pub const LISTED: usize = 20;
+}
+
 /// `cea.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct CeaOut {
@@ -79,6 +100,8 @@ pub struct CeaOut {
     pub modes: Vec<ModeOut>,
     /// Indices (into `modes`) of the unstable modes, most unstable first.
     pub unstable: Vec<usize>,
+    /// Roots above the validity band, apart.
+    pub outside_band: OutsideBand,
     pub stats: CeaStats,
 }
 
@@ -98,8 +121,10 @@ pub struct CeaReport {
     pub max_real_part_frequency_hz: Option<Real>,
     /// Smallest damping ratio ζ among the reported modes (negative: unstable).
     pub min_damping_ratio: Option<Real>,
-    /// The unstable modes, most unstable first.
+    /// The unstable modes in the band, most unstable first.
     pub unstable_modes: Vec<ModeOut>,
+    /// Roots above the validity band (never squeal).
+    pub outside_band: OutsideBand,
     pub cea_stats: CeaStats,
     pub sweep_stats: Option<squeal_solver::cea::SweepStats>,
     pub lowest_critical_mu: Option<Real>,
@@ -232,12 +257,37 @@ pub fn compute(
         "{} modes, {} unstable",
         res.stats.n_modes, res.stats.n_unstable
     ));
-    let fmax = spec.max_frequency_hz.unwrap_or(Real::INFINITY);
-    let kept: Vec<Mode> = res
-        .modes
-        .into_iter()
-        .filter(|m| m.frequency_hz <= fmax)
+    // The validity band: what the model was reduced for, or `max_frequency_hz` if lower.
+    // Roots above it are listed apart and never count as squeal.
+    let band_hz = match (scene.band_hz(), spec.max_frequency_hz) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    };
+    let fmax = band_hz.unwrap_or(Real::INFINITY);
+    let (kept, above): (Vec<Mode>, Vec<Mode>) =
+        res.modes.into_iter().partition(|m| m.frequency_hz <= fmax);
+    let mut above_unstable: Vec<ModeOut> = above
+        .iter()
+        .filter(|m| m.unstable)
+        .map(|m| ModeOut {
+            index: usize::MAX,
+            frequency_hz: m.frequency_hz,
+            real_part: m.real_part,
+            damping_ratio: m.damping_ratio,
+            unstable: true,
+        })
         .collect();
+    above_unstable.sort_by(|a, b| b.real_part.total_cmp(&a.real_part));
+    let outside_band = OutsideBand {
+        band_hz,
+        count: above.len(),
+        n_unstable: above_unstable.len(),
+        max_frequency_hz: above.iter().map(|m| m.frequency_hz).reduce(Real::max),
+        unstable: above_unstable
+            .into_iter()
+            .take(OutsideBand::LISTED)
+            .collect(),
+    };
     let modes_out: Vec<ModeOut> = kept
         .iter()
         .enumerate()
@@ -270,6 +320,7 @@ pub fn compute(
         },
         modes: modes_out,
         unstable,
+        outside_band,
         stats: res.stats,
     };
     let mut sweep_rep = None;
@@ -330,6 +381,7 @@ pub fn write(
     if let Some(stem) = outputs::write_stability_map(
         dir,
         &kept,
+        c.out.outside_band.band_hz,
         &format!("Stability map ({} unstable)", unstable.len()),
     )? {
         files.push(format!("{stem}.png"));
@@ -374,6 +426,7 @@ pub fn write(
             .filter_map(|m| m.damping_ratio)
             .reduce(f64::min),
         unstable_modes: unstable.iter().map(|&i| modes[i].clone()).collect(),
+        outside_band: c.out.outside_band.clone(),
         cea_stats: c.out.stats.clone(),
         sweep_stats: c.sweep.as_ref().map(|r| r.stats.clone()),
         lowest_critical_mu: c.sweep.as_ref().and_then(|r| r.lowest_critical_mu),

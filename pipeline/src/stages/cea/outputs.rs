@@ -231,10 +231,12 @@ pub fn export_tangents(
     Ok([p1.display().to_string(), p2.display().to_string()])
 }
 
-/// `stability_map.{png,svg}` of the reported modes (real roots left out). Returns the stem.
+/// `stability_map.{png,svg}` of the reported modes (real roots left out), with the validity
+/// band's top as a grey line. Returns the stem.
 pub fn write_stability_map(
     dir: &RunDir,
     modes: &[&Mode],
+    band_hz: Option<f64>,
     title: &str,
 ) -> Result<Option<String>, PipelineError> {
     let pts: Vec<(f64, f64, bool)> = modes
@@ -247,6 +249,21 @@ pub fn write_stability_map(
     }
     let mut fig = stability_map(&pts);
     fig.title = title.to_string();
+    if let Some(b) = band_hz.filter(|b| b.is_finite()) {
+        // The band's top as a vertical line over the data's range of Re p.
+        let (lo, hi) = pts
+            .iter()
+            .fold((0.0f64, 0.0f64), |(l, h), p| (l.min(p.1), h.max(p.1)));
+        fig.series.push(
+            crate::figures::Series::new(
+                format!("band top {b:.0} Hz"),
+                vec![b, b],
+                vec![lo, hi.max(lo + 1.0)],
+                crate::figures::SeriesStyle::Line,
+            )
+            .with_color([127, 127, 127]),
+        );
+    }
     let stem = dir.path("stability_map");
     let drawn =
         write_figure(&fig, &stem).map_err(|e| out_err(dir, "stability_map.png")(e.to_string()))?;

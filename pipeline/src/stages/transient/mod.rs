@@ -445,28 +445,22 @@ impl Prepared<'_> {
         let mut spec = cs.cea.clone().unwrap_or_default();
         spec.sweep = None;
         cs.cea = Some(spec);
-        let band = self.scene.band_hz().unwrap_or(Real::INFINITY);
         match crate::stages::cea::compute(
             &cs,
             self.model,
             &progress.silenced(),
             &Default::default(),
         ) {
-            Ok(c) => {
-                let unstable = c.unstable();
-                VerdictCeaResult {
-                    unstable_in_band: unstable
-                        .iter()
-                        .filter(|(_, m)| m.frequency_hz <= band)
-                        .map(|(_, m)| (m.frequency_hz, m.real_part))
-                        .collect(),
-                    unstable_outside_band: unstable
-                        .iter()
-                        .filter(|(_, m)| m.frequency_hz > band)
-                        .count(),
-                    error: None,
-                }
-            }
+            // The CEA's modes are those in its validity band; the rest it counts apart.
+            Ok(c) => VerdictCeaResult {
+                unstable_in_band: c
+                    .unstable()
+                    .iter()
+                    .map(|(_, m)| (m.frequency_hz, m.real_part))
+                    .collect(),
+                unstable_outside_band: c.out.outside_band.n_unstable,
+                error: None,
+            },
             Err(e) => VerdictCeaResult {
                 unstable_in_band: Vec::new(),
                 unstable_outside_band: 0,

@@ -1,0 +1,83 @@
+//! The false negative of issue 11: a run whose steps are too coarse for the vibration must not
+//! say "no squeal". On a hex20 version of the coarse study brake (examples/sample-brake/
+//! base.toml with every component in hex20, 502 reduced DOFs) loaded as the shipped hex20
+//! example was (1 psi on each pad's back), the error test at the paper's ATOL1 steps over the
+//! 2 kHz vibration without a step bound (230 steps to 6 ms, 14 per period of the response,
+//! 2.9 per period of the highest in-band unstable CEA root at 9.3 kHz; measured): that run
+//! found no growth and used to report `squeal: false`. Whenever the CEA at the run's state has
+//! an in-band unstable root, the verdict must be `squeal` or `unresolved`, never `no_squeal`.
+
+mod common;
+use common::{json, root, run, squeal, tmp};
+
+fn hex20_run(name: &str, extra: &[&str]) -> serde_json::Value {
+    let out = tmp(name);
+    let mut cmd = squeal();
+    cmd.args(["-q", "transient"])
+        .arg(root().join("examples/sample-brake/base.toml"))
+        .arg("--out")
+        .arg(&out);
+    for s in [
+        "components.0.element=hex20",
+        "components.1.element=hex20",
+        "components.2.element=hex20",
+        "components.3.element=hex20",
+        "loads.pressure.0.pressure=1.0",
+        "loads.pressure.1.pressure=1.0",
+    ]
+    .iter()
+    .chain(extra)
+    {
+        cmd.args(["--set", s]);
+    }
+    let (ok, _, stderr) = run(&mut cmd);
+    assert!(ok, "{stderr}");
+    json(&out.join("summary.json"))
+}
+
+#[test]
+fn coarse_steps_never_give_no_squeal_when_the_cea_has_an_unstable_root() {
+    for (name, extra) in [
+        (
+            "verdict-hex20-unbounded",
+            vec!["transient.band_step_bound=false"],
+        ),
+        ("verdict-hex20-band-bound", vec![]),
+    ] {
+        let s = hex20_run(name, &extra);
+        let cea = &s["verdict_cea"];
+        assert!(cea["error"].is_null(), "{cea}");
+        let unstable = cea["unstable_in_band"].as_array().unwrap();
+        assert!(
+            !unstable.is_empty(),
+            "the CEA finds in-band unstable roots: {cea}"
+        );
+        let v = &s["verdict"];
+        let state = v["state"].as_str().unwrap();
+        assert!(state == "squeal" || state == "unresolved", "{name}: {v}");
+        assert_eq!(s["squeal"].as_bool().unwrap(), state == "squeal");
+        if name.ends_with("unbounded") {
+            // The reason is named with its numbers: the highest in-band unstable frequency
+            // gets fewer than 20 steps per period.
+            let coarse: Vec<&serde_json::Value> = v["reasons"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .filter(|r| r["reason"] == "steps_too_coarse")
+                .collect();
+            assert!(!coarse.is_empty(), "{v}");
+            assert!(
+                coarse.iter().any(|r| r["source"] == "cea_unstable"
+                    && r["samples_per_period"].as_f64().unwrap() < 20.0),
+                "{v}"
+            );
+        } else {
+            // The band bound keeps every step at or below 1/(20 × 10 kHz).
+            assert!(
+                v["h_max_window"].as_f64().unwrap() <= 5e-6 * (1.0 + 1e-12),
+                "{v}"
+            );
+            assert_eq!(s["step_bound"]["band_h_max"].as_f64().unwrap(), 5e-6);
+        }
+    }
+}
