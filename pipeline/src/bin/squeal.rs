@@ -235,6 +235,7 @@ fn run(cli: Cli) -> Result<()> {
                 export_dae.as_deref(),
                 cache.as_ref(),
             )?;
+            r.warnings.iter().for_each(|w| eprintln!("squeal: {w}"));
             progress.info(format!(
                 "{} steps, {:.2} s: squeal = {}, growth rate {:?} /s, dominant frequency {:?} Hz ({})",
                 r.steps, r.cpu_s, r.squeal, r.growth_rate_per_s, r.dominant_frequency_hz, r.response
@@ -264,6 +265,7 @@ fn run(cli: Cli) -> Result<()> {
                 cache: cache.dir().map(stages::model::ModelCache::new),
             };
             let r = stages::cea::run(&scene, &dir, progress, &args)?;
+            r.warnings.iter().for_each(|w| eprintln!("squeal: {w}"));
             let mut lines = format!(
                 "{} modes, {} unstable (max Re p = {:?})",
                 r.n_modes_reported, r.n_unstable, r.max_real_part

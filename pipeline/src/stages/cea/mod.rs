@@ -113,6 +113,8 @@ pub struct CeaReport {
     /// How the reduced model came through the cache (`--cache` only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub model_cache: Option<model::CacheUse>,
+    /// Inputs accepted with a measured value to know about ([`crate::warning`]).
+    pub warnings: Vec<crate::warning::Warning>,
 }
 
 fn cea_err(what: &str) -> impl FnOnce(squeal_solver::cea::CeaError) -> PipelineError + '_ {
@@ -310,6 +312,7 @@ pub fn run_on_model(
         files,
         model_hash: problem.model_hash(),
         model_cache: cache_use,
+        warnings: model.warnings.clone(),
     };
     dir.write_json("summary.json", &report)?;
     Ok(report)

@@ -161,6 +161,7 @@ pub(super) fn run(
         ignored,
         model_hash: problem.model_hash(),
         restarted_from: None,
+        warnings: model.warnings.clone(),
     };
     dir.write_json("summary.json", &report)?;
     Ok(report)

@@ -80,6 +80,8 @@ pub struct TransientReport {
     pub ignored: Vec<String>,
     pub model_hash: String,
     pub restarted_from: Option<String>,
+    /// Inputs accepted with a measured value to know about ([`crate::warning`]).
+    pub warnings: Vec<crate::warning::Warning>,
 }
 
 /// Steady-state solve summary.
@@ -461,6 +463,7 @@ pub fn run_on_model(
         ignored,
         model_hash,
         restarted_from,
+        warnings: model.warnings.clone(),
     };
     dir.write_json("summary.json", &report)?;
     Ok(report)
