@@ -468,3 +468,104 @@ fn non_finite_scene_numbers_are_rejected_naming_the_key() {
         failures[..failures.len().min(60)].join("\n")
     );
 }
+
+/// A restart file with one field edited: the run stops before integrating, naming the file
+/// and the field. Two of these panicked (an order above MAXORD: index out of bounds in
+/// bdf/coeffs.rs; an empty order histogram: bdf/step.rs), two named no file (h ≤ 0, a short yp).
+#[test]
+fn restart_fields_are_checked_naming_the_file_and_the_field() {
+    let (dir, scene) = fixture("input-restart", &models::belt());
+    let s = Scene::load(&scene, &[]).unwrap();
+    let first = RunDir::create(&dir.join("first")).unwrap();
+    squeal_pipeline::stages::transient::run(&s, &first, Progress { quiet: true }, None).unwrap();
+    let good: serde_json::Value = json(&first.path("restart.json"));
+    assert!(good["state"]["stats"]["steps"].as_u64().unwrap() > 10);
+    let resume = |r: &serde_json::Value, extra: &[&str]| -> Result<(), String> {
+        let p = dir.join("edited.restart.json");
+        std::fs::write(&p, serde_json::to_string(r).unwrap()).unwrap();
+        let mut set = vec![
+            format!("transient.restart=\"{}\"", p.display()),
+            "transient.tfinal=0.02".to_string(),
+        ];
+        set.extend(extra.iter().map(|s| s.to_string()));
+        let s = Scene::load(&scene, &set).map_err(|e| e.to_string())?;
+        let out = RunDir::create(&dir.join("resumed")).unwrap();
+        squeal_pipeline::stages::transient::run(&s, &out, Progress { quiet: true }, None)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    };
+    resume(&good, &[]).unwrap();
+    type Edit = fn(&mut serde_json::Value);
+    let cases: [(&str, Edit, &str); 11] = [
+        (
+            "order above MAXORD",
+            |r| r["state"]["order"] = 7.into(),
+            "field `state.order`: 7 is not in 1..=2",
+        ),
+        (
+            "empty order histogram",
+            |r| r["state"]["stats"]["order_histogram"] = serde_json::json!([]),
+            "field `state.stats.order_histogram`: has 0 entries",
+        ),
+        (
+            "negative h",
+            |r| r["state"]["h"] = (-1e-3).into(),
+            "field `state.h`: -0.001 must be finite and > 0",
+        ),
+        (
+            "zero h",
+            |r| r["state"]["h"] = 0.0.into(),
+            "field `state.h`: 0 must be",
+        ),
+        (
+            "short yp",
+            |r| {
+                r["state"]["yp"].as_array_mut().unwrap().pop();
+            },
+            "field `state.yp`: has 6 entries, expected 7",
+        ),
+        (
+            "short phi row",
+            |r| {
+                r["state"]["phi"][1].as_array_mut().unwrap().pop();
+            },
+            "field `state.phi[1]`: has 6 entries",
+        ),
+        (
+            "k_used above MAXORD",
+            |r| r["state"]["k_used"] = 4.into(),
+            "field `state.k_used`",
+        ),
+        (
+            "phase 2",
+            |r| r["state"]["phase"] = 2.into(),
+            "field `state.phase`",
+        ),
+        ("time", |r| r["t"] = 1.0.into(), "field `t`: 1 differs"),
+        (
+            "max_order",
+            |r| r["max_order"] = 9.into(),
+            "field `max_order`: 9 is not a BDF order",
+        ),
+        (
+            "state n",
+            |r| r["state"]["n"] = 5.into(),
+            "field `state.n`: 5 differs from 2n + ng = 7",
+        ),
+    ];
+    for (what, edit, want) in cases {
+        let mut r = good.clone();
+        edit(&mut r);
+        let e = resume(&r, &[]).unwrap_err();
+        assert!(
+            e.contains("edited.restart.json") && e.contains(want),
+            "{what}: {e}"
+        );
+    }
+    // Another MAXORD than the run that wrote it.
+    let e = resume(&good, &["transient.maxord=3"]).unwrap_err();
+    assert!(
+        e.contains("edited.restart.json: field `max_order`: 2") && e.contains("maxord is 3"),
+        "{e}"
+    );
+}

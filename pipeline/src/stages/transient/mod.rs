@@ -317,9 +317,7 @@ pub fn run_on_model(
     let (mut bdf, steady, ic, restarted_from) = match &spec.restart {
         Some(p) => {
             let path = scene.resolve(p);
-            let r = RestartFile::read(&path, &model_hash, n, ng)?;
-            let bdf =
-                Bdf::from_state(bdf_opts.clone(), r.state).map_err(solver_err("restart state"))?;
+            let bdf = RestartFile::read(&path, &model_hash, n, ng)?.bdf(&path, bdf_opts.clone())?;
             (bdf, None, None, Some(path.display().to_string()))
         }
         None => {

@@ -109,7 +109,7 @@ pub(super) fn write_entry(
     let mut sums = BTreeMap::new();
     for (name, bytes) in &files {
         let p = dir.join(name);
-        std::fs::write(&p, bytes).map_err(io_err(&p))?;
+        crate::output::write_synced(&p, bytes).map_err(io_err(&p))?;
         sums.insert(
             name.to_string(),
             FileSum {
@@ -134,7 +134,8 @@ pub(super) fn write_entry(
         message: e.to_string(),
     })?;
     let p = dir.join(META);
-    std::fs::write(&p, text).map_err(io_err(&p))
+    crate::output::write_synced(&p, text.as_bytes()).map_err(io_err(&p))?;
+    crate::output::sync_dir(dir).map_err(io_err(dir))
 }
 
 /// Reads and checks an entry; `Err` says why it cannot be used (missing or altered file,

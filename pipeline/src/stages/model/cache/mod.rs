@@ -171,17 +171,19 @@ impl ModelCache {
         })?;
         let path = self.entry_path(key);
         let done = entry::write_entry(&tmp, key, model, build_s).and_then(|()| {
-            std::fs::rename(&tmp, &path).or_else(|source| {
-                // Another process stored the same key first: keep its entry.
-                if path.join(entry::META).is_file() {
-                    Ok(())
-                } else {
-                    Err(PipelineError::Io {
-                        path: path.clone(),
-                        source,
-                    })
-                }
-            })
+            std::fs::rename(&tmp, &path)
+                .and_then(|()| crate::output::sync_dir(&self.root))
+                .or_else(|source| {
+                    // Another process stored the same key first: keep its entry.
+                    if path.join(entry::META).is_file() {
+                        Ok(())
+                    } else {
+                        Err(PipelineError::Io {
+                            path: path.clone(),
+                            source,
+                        })
+                    }
+                })
         });
         if tmp.exists() {
             let _ = std::fs::remove_dir_all(&tmp);
