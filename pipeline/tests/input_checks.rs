@@ -569,3 +569,55 @@ fn restart_fields_are_checked_naming_the_file_and_the_field() {
         "{e}"
     );
 }
+
+/// A sweep in which one value failed exited 0. Now: the other values' results and every
+/// sweep file are written, then `squeal sweep` exits 3 (`sweep::EXIT_VALUES_FAILED`).
+#[test]
+fn sweep_with_a_failed_value_exits_3_after_writing_the_others() {
+    let (dir, scene) = fixture("input-sweep-exit", &models::belt());
+    write(
+        &dir,
+        "bad.gaps.csv",
+        &format!("{HEADER}\n1,100001,1,0,0,0,0,1,-0.5,10,0\n"),
+    );
+    let out = dir.join("sweep");
+    let cmd = |values: &str| {
+        let mut c = squeal();
+        c.args(["-q", "sweep"])
+            .arg(&scene)
+            .args(["--param", "model.gaps", "--values", values, "--cache"])
+            .arg(dir.join("cache"))
+            .arg("--out")
+            .arg(&out);
+        c.output().unwrap()
+    };
+    let o = cmd("bad.gaps.csv,m.gaps.csv");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert_eq!(squeal_pipeline::stages::sweep::EXIT_VALUES_FAILED, 3);
+    assert!(err.contains("1 value(s) failed: bad.gaps.csv"), "{err}");
+    let rep = json(&out.join("sweep.json"));
+    assert_eq!(rep["n_failed"], 1);
+    assert!(rep["points"][0]["error"]
+        .as_str()
+        .unwrap()
+        .contains("bad.gaps.csv: line 2, column `area`"));
+    assert!(rep["points"][1]["error"].is_null());
+    for f in [
+        "01_m.gaps.csv/cea/cea.json",
+        "sweep.md",
+        "summary.json",
+        "sweep_indicators.svg",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    // Every value ran: 0.
+    let o = cmd("m.gaps.csv");
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert_eq!(json(&out.join("sweep.json"))["n_failed"], 0);
+}

@@ -187,7 +187,7 @@ fn run_dir(args: &RunArgs) -> Result<RunDir> {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             // Each stage's error already carries its cause's text; print it once.
             eprintln!("squeal: error: {e}");
@@ -196,8 +196,9 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(cli: Cli) -> Result<()> {
+fn run(cli: Cli) -> Result<ExitCode> {
     let progress = Progress { quiet: cli.quiet };
+    let mut code = ExitCode::SUCCESS;
     match cli.verb {
         Verb::Check(args) => {
             let scene = Scene::load(&args.scene, &args.set)?;
@@ -317,6 +318,14 @@ fn run(cli: Cli) -> Result<()> {
                 r.n_cached,
                 dir.path("sweep.md").display()
             ));
+            if r.n_failed > 0 {
+                eprintln!(
+                    "squeal: {} value(s) failed: {}",
+                    r.n_failed,
+                    r.failed.join(", ")
+                );
+                code = ExitCode::from(r.exit_code());
+            }
         }
         Verb::Accuracy(args) => {
             let scene = Scene::load(&args.scene.scene, &args.scene.set)?;
@@ -364,5 +373,5 @@ fn run(cli: Cli) -> Result<()> {
             }
         }
     }
-    Ok(())
+    Ok(code)
 }
