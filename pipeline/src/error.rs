@@ -60,4 +60,11 @@ pub enum PipelineError {
     Model(String),
     #[error("{path}: {message}")]
     Input { path: PathBuf, message: String },
+    /// An error of a run resumed from a restart file (whose state it may come from).
+    #[error("{source} (run resumed from {path})")]
+    Resumed {
+        path: PathBuf,
+        #[source]
+        source: Box<PipelineError>,
+    },
 }

@@ -275,6 +275,12 @@ pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
         source: spec.from,
         warnings,
     };
-    model.assign_gap_dofs()?;
+    model.assign_gap_dofs().map_err(|e| PipelineError::Input {
+        path: spec
+            .gaps
+            .as_ref()
+            .map_or(dpath.clone(), |p| scene.resolve(p)),
+        message: format!("{e} (DOF map {})", dpath.display()),
+    })?;
     Ok(model)
 }

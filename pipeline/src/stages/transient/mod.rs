@@ -259,7 +259,32 @@ pub fn run_cached(
 }
 
 /// The transient on a reduced model already built for `scene` (`wall`: when the run started).
+/// The errors of a resumed run name the restart file.
 pub fn run_on_model(
+    scene: &Scene,
+    dir: &RunDir,
+    progress: Progress,
+    export_dae: Option<&Path>,
+    model: model::ReducedModel,
+    wall: Instant,
+) -> Result<TransientReport, PipelineError> {
+    let restart = scene.transient.as_ref().and_then(|t| t.restart.as_ref());
+    run_model(scene, dir, progress, export_dae, model, wall).map_err(|e| match restart {
+        Some(p)
+            if !e
+                .to_string()
+                .contains(&scene.resolve(p).display().to_string()) =>
+        {
+            PipelineError::Resumed {
+                path: scene.resolve(p),
+                source: Box::new(e),
+            }
+        }
+        _ => e,
+    })
+}
+
+fn run_model(
     scene: &Scene,
     dir: &RunDir,
     progress: Progress,
