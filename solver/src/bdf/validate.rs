@@ -132,3 +132,37 @@ impl BdfState {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bdf::{Bdf, BdfOptions};
+
+    fn err(st: BdfState) -> String {
+        Bdf::from_state(BdfOptions::default(), st)
+            .unwrap_err()
+            .to_string()
+    }
+
+    /// The two states that panicked in the step code are errors naming the field.
+    #[test]
+    fn states_that_panicked_are_errors_naming_the_field() {
+        let fresh = BdfState::new(0.0, &[1.0, 2.0], &[0.0, 0.5], 2);
+        assert!(Bdf::from_state(BdfOptions::default(), fresh.clone()).is_ok());
+        let mut st = fresh.clone();
+        st.order = 3;
+        assert!(err(st).contains("`order`: 3 is not in 1..=2"));
+        let mut st = fresh.clone();
+        st.stats.order_histogram.clear();
+        assert!(err(st).contains("`stats.order_histogram`: has 0 entries, expected 3"));
+        let mut st = fresh.clone();
+        st.h_pending = false;
+        assert!(err(st).contains("`h`: 0 must be finite and > 0"));
+        let mut st = fresh.clone();
+        st.yp.pop();
+        assert!(err(st).contains("`yp`: has 1 entries, expected 2"));
+        let mut st = fresh;
+        st.phi[2][1] = f64::NAN;
+        assert!(err(st).contains("`phi[2][1]`: NaN must be finite"));
+    }
+}
