@@ -193,7 +193,7 @@ fn run_dir(args: &RunArgs) -> Result<RunDir> {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             // Each stage's error already carries its cause's text; print it once.
             eprintln!("squeal: error: {e}");
@@ -202,13 +202,14 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(cli: Cli) -> Result<()> {
+fn run(cli: Cli) -> Result<ExitCode> {
     let progress = if cli.quiet {
         Progress::quiet()
     } else {
         Progress::new(Arc::new(bars::Bars::default()))
     };
     let progress = &progress;
+    let mut code = ExitCode::SUCCESS;
     match cli.verb {
         Verb::Check(args) => {
             let scene = Scene::load(&args.scene, &args.set)?;
@@ -247,6 +248,7 @@ fn run(cli: Cli) -> Result<()> {
                 cache.as_ref(),
             )?;
             let r = r.result;
+            r.warnings.iter().for_each(|w| eprintln!("squeal: {w}"));
             progress.info(format!(
                 "{} steps, {:.2} s: {}, growth rate {:?} /s, dominant frequency {:?} Hz ({})",
                 r.steps,
@@ -281,6 +283,7 @@ fn run(cli: Cli) -> Result<()> {
                 cache: cache.dir().map(stages::model::ModelCache::new),
             };
             let r = stages::cea::run(&scene, &dir, progress, &args)?;
+            r.warnings.iter().for_each(|w| eprintln!("squeal: {w}"));
             let mut lines = format!(
                 "{} modes, {} unstable (max Re p = {:?})",
                 r.n_modes_reported, r.n_unstable, r.max_real_part
@@ -333,6 +336,14 @@ fn run(cli: Cli) -> Result<()> {
                 r.n_cached,
                 dir.path("sweep.md").display()
             ));
+            if r.n_failed > 0 {
+                eprintln!(
+                    "squeal: {} value(s) failed: {}",
+                    r.n_failed,
+                    r.failed.join(", ")
+                );
+                code = ExitCode::from(r.exit_code());
+            }
         }
         Verb::Accuracy(args) => {
             let scene = Scene::load(&args.scene.scene, &args.scene.set)?;
@@ -380,5 +391,5 @@ fn run(cli: Cli) -> Result<()> {
             }
         }
     }
-    Ok(())
+    Ok(code)
 }

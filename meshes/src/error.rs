@@ -71,6 +71,18 @@ pub enum MeshError {
         element_tag: u64,
         det: f64,
     },
+    /// A hexahedron positive at its centroid but inverted (det J ≤ 0) at one of its nodes.
+    #[error("{file}:{line}: hexahedron {element_tag} is inverted at its {kind} node {node_tag} (Jacobian determinant {det:.4e} there, {centroid_det:.4e} at its centroid): move the node back inside the cell")]
+    InvertedAtNode {
+        file: String,
+        line: usize,
+        element_tag: u64,
+        /// "corner" or "mid-edge".
+        kind: &'static str,
+        node_tag: u64,
+        det: f64,
+        centroid_det: f64,
+    },
     /// The file has no hex8/hex20 volume cells.
     #[error("{file}: no hex8/hex20 volume cells (is a physical volume defined, and was the mesh made with -3?)")]
     NoVolumeCells { file: String },

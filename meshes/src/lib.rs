@@ -7,6 +7,7 @@
 mod error;
 pub mod geo;
 pub mod gmsh;
+pub mod jacobian;
 pub mod mesh;
 pub mod msh;
 mod query;

@@ -62,4 +62,11 @@ pub enum PipelineError {
     Input { path: PathBuf, message: String },
     #[error("cancelled by the caller during {what}")]
     Cancelled { what: String },
+    /// An error of a run resumed from a restart file (whose state it may come from).
+    #[error("{source} (run resumed from {path})")]
+    Resumed {
+        path: PathBuf,
+        #[source]
+        source: Box<PipelineError>,
+    },
 }

@@ -10,10 +10,12 @@ pub mod output;
 pub mod progress;
 pub mod scene;
 pub mod stages;
+pub mod warning;
 
 pub use error::PipelineError;
 pub use output::RunDir;
 pub use scene::Scene;
+pub use warning::Warning;
 
 /// Version written into every run's summary.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

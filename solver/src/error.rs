@@ -79,6 +79,14 @@ pub enum SolverError {
         /// Value expected.
         expected: usize,
     },
+    /// A saved integrator state has a field out of range (a damaged or hand-edited restart).
+    #[error("integrator state field `{field}`: {message}")]
+    InvalidState {
+        /// The field (`order`, `phi[2]`, `stats.order_histogram`, ...).
+        field: String,
+        /// What is wrong, with the value.
+        message: String,
+    },
     /// An output time lies before the interval the integrator can interpolate.
     #[error("output time {tout:e} lies outside the interpolation interval [{t_min:e}, {t_max:e}]")]
     BadOutputTime {

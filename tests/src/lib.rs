@@ -1,4 +1,6 @@
-//! Shared helpers for the verification and system tests.
+//! Shared helpers for the verification and system tests, and the fuzz harness ([`fuzz`]).
+
+pub mod fuzz;
 
 use std::path::{Path, PathBuf};
 

@@ -4,6 +4,7 @@
 
 use super::element_types::{HEX20_FLIP, HEX20_FROM_GMSH, HEX8_FLIP};
 use super::{RawElement, RawMesh};
+use crate::jacobian::hex_node_jacobians;
 use crate::query::hex_centroid_jacobian;
 use crate::{CellBlock, CellKind, Mesh, MeshError};
 use std::collections::{BTreeMap, HashMap};
@@ -99,6 +100,7 @@ pub(crate) fn build(raw: RawMesh, file: &str) -> Result<Mesh, MeshError> {
                     *c = new_index[*c];
                 }
                 orient(&mesh.nodes, kind, &mut cell, file, e)?;
+                check_nodes(&mesh, &cell, file, e)?;
                 let name = phys.first().map(|&t| name_of(dim, t));
                 let b = *block_of.entry((name.clone(), kind)).or_insert_with(|| {
                     mesh.volumes.push(CellBlock {
@@ -176,6 +178,39 @@ pub(crate) fn build(raw: RawMesh, file: &str) -> Result<Mesh, MeshError> {
     Ok(mesh)
 }
 
+/// After [`orient`]: det J at every corner (hex8) or every node (hex20) of the cell must be
+/// positive (above 1e-12 × the cell's size cubed), else the cell is folded near that node.
+fn check_nodes(mesh: &Mesh, cell: &[usize], file: &str, e: &RawElement) -> Result<(), MeshError> {
+    let x: Vec<[f64; 3]> = cell.iter().map(|&i| mesh.nodes[i]).collect();
+    let corners: [[f64; 3]; 8] = std::array::from_fn(|k| x[k]);
+    let centroid_det = hex_centroid_jacobian(&corners);
+    let tol = 1e-12 * cell_size(&corners).powi(3);
+    match hex_node_jacobians(&x).first() {
+        Some(&(a, det)) if det.is_nan() || det <= tol => Err(MeshError::InvertedAtNode {
+            file: file.to_string(),
+            line: e.line,
+            element_tag: e.tag,
+            kind: if a < 8 { "corner" } else { "mid-edge" },
+            node_tag: mesh.node_tags[cell[a]],
+            det,
+            centroid_det,
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// The largest corner-to-corner extent of a cell (max norm).
+fn cell_size(corners: &[[f64; 3]; 8]) -> f64 {
+    let mut size: f64 = 0.0;
+    for a in corners {
+        for b in corners {
+            let d = (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max);
+            size = size.max(d);
+        }
+    }
+    size
+}
+
 /// Flips a hex with a negative centroid Jacobian; a (near) zero one is an error.
 fn orient(
     nodes: &[[f64; 3]],
@@ -187,13 +222,7 @@ fn orient(
     let corners: [[f64; 3]; 8] = std::array::from_fn(|k| nodes[cell[k]]);
     let det = hex_centroid_jacobian(&corners);
     // Scale: the cube of the largest corner-to-corner extent of the cell.
-    let mut size: f64 = 0.0;
-    for a in &corners {
-        for b in &corners {
-            let d = (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max);
-            size = size.max(d);
-        }
-    }
+    let size = cell_size(&corners);
     if !det.is_finite() || det.abs() <= 1e-12 * size.powi(3) {
         return Err(MeshError::DegenerateCell {
             file: file.to_string(),

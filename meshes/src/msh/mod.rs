@@ -13,7 +13,10 @@
 //! `physical_<tag>`. A volume cell in several physical volumes goes to the first one's block.
 //! Hexahedra with negative orientation at the centroid are flipped (bottom ↔ top face), so
 //! every cell has a positive Jacobian in squeal's (VTK's) node order; hex20 nodes are permuted
-//! from gmsh's order (see `element_types::HEX20_FROM_GMSH`).
+//! from gmsh's order (see `element_types::HEX20_FROM_GMSH`). A cell whose Jacobian is then not
+//! positive at every corner (hex8) or every node (hex20) is an error naming the element and the
+//! node ([`crate::jacobian`]). In 4.1 files the `$Nodes` and `$Elements` header totals (count,
+//! smallest and largest tag) must match the blocks.
 
 mod binary;
 mod build;

@@ -150,10 +150,13 @@ fn n_parametric(parametric: i64, dim: i64) -> usize {
 
 fn nodes_ascii(lines: &mut Lines, raw: &mut RawMesh) -> Result<(), MeshError> {
     let mut f = lines.fields("Nodes")?;
+    let header_line = f.line;
     let n_blocks = f.count("number of entity blocks")?;
     let n_nodes = f.count("number of nodes")?;
+    let tags = (f.u64("minimum node tag")?, f.u64("maximum node tag")?);
     raw.nodes
         .reserve(capped(n_nodes, 8, lines.bytes.len() - lines.pos));
+    let first_node = raw.nodes.len();
     for _ in 0..n_blocks {
         let mut f = lines.fields("Nodes")?;
         let dim = f.i64("entity dimension")?;
@@ -178,6 +181,48 @@ fn nodes_ascii(lines: &mut Lines, raw: &mut RawMesh) -> Result<(), MeshError> {
             }
         }
     }
+    let found = raw.nodes[first_node..].iter().map(|n| n.tag);
+    check_totals(
+        lines.file,
+        header_line,
+        "Nodes",
+        "node",
+        (n_nodes, tags),
+        found,
+    )
+}
+
+/// The `$Nodes` / `$Elements` header's totals (count, minimum and maximum tag) against the
+/// blocks: a mismatch means blocks were lost, added or garbled.
+fn check_totals(
+    file: &str,
+    line: usize,
+    section: &str,
+    what: &str,
+    (count, (min, max)): (usize, (u64, u64)),
+    tags: impl Iterator<Item = u64>,
+) -> Result<(), MeshError> {
+    let (mut n, mut lo, mut hi) = (0usize, u64::MAX, 0u64);
+    for t in tags {
+        n += 1;
+        lo = lo.min(t);
+        hi = hi.max(t);
+    }
+    if n != count || (n > 0 && (lo, hi) != (min, max)) {
+        let found = if n > 0 {
+            format!("{n} {what}s with tags {lo}..={hi}")
+        } else {
+            format!("no {what}")
+        };
+        return Err(MeshError::parse(
+            file,
+            line,
+            format!(
+                "the ${section} header says {count} {what}s with tags {min}..={max}, its blocks \
+                 hold {found} (blocks lost, added or garbled?)"
+            ),
+        ));
+    }
     Ok(())
 }
 
@@ -186,9 +231,9 @@ fn nodes_binary(lines: &mut Lines, raw: &mut RawMesh) -> Result<(), MeshError> {
     let mut b = Bin::new(lines.bytes, lines.pos, lines.file, line, "Nodes");
     let n_blocks = b.count("number of entity blocks", 20)?;
     let n_nodes = b.count("number of nodes", 32)?;
-    b.size("minimum node tag")?;
-    b.size("maximum node tag")?;
+    let tags = (b.size("minimum node tag")?, b.size("maximum node tag")?);
     raw.nodes.reserve(n_nodes);
+    let first_node = raw.nodes.len();
     for _ in 0..n_blocks {
         let dim = b.int("entity dimension")? as i64;
         b.int("entity tag")?;
@@ -210,6 +255,8 @@ fn nodes_binary(lines: &mut Lines, raw: &mut RawMesh) -> Result<(), MeshError> {
             }
         }
     }
+    let found = raw.nodes[first_node..].iter().map(|n| n.tag);
+    check_totals(lines.file, line, "Nodes", "node", (n_nodes, tags), found)?;
     lines.advance_to(b.pos);
     Ok(())
 }
@@ -230,10 +277,13 @@ fn elements_ascii(
     blocks: &mut Vec<ElementBlock>,
 ) -> Result<(), MeshError> {
     let mut f = lines.fields("Elements")?;
+    let header_line = f.line;
     let n_blocks = f.count("number of entity blocks")?;
     let n_elements = f.count("number of elements")?;
+    let tags = (f.u64("minimum element tag")?, f.u64("maximum element tag")?);
     raw.elements
         .reserve(capped(n_elements, 4, lines.bytes.len() - lines.pos));
+    let first_element = raw.elements.len();
     for _ in 0..n_blocks {
         let mut f = lines.fields("Elements")?;
         let dim = f.i64("entity dimension")?;
@@ -277,7 +327,15 @@ fn elements_ascii(
             count: n,
         });
     }
-    Ok(())
+    let found = raw.elements[first_element..].iter().map(|e| e.tag);
+    check_totals(
+        lines.file,
+        header_line,
+        "Elements",
+        "element",
+        (n_elements, tags),
+        found,
+    )
 }
 
 fn elements_binary(
@@ -289,9 +347,12 @@ fn elements_binary(
     let mut b = Bin::new(lines.bytes, lines.pos, lines.file, line, "Elements");
     let n_blocks = b.count("number of entity blocks", 20)?;
     let n_elements = b.count("number of elements", 16)?;
-    b.size("minimum element tag")?;
-    b.size("maximum element tag")?;
+    let tags = (
+        b.size("minimum element tag")?,
+        b.size("maximum element tag")?,
+    );
     raw.elements.reserve(n_elements);
+    let first_element = raw.elements.len();
     for _ in 0..n_blocks {
         let dim = b.int("entity dimension")? as i64;
         let entity = b.int("entity tag")? as i64;
@@ -324,6 +385,15 @@ fn elements_binary(
             count: n,
         });
     }
+    let found = raw.elements[first_element..].iter().map(|e| e.tag);
+    check_totals(
+        lines.file,
+        line,
+        "Elements",
+        "element",
+        (n_elements, tags),
+        found,
+    )?;
     lines.advance_to(b.pos);
     Ok(())
 }

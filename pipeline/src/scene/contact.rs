@@ -22,7 +22,7 @@ pub struct ContactPair {
     /// Distance within which a pad node and a rotor node coincide (default: 1e-6, model units).
     #[serde(default = "default_tolerance")]
     pub tolerance: Real,
-    /// Preload pressure P_0 of every gap of this pair (default: 0). [Paper eq. (1)]
+    /// Preload pressure P_0 of every gap of this pair, finite and >= 0 (default: 0). [Paper eq. (1)]
     #[serde(default)]
     pub p0: Real,
     /// Temperature of every gap of this pair (default: 0; read only when the friction law
@@ -52,8 +52,26 @@ impl ContactPair {
                 format!("{} must be finite and > 0", self.tolerance),
             ));
         }
-        if !self.p0.is_finite() {
-            return Err(bad("p0", format!("{} must be finite", self.p0)));
+        if !(self.p0.is_finite() && self.p0 >= 0.0) {
+            return Err(bad(
+                "p0",
+                format!(
+                    "{} must be finite and >= 0 (a compressive preload pressure)",
+                    self.p0
+                ),
+            ));
+        }
+        if !self.temperature.is_finite() {
+            return Err(bad(
+                "temperature",
+                format!("{} must be finite", self.temperature),
+            ));
+        }
+        if let Some((g, t)) = self.grid_temperatures.iter().find(|(_, t)| !t.is_finite()) {
+            return Err(bad(
+                "grid_temperatures",
+                format!("grid {g}: {t} must be finite"),
+            ));
         }
         if self.pad == self.rotor {
             return Err(bad("rotor", format!("`{}` is also the pad", self.rotor)));
@@ -124,13 +142,19 @@ impl Default for RotorSpec {
 }
 
 impl RotorSpec {
-    /// Checks rpm and that the axis is a unit vector.
+    /// Checks rpm and origin (finite) and that the axis is a unit vector.
     pub fn validate(&self) -> Result<(), PipelineError> {
         let n = self.axis.iter().map(|a| a * a).sum::<Real>().sqrt();
         if !self.rpm.is_finite() {
             return Err(PipelineError::Scene {
                 field: "rotor.rpm".into(),
                 message: format!("{} must be finite", self.rpm),
+            });
+        }
+        if self.origin.iter().any(|x| !x.is_finite()) {
+            return Err(PipelineError::Scene {
+                field: "rotor.origin".into(),
+                message: format!("{:?} must be finite", self.origin),
             });
         }
         if !(n.is_finite() && (n - 1.0).abs() < 1e-6) {

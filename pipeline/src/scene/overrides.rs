@@ -30,6 +30,18 @@ pub fn apply_override(doc: &mut toml::Value, assignment: &str) -> Result<(), Pip
                     table.insert((*seg).to_string(), value);
                     return Ok(());
                 }
+                if !table.contains_key(*seg) && segments[depth + 1].parse::<usize>().is_ok() {
+                    // An index into an array the scene does not write (a default): there is
+                    // no array to index, and a table `{ "0" = … }` would be a type error.
+                    let path = segments[..=depth].join(".");
+                    return Err(PipelineError::Override {
+                        assignment: assignment.to_string(),
+                        reason: format!(
+                            "`{path}` is not written in the scene, so `{}` cannot index it; set                              the whole value, e.g. `{path}=[...]`",
+                            segments[depth + 1]
+                        ),
+                    });
+                }
                 table
                     .entry((*seg).to_string())
                     .or_insert_with(|| toml::Value::Table(Default::default()))
@@ -91,6 +103,18 @@ mod tests {
         assert_eq!(doc["modes"]["n_modes"].as_integer(), Some(12));
         assert_eq!(doc["modes"]["max_frequency_hz"].as_float(), Some(1e4));
         assert_eq!(doc["components"][1]["name"].as_str(), Some("rotor"));
+    }
+
+    #[test]
+    fn index_into_an_unwritten_array_names_it() {
+        let mut doc: toml::Value = toml::from_str("[rotor]\nrpm = 1.0\n").unwrap();
+        let err = apply_override(&mut doc, "rotor.origin.1=2.0").unwrap_err();
+        assert!(
+            err.to_string().contains("`rotor.origin` is not written"),
+            "{err}"
+        );
+        apply_override(&mut doc, "rotor.origin=[0.0, 2.0, 0.0]").unwrap();
+        assert_eq!(doc["rotor"]["origin"][1].as_float(), Some(2.0));
     }
 
     #[test]

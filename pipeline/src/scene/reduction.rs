@@ -88,10 +88,12 @@ pub struct ModelSpec {
     pub matrices: Option<PathBuf>,
     /// DOF map JSON (`dofmap.json` of `squeal reduce`) (default: none; required unless `from = "mesh"`).
     pub dofmap: Option<PathBuf>,
-    /// Gap table, JSON (`gaps.json` of `squeal reduce`) or CSV with header
-    /// `pad_grid,rotor_grid,x,y,z,nx,ny,nz,area,p0,temperature` (default: none = no contact).
+    /// Gap table, JSON (`gaps.json` of `squeal reduce`) or CSV whose first line names the
+    /// columns `pad_grid,rotor_grid,x,y,z,nx,ny,nz,area,p0,temperature` in any order (default:
+    /// none = no contact). Checks: `crate::stages::model::gap_table`.
     pub gaps: Option<PathBuf>,
-    /// Overrides the preload P0 stored in the gap table, for stored models (default: none = as stored).
+    /// Overrides the preload P0 stored in the gap table, for stored models; finite and >= 0
+    /// (default: none = as stored).
     pub p0: Option<Real>,
     /// Overrides the gap temperature stored in the gap table, for stored models (default: none).
     pub temperature: Option<Real>,
@@ -121,7 +123,7 @@ impl Default for ModelSpec {
 }
 
 impl ModelSpec {
-    /// Checks that the stored-model paths are present when needed.
+    /// Checks that the stored-model paths are present when needed, and the numbers.
     pub fn validate(&self) -> Result<(), PipelineError> {
         let bad = |field: &str, message: String| PipelineError::Scene {
             field: format!("model.{field}"),
@@ -137,6 +139,17 @@ impl ModelSpec {
             if !(b.is_finite() && b > 0.0) {
                 return Err(bad("band_hz", format!("{b} must be finite and > 0")));
             }
+        }
+        if let Some(p0) = self.p0 {
+            if !(p0.is_finite() && p0 >= 0.0) {
+                return Err(bad(
+                    "p0",
+                    format!("{p0} must be finite and >= 0 (a compressive preload pressure)"),
+                ));
+            }
+        }
+        if let Some(t) = self.temperature.filter(|t| !t.is_finite()) {
+            return Err(bad("temperature", format!("{t} must be finite")));
         }
         if self.from != ModelSource::Mesh {
             if self.matrices.is_none() {

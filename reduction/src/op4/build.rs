@@ -119,6 +119,11 @@ impl Builder {
         Ok(())
     }
 
+    /// Whether the matrix is complex (two numbers per entry).
+    pub fn is_complex(&self) -> bool {
+        self.im.is_some()
+    }
+
     pub fn finish(self) -> NamedMatrix {
         let h = self.header;
         let data = match self.im {

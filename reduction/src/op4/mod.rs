@@ -2,8 +2,9 @@
 //!
 //! Reading accepts what NASTRAN, pyNastran and pyyeti write: ASCII or binary (either byte
 //! order, 4- or 8-byte record markers, 32- or 64-bit integers), dense columns or sparse
-//! strings (non-BIGMAT `IS` words or BIGMAT `L+1, IROW` pairs), real or complex, single or
-//! double precision, several matrices per file. Symmetric matrices (form 6) are stored in full
+//! strings (non-BIGMAT `IS` words or BIGMAT `L+1, IROW` pairs; pyNastran's ASCII sparse
+//! strings, whose headers carry the column's word count, are recognised), real or complex,
+//! single or double precision, several matrices per file. A file without a matrix is an error. Symmetric matrices (form 6) are stored in full
 //! and read as stored. Values are kept as read (single-precision binary values are `f32`).
 //!
 //! Writing covers ASCII (`1P,3E23.16`, 17 significant digits: round trips are exact) and
@@ -99,7 +100,22 @@ pub fn read_bytes(bytes: &[u8]) -> Result<Vec<NamedMatrix>, ReductionError> {
     read_bytes_named(bytes, "<bytes>")
 }
 
-fn read_bytes_named(bytes: &[u8], path: &str) -> Result<Vec<NamedMatrix>, ReductionError> {
+/// Reads every matrix of OP4 file contents; errors name the file `path`. A file without a
+/// matrix (empty, or blank lines only) is an error.
+pub fn read_bytes_named(bytes: &[u8], path: &str) -> Result<Vec<NamedMatrix>, ReductionError> {
+    let mats = read_any(bytes, path)?;
+    if mats.is_empty() {
+        return Err(ReductionError::Op4 {
+            path: path.to_string(),
+            location: "line 1".to_string(),
+            matrix: String::new(),
+            detail: format!("no matrix in the file ({} bytes)", bytes.len()),
+        });
+    }
+    Ok(mats)
+}
+
+fn read_any(bytes: &[u8], path: &str) -> Result<Vec<NamedMatrix>, ReductionError> {
     if let Some(layout) = binary_read::detect(bytes) {
         return binary_read::read_binary(bytes, layout).map_err(|(offset, matrix, detail)| {
             ReductionError::Op4 {

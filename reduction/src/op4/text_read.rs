@@ -31,6 +31,11 @@ impl<'a> Lines<'a> {
         self.next += 1;
         Some((self.next, l.trim_end_matches(['\r', '\n'])))
     }
+
+    /// The next line, not consumed.
+    fn peek(&self) -> Option<&'a str> {
+        self.lines.get(self.next).copied()
+    }
 }
 
 /// Parses every matrix of an ASCII OP4 text.
@@ -153,36 +158,133 @@ fn read_matrix(lines: &mut Lines, header: Header, fmt: NumFormat) -> LineResult<
             b.put(col, (irow - 1) as usize, &v).map_err(|e| (ln, e))?;
             continue;
         }
-        let mut left = nw;
-        while left > 0 {
-            let (ln, line) = lines
-                .next_line()
-                .ok_or((lines.next, "file ends inside a column".to_string()))?;
-            let ints: Vec<&str> = line.split_whitespace().collect();
-            let (l, row, head) = match (bigmat, ints.as_slice()) {
-                (true, [l1, r]) => (
-                    int(l1, "L+1").map_err(|e| (ln, e))? - 1,
-                    int(r, "IROW").map_err(|e| (ln, e))?,
-                    2,
-                ),
-                (false, [is]) => {
-                    let is = int(is, "IS").map_err(|e| (ln, e))?;
-                    let l = (is >> 16) - 1;
-                    (l, is - ((l + 1) << 16), 1)
+        // A column of strings: as the format says (each header's L counts its own words), else
+        // as pyNastran writes it (see `pynastran_column`); the first reader's error is reported.
+        let start = lines.next;
+        let strings = match sparse_column(lines, bigmat, words_per_number, nw, fmt) {
+            Ok(v) => v,
+            Err(first) => {
+                lines.next = start;
+                if bigmat {
+                    return Err(first);
                 }
-                _ => return Err((ln, format!("expected a string header, found `{line}`"))),
-            };
-            if l < 0 || row < 1 || l % words_per_number != 0 || l + head > left {
-                return Err((
-                    ln,
-                    format!("bad string header: L = {l}, IROW = {row}, {left} words left"),
-                ));
+                pynastran_column(lines, b.is_complex(), nw, fmt).map_err(|_| first)?
             }
-            let v = read_numbers(lines, (l / words_per_number) as usize, fmt)?;
-            b.put(col, (row - 1) as usize, &v).map_err(|e| (ln, e))?;
-            left -= l + head;
+        };
+        for (row, v) in strings {
+            b.put(col, row, &v).map_err(|e| (ln, e))?;
         }
     }
+}
+
+/// The strings of one sparse column (after its record `ICOL 0 NW`), by the format: each string
+/// header's L counts the words of its own numbers, and the column's NW words are all read.
+/// Returns (first row, numbers) per string.
+fn sparse_column(
+    lines: &mut Lines,
+    bigmat: bool,
+    words_per_number: i64,
+    nw: i64,
+    fmt: NumFormat,
+) -> LineResult<Vec<(usize, Vec<Real>)>> {
+    let mut out = Vec::new();
+    let mut left = nw;
+    while left > 0 {
+        let (ln, line) = lines
+            .next_line()
+            .ok_or((lines.next, "file ends inside a column".to_string()))?;
+        let ints: Vec<&str> = line.split_whitespace().collect();
+        let (l, row, head) = match (bigmat, ints.as_slice()) {
+            (true, [l1, r]) => (
+                int(l1, "L+1").map_err(|e| (ln, e))? - 1,
+                int(r, "IROW").map_err(|e| (ln, e))?,
+                2,
+            ),
+            (false, [is]) => {
+                let is = int(is, "IS").map_err(|e| (ln, e))?;
+                let l = (is >> 16) - 1;
+                (l, is - ((l + 1) << 16), 1)
+            }
+            _ => return Err((ln, format!("expected a string header, found `{line}`"))),
+        };
+        if l < 0 || row < 1 || l % words_per_number != 0 || l + head > left {
+            return Err((
+                ln,
+                format!("bad string header: L = {l}, IROW = {row}, {left} words left"),
+            ));
+        }
+        let v = read_numbers(lines, (l / words_per_number) as usize, fmt)?;
+        out.push(((row - 1) as usize, v));
+        left -= l + head;
+    }
+    Ok(out)
+}
+
+/// Whether a line holds only integers (a column record or a string header).
+fn integers(line: &str) -> Option<Vec<i64>> {
+    let v: Option<Vec<i64>> = line.split_whitespace().map(|t| t.parse().ok()).collect();
+    v.filter(|v| !v.is_empty())
+}
+
+/// The strings of one sparse column as pyNastran (1.4) writes ASCII sparse OP4: every non-BIGMAT
+/// string header `IS = IROW + 65536 (L + 1)` carries the column's word count (`L + 1` = the
+/// column record's NW) rather than its string's, and NW = 2 × (numbers in the column) + 1
+/// whatever the precision. A string's numbers are the number lines up to the next integer line,
+/// as pyNastran reads them. Accepted only when the file is consistent with that writer: every
+/// header's L + 1 = NW and NW = 2 × numbers + 1; the column ends at the next column record.
+fn pynastran_column(
+    lines: &mut Lines,
+    complex: bool,
+    nw: i64,
+    fmt: NumFormat,
+) -> LineResult<Vec<(usize, Vec<Real>)>> {
+    let mut out = Vec::new();
+    let mut count: i64 = 0;
+    while let Some(next) = lines.peek() {
+        let Some(ints) = integers(next) else {
+            break;
+        };
+        if ints.len() == 3 {
+            break;
+        }
+        let (ln, _) = lines.next_line().ok_or((lines.next, String::new()))?;
+        let [is] = ints[..] else {
+            return Err((ln, format!("expected a string header, found `{next}`")));
+        };
+        let l = (is >> 16) - 1;
+        let row = is - ((l + 1) << 16);
+        if l + 1 != nw || row < 1 {
+            return Err((
+                ln,
+                format!("string header L = {l}, IROW = {row} with NW = {nw}"),
+            ));
+        }
+        let mut v = Vec::new();
+        while lines.peek().is_some_and(|l| integers(l).is_none()) {
+            let (ln, line) = lines.next_line().ok_or((lines.next, String::new()))?;
+            for i in 0..fmt.per_line {
+                let f = field(line, i * fmt.width, (i + 1) * fmt.width);
+                if f.trim().is_empty() {
+                    break;
+                }
+                let x =
+                    parse_real(f).ok_or_else(|| (ln, format!("`{}` is not a number", f.trim())))?;
+                v.push(x);
+            }
+            if v.len() as i64 > l {
+                return Err((ln, format!("more than L = {l} numbers in a string")));
+            }
+        }
+        if v.is_empty() || (complex && v.len() % 2 != 0) {
+            return Err((ln, format!("a string of {} numbers", v.len())));
+        }
+        count += v.len() as i64;
+        out.push(((row - 1) as usize, v));
+    }
+    if out.is_empty() || nw != 2 * count + 1 {
+        return Err((lines.next, format!("NW = {nw} for {count} numbers")));
+    }
+    Ok(out)
 }
 
 /// Reads `n` fixed-width numbers, `fmt.per_line` to a line.

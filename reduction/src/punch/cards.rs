@@ -7,6 +7,8 @@
 pub(crate) struct Card {
     pub line: usize,
     pub fields: Vec<String>,
+    /// The line (1-based) each field was read from.
+    pub field_lines: Vec<usize>,
 }
 
 /// Fixed-width field `[a, b)` of a line (clipped to its length), trimmed.
@@ -54,6 +56,7 @@ pub(crate) fn dmig_cards(text: &str) -> Vec<Card> {
         let is_continuation = first.is_empty() || first.starts_with('+') || first.starts_with('*');
         if is_continuation {
             if let Some(c) = current.as_mut() {
+                c.field_lines.extend(std::iter::repeat_n(k + 1, data.len()));
                 c.fields.extend(data);
             } else if !in_other {
                 // A continuation with nothing to continue: keep it as its own (invalid) card
@@ -61,6 +64,7 @@ pub(crate) fn dmig_cards(text: &str) -> Vec<Card> {
                 cards.push(Card {
                     line: k + 1,
                     fields: Vec::new(),
+                    field_lines: Vec::new(),
                 });
             }
             continue;
@@ -72,6 +76,7 @@ pub(crate) fn dmig_cards(text: &str) -> Vec<Card> {
             in_other = false;
             current = Some(Card {
                 line: k + 1,
+                field_lines: vec![k + 1; data.len()],
                 fields: data,
             });
         } else {

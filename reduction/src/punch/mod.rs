@@ -3,8 +3,10 @@
 //! Reading accepts small-field, large-field (`DMIG*` with `*` continuations) and free-field
 //! (comma) cards, `D` exponents and NASTRAN's compressed reals (`1.-3`, `-.5+2`), real and
 //! complex (`POLAR` 0 or 1) values, IFO 1, 2, 6 (one triangle given, symmetrised; both given
-//! with different values is an error) and 9. Other bulk-data cards in the file are skipped.
-//! Rows and columns are (grid, component) pairs sorted as NASTRAN orders them.
+//! with different values is an error) and 9. Other bulk-data cards in the file are skipped,
+//! with their continuation lines. A DMIG header card has no continuation: data continuing it
+//! is an error naming the line (a column card whose first line is missing would otherwise lose
+//! its entries). Rows and columns are (grid, component) pairs sorted as NASTRAN orders them.
 
 mod cards;
 pub(crate) mod number;
@@ -70,7 +72,8 @@ pub fn read_str(text: &str) -> Result<Vec<DmigMatrix>, ReductionError> {
     read_bytes_named(text.as_bytes(), "<text>")
 }
 
-fn read_bytes_named(bytes: &[u8], path: &str) -> Result<Vec<DmigMatrix>, ReductionError> {
+/// Reads every DMIG matrix of punch file contents; errors name the file `path`.
+pub fn read_bytes_named(bytes: &[u8], path: &str) -> Result<Vec<DmigMatrix>, ReductionError> {
     let text = std::str::from_utf8(bytes).map_err(|e| ReductionError::Punch {
         path: path.to_string(),
         line: bytes[..e.valid_up_to()]

@@ -63,6 +63,19 @@ pub(crate) fn read_text(text: &str) -> Result<Vec<DmigMatrix>, PunchError> {
                 return Err(err("second header card for the same matrix".into()));
             }
             let f = &card.fields;
+            // Fields 2..9 make the whole header; a continuation with data after them is the
+            // rest of a column card whose first line is missing (it would be dropped).
+            if let Some(k) = (8..f.len()).find(|&k| !f[k].is_empty()) {
+                return Err((
+                    card.field_lines[k],
+                    name.clone(),
+                    format!(
+                        "continuation line with `{}` after the header card (line {}), which has \
+                         no continuation: the first line of a column card is missing",
+                        f[k], card.line
+                    ),
+                ));
+            }
             let ifo = int_field(f, 2, "IFO", None).map_err(err)?;
             if ![1, 2, 6, 9].contains(&ifo) {
                 return Err(err(format!("IFO = {ifo} is not 1, 2, 6 or 9")));

@@ -22,6 +22,7 @@ pub mod newton;
 pub mod options;
 pub mod state;
 pub mod step;
+mod validate;
 
 use serde::Serialize;
 
@@ -182,8 +183,10 @@ impl Bdf {
 
     /// Continue from a saved state (see [`Bdf::state`]). The system must be the same; the
     /// iteration matrix is re-formed at the saved point on the first step.
+    /// Every field of the state is checked first ([`BdfState::validate`]).
     pub fn from_state(opts: BdfOptions, st: BdfState) -> Result<Self, SolverError> {
         opts.validate()?;
+        st.validate(opts.max_order)?;
         let n = st.n;
         if st.phi.len() != opts.max_order + 2 {
             return Err(SolverError::StateMismatch {

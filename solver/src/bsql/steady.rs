@@ -31,11 +31,11 @@ impl Default for SteadyOptions {
 impl SteadyOptions {
     /// Check ranges; the error names the field.
     pub fn validate(&self) -> Result<(), SolverError> {
-        if !(self.tol > 0.0) {
+        if !(self.tol > 0.0 && self.tol.is_finite()) {
             return Err(SolverError::InvalidOption {
                 field: "tol",
                 value: self.tol.to_string(),
-                reason: "must be > 0",
+                reason: "must be finite and > 0",
             });
         }
         if self.max_iters == 0 {

@@ -141,6 +141,8 @@ pub struct CeaReport {
     /// The friction sweep, in memory (written to `cea.sweep.json`).
     #[serde(skip)]
     pub sweep: Option<sweep::SweepReport>,
+    /// Inputs accepted with a measured value to know about ([`crate::warning`]).
+    pub warnings: Vec<crate::warning::Warning>,
 }
 
 fn cea_err(what: &str) -> impl FnOnce(squeal_solver::cea::CeaError) -> PipelineError + '_ {
@@ -437,6 +439,7 @@ pub fn write(
         model_hash: c.problem.model_hash(),
         model_cache: cache_use,
         sweep: c.sweep.clone(),
+        warnings: model.warnings.clone(),
     };
     dir.write_json("summary.json", &report)?;
     Ok(report)

@@ -317,6 +317,7 @@ pub fn build_from_mesh(
         components,
         recovery,
         source: ModelSource::Mesh,
+        warnings: Vec::new(),
     };
     model.assign_gap_dofs()?;
     Ok(model)

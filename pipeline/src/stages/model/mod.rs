@@ -5,7 +5,9 @@
 mod areas;
 pub mod cache;
 mod from_mesh;
+pub mod gap_table;
 pub mod grids;
+pub mod inputs;
 mod stored;
 
 pub use cache::{CacheUse, ModelCache};
@@ -107,6 +109,9 @@ pub struct ReducedModel {
     /// Per-component recovery data (meshed models only; empty for stored matrices).
     pub recovery: Vec<ComponentRecovery>,
     pub source: ModelSource,
+    /// Inputs accepted with a measured value the user may want to know (e.g. a slightly
+    /// non-symmetric stored matrix that was symmetrised); see [`crate::warning`].
+    pub warnings: Vec<crate::warning::Warning>,
 }
 
 impl ReducedModel {

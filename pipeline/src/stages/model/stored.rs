@@ -2,12 +2,14 @@
 //! columns = grid/component of the map; modal coordinates are scalar points numbered above
 //! every grid, in map order), `dofmap.json` and `gaps.json`.
 
-use super::{symmetrise, ReducedModel};
+use super::gap_table::read_gaps;
+use super::inputs::{check_dofmap, check_finite, check_mass, symmetric};
+use super::ReducedModel;
 use crate::error::PipelineError;
 use crate::output::RunDir;
 use crate::scene::{ModelSource, Scene};
 use faer::Mat;
-use squeal_contact::{Gap, GapSet};
+use squeal_contact::GapSet;
 use squeal_reduction::matrix::{MatrixForm, NamedMatrix};
 use squeal_reduction::punch::{self, DmigMatrix, PunchWriteOptions};
 use squeal_reduction::superelement::{DofKind, ReducedDofMap};
@@ -121,78 +123,6 @@ fn read_text(path: &Path) -> Result<String, PipelineError> {
     })
 }
 
-/// Reads a gap table: JSON (a `GapSet` as `squeal reduce` writes, or a list of gaps) or CSV
-/// with header `pad_grid,rotor_grid,x,y,z,nx,ny,nz,area,p0,temperature`.
-fn read_gaps(path: &Path) -> Result<Vec<Gap>, PipelineError> {
-    let text = read_text(path)?;
-    let bad = |message: String| PipelineError::Input {
-        path: path.to_path_buf(),
-        message,
-    };
-    if path.extension().and_then(|e| e.to_str()) == Some("csv") {
-        let mut gaps = Vec::new();
-        for (ln, line) in text.lines().enumerate().skip(1) {
-            if line.trim().is_empty() {
-                continue;
-            }
-            let f: Vec<&str> = line.split(',').map(str::trim).collect();
-            if f.len() != 11 {
-                return Err(bad(format!(
-                    "line {}: {} fields, expected 11",
-                    ln + 1,
-                    f.len()
-                )));
-            }
-            let num = |i: usize| -> Result<Real, PipelineError> {
-                f[i].parse().map_err(|_| {
-                    bad(format!(
-                        "line {}: field {} = `{}` is not a number",
-                        ln + 1,
-                        i + 1,
-                        f[i]
-                    ))
-                })
-            };
-            let id = |i: usize| -> Result<u64, PipelineError> {
-                f[i].parse().map_err(|_| {
-                    bad(format!(
-                        "line {}: field {} = `{}` is not a grid id",
-                        ln + 1,
-                        i + 1,
-                        f[i]
-                    ))
-                })
-            };
-            let nrm = [num(5)?, num(6)?, num(7)?];
-            let len = nrm.iter().map(|x| x * x).sum::<Real>().sqrt();
-            if !(len > 0.0 && len.is_finite()) {
-                return Err(bad(format!(
-                    "line {}: normal {nrm:?} is zero or not finite",
-                    ln + 1
-                )));
-            }
-            gaps.push(Gap {
-                pad_node: id(0)?,
-                rotor_node: id(1)?,
-                coords: [num(2)?, num(3)?, num(4)?],
-                pad_dofs: [None; 3],
-                rotor_dofs: [None; 3],
-                normal: nrm.map(|x| x / len),
-                area: num(8)?,
-                v_slide: [0.0; 3],
-                p0: num(9)?,
-                temperature: num(10)?,
-            });
-        }
-        return Ok(gaps);
-    }
-    if let Ok(set) = serde_json::from_str::<GapSet>(&text) {
-        return Ok(set.gaps);
-    }
-    serde_json::from_str::<Vec<Gap>>(&text)
-        .map_err(|e| bad(format!("not a gap table (GapSet or list of gaps): {e}")))
-}
-
 /// Reads a stored reduced model as the scene's `[model]` says; the scene's `[rotor]` sets the
 /// sliding velocities, `[friction]` the law, `model.p0`/`model.temperature` override the table.
 pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
@@ -211,6 +141,7 @@ pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
         path: dpath.clone(),
         message: e.to_string(),
     })?;
+    check_dofmap(&dofs, &dpath)?;
     let n = dofs.len();
     let mut named: HashMap<String, Mat<Real>> = HashMap::new();
     let shape_err = |name: &str, r: usize, c: usize| PipelineError::Input {
@@ -286,7 +217,18 @@ pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
     let k = take("KR", true)?.unwrap_or_else(|| Mat::zeros(n, n));
     let m = take("MR", true)?.unwrap_or_else(|| Mat::zeros(n, n));
     let b = take("BR", false)?;
-    let p_brake = take("PBRAKE", false)?
+    let p = take("PBRAKE", false)?;
+    let mut warnings = Vec::new();
+    let k = symmetric("KR", &k, &mpath, &mut warnings)?;
+    let m = symmetric("MR", &m, &mpath, &mut warnings)?;
+    check_mass("MR", &m, &mpath)?;
+    let b = b
+        .map(|b| symmetric("BR", &b, &mpath, &mut warnings))
+        .transpose()?;
+    if let Some(p) = &p {
+        check_finite("PBRAKE", p, &mpath)?;
+    }
+    let p_brake = p
         .map(|p| (0..n).map(|i| p[(i, 0)]).collect())
         .unwrap_or_else(|| vec![0.0; n]);
 
@@ -319,9 +261,9 @@ pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
         }
     })?;
     let mut model = ReducedModel {
-        k: symmetrise(&k),
-        m: symmetrise(&m),
-        b: b.as_ref().map(symmetrise),
+        k,
+        m,
+        b,
         p_brake,
         dofs,
         gaps,
@@ -331,7 +273,14 @@ pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
         components: Vec::new(),
         recovery: Vec::new(),
         source: spec.from,
+        warnings,
     };
-    model.assign_gap_dofs()?;
+    model.assign_gap_dofs().map_err(|e| PipelineError::Input {
+        path: spec
+            .gaps
+            .as_ref()
+            .map_or(dpath.clone(), |p| scene.resolve(p)),
+        message: format!("{e} (DOF map {})", dpath.display()),
+    })?;
     Ok(model)
 }

@@ -7,7 +7,9 @@
 //! → one row of `sweep.json` / `sweep.md` and a point of `sweep_indicators.{png,svg}` (the
 //! largest CEA real part and the transient growth rate against the parameter) and
 //! `sweep_frequencies.{png,svg}` (the unstable frequencies). A value whose build or analysis
-//! fails is recorded with its error; the others still run.
+//! fails (an error, or a transient that stops before TFINAL) is recorded with its error; the
+//! others still run, every file is written, and the report counts the failed values
+//! (`n_failed`, `failed`): `squeal sweep` then exits with [`EXIT_VALUES_FAILED`].
 
 pub mod outputs;
 pub mod values;
@@ -23,6 +25,10 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 type Real = f64;
+
+/// Exit status of `squeal sweep` when some values failed and the others' results are written
+/// (0: every value ran; 1: an error stopped the sweep, or every value failed).
+pub const EXIT_VALUES_FAILED: u8 = 3;
 
 /// What each value runs.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
@@ -143,8 +149,33 @@ pub struct SweepReport {
     pub n_built: usize,
     pub n_cached: usize,
     pub wall_s: Real,
+    /// Values that failed ([`SweepPoint::failed`]), and their labels.
+    pub n_failed: usize,
+    pub failed: Vec<String>,
     pub points: Vec<SweepPoint>,
     pub files: Vec<String>,
+}
+
+impl SweepPoint {
+    /// The value has an error, or its transient stopped before TFINAL.
+    pub fn failed(&self) -> bool {
+        self.error.is_some()
+            || self
+                .transient
+                .as_ref()
+                .is_some_and(|t| !t.status.is_success())
+    }
+}
+
+impl SweepReport {
+    /// The command's exit status: 0, or [`EXIT_VALUES_FAILED`] when a value failed.
+    pub fn exit_code(&self) -> u8 {
+        if self.n_failed > 0 {
+            EXIT_VALUES_FAILED
+        } else {
+            0
+        }
+    }
 }
 
 /// A folder name for value `label`: `NN_<label>` with only `[A-Za-z0-9._-]`.
@@ -211,6 +242,11 @@ pub fn run(
     }
     let n_built = points.iter().filter(|p| p.cache_hit == Some(false)).count();
     let n_cached = points.iter().filter(|p| p.cache_hit == Some(true)).count();
+    let failed: Vec<String> = points
+        .iter()
+        .filter(|p| p.failed())
+        .map(|p| p.label.clone())
+        .collect();
     let mut report = SweepReport {
         verb: "sweep",
         version: crate::VERSION,
@@ -221,6 +257,8 @@ pub fn run(
         n_built,
         n_cached,
         wall_s: 0.0,
+        n_failed: failed.len(),
+        failed,
         points,
         files: Vec::new(),
     };

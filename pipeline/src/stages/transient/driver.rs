@@ -207,16 +207,16 @@ impl Stepper {
         }
     }
 
-    /// A BDF integrator continuing a saved state (a restart file's).
-    pub fn from_bdf_state(
+    /// A BDF integrator continuing a restart file's state (`path`: the file, named in errors).
+    pub fn from_restart(
         problem: &Problem,
         gaps: &GapSet,
         spec: &TransientSpec,
-        state: BdfState,
+        restart: super::restart::RestartFile,
+        path: &std::path::Path,
     ) -> Result<Self, PipelineError> {
         let sys = problem.system(gaps.clone())?;
-        let bdf = Bdf::from_state(bdf_options(spec, &sys, spec.rtol1, spec.maxord), state)
-            .map_err(solver_err("restart state"))?;
+        let bdf = restart.bdf(path, bdf_options(spec, &sys, spec.rtol1, spec.maxord))?;
         Ok(Stepper::Bdf { bdf, sys })
     }
 

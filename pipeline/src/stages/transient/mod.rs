@@ -212,6 +212,8 @@ pub struct TransientResult {
     pub contact: validity::ContactValidity,
     /// The CEA at the run's steady state, when the verdict ran one (`output.verdict_cea`).
     pub verdict_cea: Option<VerdictCeaResult>,
+    /// Inputs accepted with a measured value to know about ([`crate::warning`]).
+    pub warnings: Vec<crate::warning::Warning>,
     /// The sampled history (with [`TransientOptions::keep_history`]).
     #[serde(skip)]
     pub history: Option<History>,
@@ -283,7 +285,7 @@ impl Prepared<'_> {
             Some(p) => {
                 let path = scene.resolve(p);
                 let r = RestartFile::read(&path, &self.model_hash, n, ng)?;
-                let st = Stepper::from_bdf_state(&self.problem, &model.gaps, spec, r.state)?;
+                let st = Stepper::from_restart(&self.problem, &model.gaps, spec, r, &path)?;
                 (st, None, None, Some(path))
             }
             None => {
@@ -434,6 +436,7 @@ impl Prepared<'_> {
             step_bound: self.bound.clone(),
             contact,
             verdict_cea,
+            warnings: model.warnings.clone(),
             history,
         })
     }

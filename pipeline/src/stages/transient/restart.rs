@@ -1,11 +1,18 @@
 //! The restart file: the integrator's complete state, the model hash and the time, written
-//! atomically every NRSTRT steps and at the end of a run.
+//! atomically (and fsync'd, [`crate::output::write_atomic`]) every NRSTRT steps and at the end
+//! of a run.
+//!
+//! Reading checks every field against the model and the options before anything runs
+//! ([`RestartFile::read`], [`RestartFile::bdf`]): the model (n, ng, hash), the state's own
+//! consistency ([`BdfState::validate`]: lengths, order within MAXORD, a positive step, finite
+//! numbers), `max_order` against `transient.maxord`. Errors name the file and the field.
 
 use super::driver::{ChunkView, EndView, Sink, StepView, Stepper};
 use crate::error::PipelineError;
 use crate::output::write_atomic;
 use serde::{Deserialize, Serialize};
-use squeal_solver::bdf::BdfState;
+use squeal_solver::bdf::{Bdf, BdfOptions, BdfState};
+use squeal_solver::SolverError;
 use std::path::Path;
 
 /// `restart.json`.
@@ -47,6 +54,10 @@ impl RestartFile {
             path: path.to_path_buf(),
             message: format!("not a squeal restart file: {e}"),
         })?;
+        let bad = |field: &str, message: String| PipelineError::Input {
+            path: path.to_path_buf(),
+            message: format!("field `{field}`: {message}"),
+        };
         if r.n != n || r.ng != ng || r.model_hash != model_hash {
             return Err(PipelineError::Input {
                 path: path.to_path_buf(),
@@ -56,7 +67,62 @@ impl RestartFile {
                 ),
             });
         }
+        // y = {v, λ, u}: the BSQL system has 2n + ng unknowns.
+        let len = 2 * n + ng;
+        if r.state.n != len {
+            return Err(bad(
+                "state.n",
+                format!(
+                    "{} differs from 2n + ng = {len} (the BSQL unknowns v, lambda, u)",
+                    r.state.n
+                ),
+            ));
+        }
+        if !r.t.is_finite() || r.t != r.state.t {
+            return Err(bad(
+                "t",
+                format!("{} differs from the state's time {}", r.t, r.state.t),
+            ));
+        }
+        if !(1..=5).contains(&r.max_order) {
+            return Err(bad(
+                "max_order",
+                format!("{} is not a BDF order 1..=5", r.max_order),
+            ));
+        }
+        // The state's own consistency, at the MAXORD it was written with (its arrays' length).
+        r.state
+            .validate(r.max_order)
+            .map_err(|e| state_err(path, e))?;
         Ok(r)
+    }
+
+    /// The integrator continuing from this state with `opts`; its MAXORD must be the one the
+    /// state was written with. Errors name the file and the field.
+    pub fn bdf(self, path: &Path, opts: BdfOptions) -> Result<Bdf, PipelineError> {
+        if self.max_order != opts.max_order {
+            return Err(PipelineError::Input {
+                path: path.to_path_buf(),
+                message: format!(
+                    "field `max_order`: {} (the run that wrote it); this scene's \
+                     transient.maxord is {}: resume with the same MAXORD",
+                    self.max_order, opts.max_order
+                ),
+            });
+        }
+        Bdf::from_state(opts, self.state).map_err(|e| state_err(path, e))
+    }
+}
+
+/// A solver error about a restored state, as an error naming the restart file (and the field).
+fn state_err(path: &Path, e: SolverError) -> PipelineError {
+    let message = match e {
+        SolverError::InvalidState { field, message } => format!("field `state.{field}`: {message}"),
+        other => other.to_string(),
+    };
+    PipelineError::Input {
+        path: path.to_path_buf(),
+        message,
     }
 }
 

@@ -17,6 +17,7 @@ use crate::scene::{ModelSource, Scene};
 use crate::stages::model::grids::GridInfo;
 use crate::stages::model::stored::stored_matrices;
 use crate::stages::model::ReducedModel;
+use crate::stages::model::{gap_table, inputs};
 use faer::Mat;
 use serde::{Deserialize, Serialize};
 use squeal_contact::{FrictionLaw, Gap, GapSet, MatchOptions};
@@ -108,7 +109,7 @@ pub(super) fn write_entry(
     let mut sums = BTreeMap::new();
     for (name, bytes) in &files {
         let p = dir.join(name);
-        std::fs::write(&p, bytes).map_err(io_err(&p))?;
+        crate::output::write_synced(&p, bytes).map_err(io_err(&p))?;
         sums.insert(
             name.to_string(),
             FileSum {
@@ -133,7 +134,8 @@ pub(super) fn write_entry(
         message: e.to_string(),
     })?;
     let p = dir.join(META);
-    std::fs::write(&p, text).map_err(io_err(&p))
+    crate::output::write_synced(&p, text.as_bytes()).map_err(io_err(&p))?;
+    crate::output::sync_dir(dir).map_err(io_err(dir))
 }
 
 /// Reads and checks an entry; `Err` says why it cannot be used (missing or altered file,
@@ -202,6 +204,24 @@ pub(super) fn read_entry(dir: &Path, key: &ModelKey) -> Result<Cached, String> {
     let m = take("MR", n)?.ok_or_else(|| format!("{OP4}: no MR"))?;
     let b = take("BR", n)?;
     let p = take("PBRAKE", 1)?.ok_or_else(|| format!("{OP4}: no PBRAKE"))?;
+    // The same checks as a stored model's inputs (an entry failing them is rebuilt).
+    let at = Path::new(OP4);
+    let mut warnings = Vec::new();
+    let checks = inputs::check_dofmap(&dofs, Path::new(DOFMAP))
+        .and_then(|()| inputs::symmetric("KR", &k, at, &mut warnings))
+        .and_then(|_| inputs::symmetric("MR", &m, at, &mut warnings))
+        .and_then(|_| inputs::check_mass("MR", &m, at))
+        .and_then(|()| {
+            b.as_ref()
+                .map_or(Ok(()), |b| inputs::check_finite("BR", b, at))
+        })
+        .and_then(|()| inputs::check_finite("PBRAKE", &p, at));
+    checks.map_err(|e| e.to_string())?;
+    if !warnings.is_empty() {
+        return Err(format!("{OP4}: KR or MR is not symmetric"));
+    }
+    let places: Vec<String> = (0..gaps.len()).map(|i| format!("gap {i}")).collect();
+    gap_table::check_gaps(&gaps, &places, true, false).map_err(|e| format!("{GAPS}: {e}"))?;
     if meta.n_dofs != n
         || meta.n_gaps != gaps.len()
         || meta.gaps_per_pair.iter().sum::<usize>() != gaps.len()
@@ -290,6 +310,7 @@ pub(super) fn finish(scene: &Scene, c: Cached) -> Result<ReducedModel, PipelineE
         components: Vec::new(),
         recovery: Vec::new(),
         source: ModelSource::Mesh,
+        warnings: Vec::new(),
     };
     model.assign_gap_dofs()?;
     Ok(model)

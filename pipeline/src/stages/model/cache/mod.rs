@@ -76,6 +76,27 @@ impl ModelCache {
         self.root.join(&key.hex)
     }
 
+    /// The scene's reduced model from its entry, without building: `Ok(None)` when there is no
+    /// entry; an unusable entry (a file missing, altered or failing the model checks) is an
+    /// error naming the entry and the file, and is left in place.
+    pub fn read(&self, scene: &Scene) -> Result<Option<ReducedModel>, PipelineError> {
+        let key = ModelKey::of(scene)?;
+        let path = self.entry_path(&key);
+        if !path.exists() {
+            return Ok(None);
+        }
+        let cached = entry::read_entry(&path, &key).map_err(|why| PipelineError::Input {
+            path: path.clone(),
+            message: format!("unusable cache entry: {why}"),
+        })?;
+        entry::finish(scene, cached)
+            .map(Some)
+            .map_err(|e| PipelineError::Input {
+                path,
+                message: format!("unusable cache entry: {e}"),
+            })
+    }
+
     /// The scene's reduced model: read from the entry of its key when there is a valid one,
     /// else built with [`build_from_mesh`] (without the Craig–Bampton checks, which change no
     /// matrix) and stored. Either way the model has no per-component recovery data, so results
@@ -171,17 +192,19 @@ impl ModelCache {
         })?;
         let path = self.entry_path(key);
         let done = entry::write_entry(&tmp, key, model, build_s).and_then(|()| {
-            std::fs::rename(&tmp, &path).or_else(|source| {
-                // Another process stored the same key first: keep its entry.
-                if path.join(entry::META).is_file() {
-                    Ok(())
-                } else {
-                    Err(PipelineError::Io {
-                        path: path.clone(),
-                        source,
-                    })
-                }
-            })
+            std::fs::rename(&tmp, &path)
+                .and_then(|()| crate::output::sync_dir(&self.root))
+                .or_else(|source| {
+                    // Another process stored the same key first: keep its entry.
+                    if path.join(entry::META).is_file() {
+                        Ok(())
+                    } else {
+                        Err(PipelineError::Io {
+                            path: path.clone(),
+                            source,
+                        })
+                    }
+                })
         });
         if tmp.exists() {
             let _ = std::fs::remove_dir_all(&tmp);

@@ -1,0 +1,10 @@
+Point(1) = {0, 0, 0, 1};
+Point(2) = {2, 0, 0, 1};
+Line(1) = {1, 2};
+Transfinite Line {1} = 3;
+e[] = Extrude {0, 1, 0} { Line{1}; Layers{2}; Recombine; };
+v[] = Extrude {0, 0, 0.5} { Surface{e[1]}; Layers{1}; Recombine; };
+Physical Volume("body") = {v[1]};
+Physical Surface("bottom") = {e[1]};
+Physical Surface("top") = {v[0]};
+Physical Point("corner") = {1};
