@@ -142,7 +142,7 @@ fn gap_table_columns_are_read_by_name() {
         ),
         (
             format!("{HEADER}\n{GAP}\n{GAP}\n"),
-            "line 3: pad grid 1 already has a gap (line 2)",
+            "line 3: pad grid 1 already has this gap (line 2)",
         ),
     ] {
         write(&dir, "m.gaps.csv", &text);

@@ -158,7 +158,7 @@ fn parse_csv(text: &str) -> Result<(Vec<Gap>, Vec<String>), String> {
 }
 
 /// The value checks of the module documentation; `places[i]` says where gap i was read;
-/// `unique_pads`: a pad grid with two gaps is an error.
+/// `unique_pads`: the same gap (pad grid, rotor grid, normal) twice is an error.
 pub(crate) fn check_gaps(
     gaps: &[Gap],
     places: &[String],
@@ -210,12 +210,25 @@ pub(crate) fn check_gaps(
                 g.pad_node
             ));
         }
+        // A pad grid may carry several gaps (e.g. two faces at a corner), but the same
+        // pad/rotor pair with the same normal twice is one constraint written twice: G would
+        // lose rank and a multiplier would be undetermined.
         if let Some(first) = pads.insert(g.pad_node, i).filter(|_| unique_pads) {
-            return Err(format!(
-                "{at}: pad grid {} already has a gap ({}); one gap per pad grid",
-                g.pad_node, places[first]
-            ));
+            let f = &gaps[first];
+            let cos = (0..3).map(|k| f.normal[k] * g.normal[k]).sum::<Real>()
+                / (norm3(f.normal) * norm3(g.normal)).max(Real::MIN_POSITIVE);
+            if f.rotor_node == g.rotor_node && cos > 1.0 - 1e-12 {
+                return Err(format!(
+                    "{at}: pad grid {} already has this gap ({}): the same pad grid, rotor grid \
+                     {} and normal twice",
+                    g.pad_node, places[first], g.rotor_node
+                ));
+            }
         }
     }
     Ok(())
+}
+
+fn norm3(v: [Real; 3]) -> Real {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
