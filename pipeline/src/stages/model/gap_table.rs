@@ -214,10 +214,15 @@ pub(crate) fn check_gaps(
         // pad/rotor pair with the same normal twice is one constraint written twice: G would
         // lose rank and a multiplier would be undetermined.
         if let Some(first) = pads.insert(g.pad_node, i).filter(|_| unique_pads) {
+            // Same direction to round-off (|n̂_a − n̂_b| ≤ 1e-12): normals 1e-6 rad apart are a
+            // nearly redundant pair the solver must handle, not a duplicate.
             let f = &gaps[first];
-            let cos = (0..3).map(|k| f.normal[k] * g.normal[k]).sum::<Real>()
-                / (norm3(f.normal) * norm3(g.normal)).max(Real::MIN_POSITIVE);
-            if f.rotor_node == g.rotor_node && cos > 1.0 - 1e-12 {
+            let (na, nb) = (norm3(f.normal), norm3(g.normal));
+            let apart = (0..3)
+                .map(|k| (f.normal[k] / na - g.normal[k] / nb).powi(2))
+                .sum::<Real>()
+                .sqrt();
+            if f.rotor_node == g.rotor_node && apart <= 1e-12 {
                 return Err(format!(
                     "{at}: pad grid {} already has this gap ({}): the same pad grid, rotor grid \
                      {} and normal twice",
