@@ -166,6 +166,50 @@ enum Verb {
         #[command(flatten)]
         cache: CacheArgs,
     },
+    /// Regression of one reduced model or run against another: DOF maps, matrix differences
+    /// ‖A−B‖/‖A‖, undamped modes paired by MAC, CEA roots paired by frequency, or two run
+    /// folders' summary.json and cea.json: compare.json and compare.md. Exits 4 when a
+    /// difference is beyond a tolerance given.
+    Compare {
+        /// Reference: a scene (.toml), stored matrices (.op4/.pch with dofmap.json beside), a
+        /// reduce folder, or a run folder.
+        a: PathBuf,
+        /// Compared with A (same kind: a model or a run folder).
+        b: PathBuf,
+        /// Output folder (default: out/compare).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Largest relative frequency difference |f_B − f_A|/f_A of a paired undamped mode.
+        #[arg(long, value_name = "REL")]
+        tol_freq: Option<f64>,
+        /// Smallest MAC of every mode of A with its pair (an unpaired mode fails).
+        #[arg(long, value_name = "MIN")]
+        tol_mac: Option<f64>,
+        /// Largest ‖A − B‖_F/‖A‖_F of KR, MR, BR, PBRAKE.
+        #[arg(long, value_name = "REL")]
+        tol_matrix: Option<f64>,
+        /// Largest |Δf|/f and |Δ Re p|/|p| of a paired CEA root (an unpaired root fails).
+        #[arg(long, value_name = "REL")]
+        tol_root: Option<f64>,
+        /// Run folders: largest relative difference of a summary.json number (timings
+        /// excluded); text and booleans (the verdict's state) must be equal.
+        #[arg(long, value_name = "REL")]
+        tol_summary: Option<f64>,
+        /// Compare only the lowest N undamped modes of A.
+        #[arg(long, value_name = "N")]
+        modes: Option<usize>,
+        /// MAC below which two modes are not paired.
+        #[arg(long, value_name = "MIN", default_value_t = 0.5)]
+        pair_mac: f64,
+        /// Analysis settings (friction, rotor, loads, [cea]) for the CEA of stored matrices.
+        #[arg(long, value_name = "SCENE.toml")]
+        scene: Option<PathBuf>,
+        /// Do not run the CEA of model inputs.
+        #[arg(long)]
+        no_cea: bool,
+        #[command(flatten)]
+        cache: CacheArgs,
+    },
     /// List the matrices of a NASTRAN OP4 or punch (DMIG) file: name, shape, form, precision,
     /// nnz, Frobenius norm, sum, symmetry.
     Inspect {
@@ -381,6 +425,67 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 r.wall_s,
                 dir.path("report.md").display()
             ));
+        }
+        Verb::Compare {
+            a,
+            b,
+            out,
+            tol_freq,
+            tol_mac,
+            tol_matrix,
+            tol_root,
+            tol_summary,
+            modes,
+            pair_mac,
+            scene,
+            no_cea,
+            cache,
+        } => {
+            for (name, v) in [
+                ("--tol-freq", tol_freq),
+                ("--tol-mac", tol_mac),
+                ("--tol-matrix", tol_matrix),
+                ("--tol-root", tol_root),
+                ("--tol-summary", tol_summary),
+                ("--pair-mac", Some(pair_mac)),
+            ] {
+                if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0)) {
+                    anyhow::bail!("{name} {v}: must be a finite number >= 0");
+                }
+            }
+            let dir = RunDir::create(&out.unwrap_or_else(|| PathBuf::from("out/compare")))?;
+            let opts = stages::compare::CompareOptions {
+                tol_freq,
+                tol_mac,
+                tol_matrix,
+                tol_root,
+                tol_summary,
+                modes,
+                pair_mac,
+                scene,
+                cea: !no_cea,
+                cache: cache.dir().map(stages::model::ModelCache::new),
+            };
+            let r = stages::compare::compute(&a, &b, &opts, &dir, progress)?;
+            stages::compare::write(&r, &dir)?;
+            for c in r.checks.iter().filter(|c| !c.passed) {
+                eprintln!(
+                    "squeal: beyond tolerance: {} = {:e}: {:e} at {}",
+                    c.tolerance_name, c.tolerance, c.worst, c.at
+                );
+            }
+            progress.info(format!(
+                "{}; report: {}",
+                if r.passed {
+                    "within the tolerances"
+                } else {
+                    "beyond a tolerance"
+                },
+                dir.path("compare.md").display()
+            ));
+            if !r.passed {
+                code = ExitCode::from(stages::compare::EXIT_BEYOND_TOLERANCE);
+            }
         }
         Verb::Inspect { file, json } => {
             let summaries = squeal_reduction::inspect::inspect(&file)?;

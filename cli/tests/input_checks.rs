@@ -496,7 +496,7 @@ fn restart_fields_are_checked_naming_the_file_and_the_field() {
     };
     resume(&good, &[]).unwrap();
     type Edit = fn(&mut serde_json::Value);
-    let cases: [(&str, Edit, &str); 11] = [
+    let cases: [(&str, Edit, &str); 15] = [
         (
             "order above MAXORD",
             |r| r["state"]["order"] = 7.into(),
@@ -551,6 +551,27 @@ fn restart_fields_are_checked_naming_the_file_and_the_field() {
             "state n",
             |r| r["state"]["n"] = 5.into(),
             "field `state.n`: 5 differs from 2n + ng = 7",
+        ),
+        // The run's checkpoint (records resumed).
+        (
+            "start after the state",
+            |r| r["run"]["t_start"] = 1.0.into(),
+            "field `run.t_start`: 1 is not a start time at or before",
+        ),
+        (
+            "steps",
+            |r| r["run"]["steps"] = 3.into(),
+            "field `run.steps`: 3 differs from the state's",
+        ),
+        (
+            "energy integrals elsewhere",
+            |r| r["run"]["energy"]["balance"]["t"] = 0.5.into(),
+            "field `run.energy.balance.t`",
+        ),
+        (
+            "response DOF",
+            |r| r["run"]["records"]["response_dofs"] = serde_json::json!([99]),
+            "field `run.records.response_dofs`: DOF 99 is out of range",
         ),
     ];
     for (what, edit, want) in cases {

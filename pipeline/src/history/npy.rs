@@ -65,6 +65,45 @@ impl NpyAppender {
         })
     }
 
+    /// Continues an array: `dst` gets the header and the first `rows` rows of `src` (written
+    /// to a temporary file, fsync'd and renamed over `dst`, so a kill leaves either the old
+    /// file or the new one; `src` may be `dst`), and is then open for appending. The caller
+    /// has checked `src` ([`read_header`]: `cols` columns, at least `rows` rows).
+    pub fn resume(src: &Path, dst: &Path, cols: usize, rows: usize) -> Result<Self, PipelineError> {
+        let h = read_header(src)?;
+        let tmp = dst.with_extension("npy.tmp");
+        {
+            let mut from = File::open(src).map_err(io(src))?;
+            from.seek(SeekFrom::Start(h.data_offset as u64))
+                .map_err(io(src))?;
+            let mut to = BufWriter::new(File::create(&tmp).map_err(io(&tmp))?);
+            to.write_all(&header(rows, cols)).map_err(io(&tmp))?;
+            let want = (rows * cols * 8) as u64;
+            let copied = std::io::copy(&mut from.take(want), &mut to).map_err(io(src))?;
+            if copied != want {
+                return Err(PipelineError::Input {
+                    path: src.to_path_buf(),
+                    message: format!("{copied} data bytes, expected {want} ({rows} rows)"),
+                });
+            }
+            let f = to.into_inner().map_err(|e| io(&tmp)(e.into_error()))?;
+            f.sync_all().map_err(io(&tmp))?;
+        }
+        std::fs::rename(&tmp, dst).map_err(io(dst))?;
+        crate::output::sync_parent(dst).map_err(io(dst))?;
+        let mut f = std::fs::OpenOptions::new()
+            .write(true)
+            .open(dst)
+            .map_err(io(dst))?;
+        f.seek(SeekFrom::End(0)).map_err(io(dst))?;
+        Ok(Self {
+            path: dst.to_path_buf(),
+            file: BufWriter::new(f),
+            cols,
+            rows,
+        })
+    }
+
     /// Appends one row (its length must be `cols`).
     pub fn push(&mut self, row: &[f64]) -> Result<(), PipelineError> {
         if row.len() != self.cols {
@@ -99,12 +138,37 @@ impl NpyAppender {
     }
 }
 
-/// Reads a float64 2-D `.npy` array: (rows, cols, row-major data).
-pub fn read_npy(path: &Path) -> Result<(usize, usize, Vec<f64>), PipelineError> {
-    let mut bytes = Vec::new();
-    File::open(path)
-        .and_then(|mut f| f.read_to_end(&mut bytes))
-        .map_err(io(path))?;
+/// The header of a float64 2-D `.npy` file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NpyHeader {
+    /// Rows the header declares.
+    pub rows: usize,
+    pub cols: usize,
+    /// Byte offset of the first value.
+    pub data_offset: usize,
+    /// Complete rows of data in the file (may exceed `rows`: rows appended after the last
+    /// header rewrite).
+    pub data_rows: usize,
+}
+
+/// Reads the header of a float64 2-D `.npy` file (and counts the rows of data it holds).
+pub fn read_header(path: &Path) -> Result<NpyHeader, PipelineError> {
+    let mut f = File::open(path).map_err(io(path))?;
+    let len = f.metadata().map_err(io(path))?.len() as usize;
+    let mut head = vec![0u8; len.min(65536 + 12)];
+    f.read_exact(&mut head).map_err(io(path))?;
+    let (rows, cols, data_offset) = parse_header(path, &head)?;
+    let data_rows = (len - data_offset.min(len)) / (8 * cols.max(1));
+    Ok(NpyHeader {
+        rows,
+        cols,
+        data_offset,
+        data_rows,
+    })
+}
+
+/// (rows, cols, data offset) of the header at the start of `bytes`.
+fn parse_header(path: &Path, bytes: &[u8]) -> Result<(usize, usize, usize), PipelineError> {
     let bad = |m: &str| PipelineError::Input {
         path: path.to_path_buf(),
         message: m.to_string(),
@@ -114,6 +178,7 @@ pub fn read_npy(path: &Path) -> Result<(usize, usize, Vec<f64>), PipelineError> 
     }
     let (hlen, start) = match bytes[6] {
         1 => (u16::from_le_bytes([bytes[8], bytes[9]]) as usize, 10),
+        _ if bytes.len() < 12 => return Err(bad("truncated header")),
         _ => (
             u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize,
             12,
@@ -144,11 +209,29 @@ pub fn read_npy(path: &Path) -> Result<(usize, usize, Vec<f64>), PipelineError> 
         [r] => (*r, 1),
         _ => return Err(bad("not a 2-D array")),
     };
-    let data_bytes = &bytes[start + hlen..];
-    if data_bytes.len() < rows * cols * 8 {
+    Ok((rows, cols, start + hlen))
+}
+
+/// Reads a float64 2-D `.npy` array: (rows, cols, row-major data).
+pub fn read_npy(path: &Path) -> Result<(usize, usize, Vec<f64>), PipelineError> {
+    let mut bytes = Vec::new();
+    File::open(path)
+        .and_then(|mut f| f.read_to_end(&mut bytes))
+        .map_err(io(path))?;
+    let bad = |m: &str| PipelineError::Input {
+        path: path.to_path_buf(),
+        message: m.to_string(),
+    };
+    let (rows, cols, offset) = parse_header(path, &bytes)?;
+    let data_bytes = &bytes[offset..];
+    let want = rows
+        .checked_mul(cols)
+        .and_then(|v| v.checked_mul(8))
+        .ok_or_else(|| bad("shape too large"))?;
+    if data_bytes.len() < want {
         return Err(bad("fewer values than the shape says"));
     }
-    let data = data_bytes[..rows * cols * 8]
+    let data = data_bytes[..want]
         .chunks_exact(8)
         .map(|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
         .collect();

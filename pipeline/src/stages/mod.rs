@@ -2,6 +2,7 @@
 
 pub mod accuracy;
 pub mod cea;
+pub mod compare;
 pub mod mesh;
 pub mod model;
 pub mod modes;

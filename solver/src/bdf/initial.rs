@@ -19,13 +19,13 @@
 
 #![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::{DaeSystem, InitialConditionOptions};
 use crate::{Real, SolverError};
 
 /// Statistics of the initial-condition solve.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct IcStats {
     /// Newton iterations.
     pub iterations: usize,

@@ -228,6 +228,25 @@ impl Bdf {
         })
     }
 
+    /// Re-forms the iteration matrix at the restored state's saved point now (instead of on
+    /// the first step), so that the system's counters can be restored after it
+    /// ([`crate::bsql::BsqlSystem::restore_stats`]). A no-op when nothing is pending.
+    pub fn restore_iteration_matrix<S: DaeSystem + ?Sized>(
+        &mut self,
+        sys: &mut S,
+    ) -> Result<(), SolverError> {
+        if let Some(p) = self
+            .st
+            .jacobian_point
+            .as_ref()
+            .filter(|_| self.needs_restore)
+        {
+            sys.setup_jacobian(p.t, &p.y, &p.yp, p.cj)?;
+        }
+        self.needs_restore = false;
+        Ok(())
+    }
+
     /// A copy of the complete state, for a restart file.
     pub fn state(&self) -> &BdfState {
         &self.st

@@ -8,14 +8,14 @@
 //! integration and quadrature errors.
 
 use faer::Accum;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::residual::matvec;
 use super::{BsqlSystem, FrictionForces};
 use crate::{Real, SolverError};
 
 /// Energies and powers at one instant.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct PowerTerms {
     /// Time.
     pub t: Real,
@@ -34,7 +34,11 @@ pub struct PowerTerms {
 }
 
 /// Integrated energy balance; feed it one [`PowerTerms`] per accepted step.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+///
+/// Its serialised form (`summary.json`) is the totals; [`EnergyBalance::restart_state`] adds
+/// the last records the next step's quadrature needs, so that a restarted run continues the
+/// integrals bit for bit ([`EnergyBalance::from_restart_state`]).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct EnergyBalance {
     /// Time of the first record.
     pub t0: Real,
@@ -63,6 +67,17 @@ pub struct EnergyBalance {
     last: Option<PowerTerms>,
     #[serde(skip)]
     prev: Option<(Real, Real)>,
+}
+
+/// An [`EnergyBalance`] with the records its next step integrates from (restart files).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct EnergyRestart {
+    /// The totals.
+    pub balance: EnergyBalance,
+    /// The last record (None before the first).
+    pub last: Option<PowerTerms>,
+    /// (t, net power) of the record before it (quadrature-error estimate).
+    pub prev: Option<(Real, Real)>,
 }
 
 /// Net power into the structure: P·v + F_f·v − (Gᵀλ')·v − vᵀBv.
@@ -107,6 +122,24 @@ impl EnergyBalance {
         self.strain = p.strain;
         self.records += 1;
         self.last = Some(*p);
+    }
+
+    /// The complete balance for a restart file: the totals and the last records.
+    pub fn restart_state(&self) -> EnergyRestart {
+        EnergyRestart {
+            balance: self.clone(),
+            last: self.last,
+            prev: self.prev,
+        }
+    }
+
+    /// The balance of a restart file ([`EnergyBalance::restart_state`]).
+    pub fn from_restart_state(r: EnergyRestart) -> Self {
+        Self {
+            last: r.last,
+            prev: r.prev,
+            ..r.balance
+        }
     }
 
     /// Energy change minus net work in: zero for an exact solution.

@@ -20,7 +20,7 @@ pub mod steady;
 use faer::Mat;
 use serde::{Deserialize, Serialize};
 
-pub use energy::{EnergyBalance, PowerTerms};
+pub use energy::{EnergyBalance, EnergyRestart, PowerTerms};
 pub use residual::LoadHistory;
 pub use steady::{steady_state, SteadyOptions, SteadyState};
 
@@ -102,7 +102,7 @@ impl BsqlOptions {
 }
 
 /// Counters and monitors of the BSQL system (written to `summary.json`).
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct BsqlStats {
     /// Residual evaluations.
     pub residual_evals: u64,
@@ -210,6 +210,12 @@ impl<F: FrictionForces> BsqlSystem<F> {
     /// Counters and the constraint-drift monitor.
     pub fn stats(&self) -> &BsqlStats {
         &self.stats
+    }
+
+    /// Sets the counters and the drift monitor (a restarted run continues those of the run it
+    /// resumes).
+    pub fn restore_stats(&mut self, stats: BsqlStats) {
+        self.stats = stats;
     }
 
     /// The friction model.

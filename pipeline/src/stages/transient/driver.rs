@@ -11,6 +11,7 @@
 //! and honours cancellation between chunks. Sinks are flushed after every chunk, also a failed
 //! one, so nothing already written is lost.
 
+use super::restart::RunCheckpoint;
 use super::system::{GapFriction, Problem};
 use crate::error::PipelineError;
 use crate::progress::Progress;
@@ -20,7 +21,7 @@ use squeal_contact::GapSet;
 use squeal_solver::bdf::{
     Bdf, BdfOptions, BdfState, BdfStats, Status, TolerancePartition, Tolerances,
 };
-use squeal_solver::bsql::{BsqlStats, BsqlSystem, EnergyBalance, PowerTerms};
+use squeal_solver::bsql::{BsqlStats, BsqlSystem, EnergyBalance, EnergyRestart, PowerTerms};
 use squeal_solver::galpha::{Galpha, GalphaOptions, GalphaStats, GalphaSystem};
 use squeal_solver::SolverError;
 use std::time::Instant;
@@ -215,8 +216,19 @@ impl Stepper {
         restart: super::restart::RestartFile,
         path: &std::path::Path,
     ) -> Result<Self, PipelineError> {
-        let sys = problem.system(gaps.clone())?;
-        let bdf = restart.bdf(path, bdf_options(spec, &sys, spec.rtol1, spec.maxord))?;
+        let mut sys = problem.system(gaps.clone())?;
+        let stats = restart.run.as_ref().map(|r| r.bsql_stats.clone());
+        let mut bdf = restart.bdf(path, bdf_options(spec, &sys, spec.rtol1, spec.maxord))?;
+        if let Some(stats) = stats {
+            // The matrix the run last formed, re-formed now, then the run's counters: the
+            // resumed run counts as the uninterrupted one does.
+            bdf.restore_iteration_matrix(&mut sys)
+                .map_err(|e| PipelineError::Input {
+                    path: path.to_path_buf(),
+                    message: format!("field `state.jacobian_point`: {e}"),
+                })?;
+            sys.restore_stats(stats);
+        }
         Ok(Stepper::Bdf { bdf, sys })
     }
 
@@ -376,6 +388,54 @@ pub trait Sink {
     fn end(&mut self, _e: &EndView<'_>) -> Result<(), PipelineError> {
         Ok(())
     }
+    /// At a restart point (after the chunk ends where a sink wanted a break, and after the
+    /// end), what this sink must carry over a restart: its part of the checkpoint.
+    fn checkpoint(&self, _c: &mut RunCheckpoint) {}
+    /// A restart point: the checkpoint every sink contributed to (the restart writer saves it).
+    fn restart_point(
+        &mut self,
+        _stepper: &Stepper,
+        _c: &RunCheckpoint,
+    ) -> Result<(), PipelineError> {
+        Ok(())
+    }
+}
+
+/// The bookkeeping a resumed run continues (from a restart file's checkpoint).
+#[derive(Debug, Clone, Default)]
+pub struct Continued {
+    /// The energy integrals with their last records (None: a fresh balance).
+    pub energy: Option<EnergyRestart>,
+    /// Seconds of bookkeeping before the restart.
+    pub bookkeeping_s: Real,
+}
+
+/// The checkpoint of every sink at a restart point, and the restart point itself.
+fn restart_point(
+    stepper: &Stepper,
+    sinks: &mut [&mut dyn Sink],
+    balance: &EnergyBalance,
+    energy: bool,
+    bookkeeping_s: Real,
+) -> Result<(), PipelineError> {
+    let stats = stepper.stats();
+    let mut c = RunCheckpoint {
+        steps: stats.steps(),
+        energy: energy.then(|| balance.restart_state()),
+        bsql_stats: match stats {
+            IntegratorStats::Bdf { bsql, .. } => bsql,
+            IntegratorStats::GeneralizedAlpha { .. } => BsqlStats::default(),
+        },
+        bookkeeping_s,
+        ..Default::default()
+    };
+    for s in sinks.iter() {
+        s.checkpoint(&mut c);
+    }
+    for s in sinks.iter_mut() {
+        s.restart_point(stepper, &c)?;
+    }
+    Ok(())
 }
 
 /// How to drive a run.
@@ -413,11 +473,32 @@ pub fn drive(
     opts: &DriveOptions,
     progress: &Progress,
 ) -> Result<DriveOutcome, PipelineError> {
+    drive_from(stepper, sinks, opts, progress, None)
+}
+
+/// [`drive`], continuing a resumed run's bookkeeping when `continued` is given: the energy
+/// integrals go on from the checkpoint's, and the starting point (the restart's last step,
+/// which the run resumed has already recorded) is not passed to the sinks again.
+pub fn drive_from(
+    stepper: &mut Stepper,
+    sinks: &mut [&mut dyn Sink],
+    opts: &DriveOptions,
+    progress: &Progress,
+    continued: Option<Continued>,
+) -> Result<DriveOutcome, PipelineError> {
     let t_start = stepper.t();
     let first = stepper.stats().steps() as usize;
-    let mut balance = EnergyBalance::new();
-    let mut book = 0.0;
-    {
+    let resumed = continued.is_some();
+    let (mut balance, mut book) = match continued {
+        Some(c) => (
+            c.energy
+                .map(EnergyBalance::from_restart_state)
+                .unwrap_or_default(),
+            c.bookkeeping_s,
+        ),
+        None => (EnergyBalance::new(), 0.0),
+    };
+    if !resumed {
         let clock = Instant::now();
         let (y, yp) = (stepper.y().to_vec(), stepper.yp().to_vec());
         let p = match opts.energy {
@@ -509,6 +590,9 @@ pub fn drive(
             }
         };
         flushed?;
+        if sinks.iter().any(|s| s.wants_break(done)) {
+            restart_point(stepper, sinks, &balance, opts.energy, book)?;
+        }
         let (h, order) = stepper.h_order();
         bar.set((stepper.t() - t_start) / span, || {
             format!(
@@ -547,6 +631,7 @@ pub fn drive(
     for s in sinks.iter_mut() {
         s.end(&end)?;
     }
+    restart_point(stepper, sinks, &balance, opts.energy, book)?;
     Ok(DriveOutcome {
         t_start,
         t_end: stepper.t(),

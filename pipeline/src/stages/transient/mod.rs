@@ -10,8 +10,12 @@
 //!   effects, and with [`TransientOptions::keep_history`] the sampled history arrays).
 //! - Write: [`run_on_model`] (the CLI) attaches the file sinks — `history.npy` +
 //!   `history_map.json` and `energy.csv` ([`records::Recorder`]), `restart.json` every NRSTRT
-//!   steps and at the end (BDF, [`restart::RestartSink`]) — and writes `summary.json`
-//!   ([`TransientReport`]).
+//!   steps and at the end (BDF, [`restart::RestartSink`]) with `response.npy`
+//!   ([`records::ResponseFile`]) — and writes `summary.json` ([`TransientReport`]).
+//! - Resume: with `transient.restart`, [`prepare`] reads the restart file and the records of
+//!   the run that wrote it ([`restart::Resume`]); the run continues the state, the records,
+//!   the energy integrals, counters and contact monitor, and its result covers the whole run
+//!   — the uninterrupted run's, bit for bit.
 
 pub mod driver;
 pub mod effects;
@@ -28,11 +32,13 @@ use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::{Integrator, Scene, TransientSpec};
 use crate::stages::model;
-use driver::{drive, solver_err, DriveOptions, IntegratorStats, Method, Sink, Stepper};
+use driver::{
+    drive_from, solver_err, Continued, DriveOptions, IntegratorStats, Method, Sink, Stepper,
+};
 use effects::{Effect, Ignored};
-use records::{History, Recorder, Response};
-use restart::{RestartFile, RestartSink};
-use serde::Serialize;
+use records::{History, Recorder, Response, ResponseFile};
+use restart::{MonitorSink, OriginSink, RestartSink, Resume};
+use serde::{Deserialize, Serialize};
 use squeal_contact::GapSet;
 use squeal_solver::bdf::{
     consistent_initial_conditions, BdfStats, IcStats, InitialConditionOptions, Status,
@@ -46,7 +52,7 @@ use verdict::Verdict;
 type Real = f64;
 
 /// Steady-state solve summary.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SteadySummary {
     pub iterations: usize,
     pub residual_norm: f64,
@@ -240,6 +246,8 @@ pub struct Prepared<'a> {
     pub model_hash: String,
     /// The step bound (`spec.h_max` holds it).
     pub bound: StepBound,
+    /// The restart the run continues (`transient.restart`), read and checked.
+    pub resume: Option<Resume>,
 }
 
 /// Assembles the problem of `scene`'s transient on `model`; checks what the integrator can do.
@@ -259,6 +267,28 @@ pub fn prepare<'a>(
     let bound = step_bound(&spec, scene.band_hz());
     let mut spec = spec;
     spec.h_max = bound.h_max;
+    let resume = match &spec.restart {
+        Some(p) => {
+            let path = scene.resolve(p);
+            let r = Resume::load(&path, &model_hash, model.n(), model.gaps.len())?;
+            // The restart's last step may end past TFINAL (the run then ends at TFINAL by
+            // interpolation, as the uninterrupted run did); TFINAL before that step cannot be
+            // reached.
+            let (t, h_used) = (r.file.t, r.file.state.h_used);
+            if spec.tfinal <= t - h_used || (spec.tfinal <= t && r.checkpoint().is_none()) {
+                return Err(PipelineError::Scene {
+                    field: "transient.tfinal".into(),
+                    message: format!(
+                        "{} is not after the restart's time {t} ({})",
+                        spec.tfinal,
+                        path.display()
+                    ),
+                });
+            }
+            Some(r)
+        }
+        None => None,
+    };
     Ok(Prepared {
         scene,
         model,
@@ -266,6 +296,7 @@ pub fn prepare<'a>(
         problem,
         model_hash,
         bound,
+        resume,
     })
 }
 
@@ -281,12 +312,19 @@ impl Prepared<'_> {
         let (scene, model, spec) = (self.scene, self.model, &self.spec);
         let (n, ng) = (model.n(), model.gaps.len());
         // Initial state: restart file, or steady sliding before the brake load + y'(0).
-        let (mut stepper, steady, ic, restarted_from) = match &spec.restart {
-            Some(p) => {
-                let path = scene.resolve(p);
-                let r = RestartFile::read(&path, &self.model_hash, n, ng)?;
-                let st = Stepper::from_restart(&self.problem, &model.gaps, spec, r, &path)?;
-                (st, None, None, Some(path))
+        let (mut stepper, steady, ic, restarted_from) = match &self.resume {
+            Some(r) => {
+                let st = Stepper::from_restart(
+                    &self.problem,
+                    &model.gaps,
+                    spec,
+                    r.file.clone(),
+                    &r.path,
+                )?;
+                let (steady, ic) = r.checkpoint().map_or((None, None), |c| {
+                    (c.steady_state.clone(), c.initial_conditions.clone())
+                });
+                (st, steady, ic, Some(r.path.clone()))
             }
             None => {
                 let s = start_state(&self.problem, &model.gaps, spec.tolint)?;
@@ -303,24 +341,43 @@ impl Prepared<'_> {
                 (st, Some(s.steady), Some(s.ic), None)
             }
         };
-        let t_start = stepper.t();
+        // A true resume continues the run's records and bookkeeping; its result covers the
+        // whole run from the original start.
+        let checkpoint = self.resume.as_ref().and_then(Resume::checkpoint);
+        let records = self.resume.as_ref().and_then(|r| r.records.as_ref());
+        let t_start = checkpoint.map_or(stepper.t(), |c| c.t_start);
         if spec.tfinal <= t_start {
             return Err(PipelineError::Scene {
                 field: "transient.tfinal".into(),
                 message: format!("{} is not after the start time {t_start}", spec.tfinal),
             });
         }
-        let mut memory = Recorder::open(scene, model, None, opts.keep_history)?;
+        let mut memory = Recorder::open_resumed(scene, model, None, opts.keep_history, records)?;
         let mut resp = Response::new(scene, model, memory.columns())?;
         let mut contact = validity::ContactMonitor::new(&model.gaps, n);
+        if let (Some(r), Some(c)) = (records, checkpoint) {
+            resp.resume(r)?;
+            if let Some(v) = &c.contact {
+                contact.validity = v.clone();
+            }
+        }
+        let mut origin = OriginSink {
+            t_start,
+            steady_state: steady.clone(),
+            initial_conditions: ic.clone(),
+        };
         let outcome = {
-            let mut all: Vec<&mut dyn Sink> =
-                vec![&mut resp as &mut dyn Sink, &mut contact as &mut dyn Sink];
+            let mut monitor = MonitorSink(&mut contact);
+            let mut all: Vec<&mut dyn Sink> = vec![
+                &mut resp as &mut dyn Sink,
+                &mut monitor as &mut dyn Sink,
+                &mut origin as &mut dyn Sink,
+            ];
             if opts.keep_history {
                 all.push(&mut memory as &mut dyn Sink);
             }
             all.extend(sinks.iter_mut().map(|s| &mut **s as &mut dyn Sink));
-            drive(
+            drive_from(
                 &mut stepper,
                 &mut all,
                 &DriveOptions {
@@ -330,6 +387,10 @@ impl Prepared<'_> {
                     label: "transient".into(),
                 },
                 progress,
+                checkpoint.map(|c| Continued {
+                    energy: c.energy.clone(),
+                    bookkeeping_s: c.bookkeeping_s,
+                }),
             )?
         };
         if !outcome.status.is_success() {
@@ -436,7 +497,12 @@ impl Prepared<'_> {
             step_bound: self.bound.clone(),
             contact,
             verdict_cea,
-            warnings: model.warnings.clone(),
+            warnings: model
+                .warnings
+                .iter()
+                .cloned()
+                .chain(self.resume.as_ref().and_then(|r| r.warning.clone()))
+                .collect(),
             history,
         })
     }
@@ -518,8 +584,33 @@ pub fn run(
 }
 
 /// The transient on a reduced model already built for `scene`, with its files in `dir`
-/// (`wall`: when the run started).
+/// (`wall`: when the run started). The errors of a resumed run name the restart file.
 pub fn run_on_model(
+    scene: &Scene,
+    dir: &RunDir,
+    progress: &Progress,
+    export_dae: Option<&Path>,
+    model: &model::ReducedModel,
+    wall: Instant,
+    opts: &TransientOptions,
+) -> Result<TransientReport, PipelineError> {
+    let restart = scene.transient.as_ref().and_then(|t| t.restart.as_ref());
+    run_model(scene, dir, progress, export_dae, model, wall, opts).map_err(|e| match restart {
+        Some(p)
+            if !e
+                .to_string()
+                .contains(&scene.resolve(p).display().to_string()) =>
+        {
+            PipelineError::Resumed {
+                path: scene.resolve(p),
+                source: Box::new(e),
+            }
+        }
+        _ => e,
+    })
+}
+
+fn run_model(
     scene: &Scene,
     dir: &RunDir,
     progress: &Progress,
@@ -565,7 +656,8 @@ pub fn run_on_model(
         )?;
         progress.info(format!("exported the DAE to {}", d.display()));
     }
-    let mut files = Recorder::open(scene, model, Some(dir), false)?;
+    let records = prepared.resume.as_ref().and_then(|r| r.records.as_ref());
+    let mut files = Recorder::open_resumed(scene, model, Some(dir), false, records)?;
     let mut restart = RestartSink {
         path: dir.path("restart.json"),
         model_hash: prepared.model_hash.clone(),
@@ -574,7 +666,23 @@ pub fn run_on_model(
         max_order: spec.maxord,
         every: spec.nrstrt,
     };
-    let mut result = prepared.run(progress, opts, &mut [&mut files, &mut restart])?;
+    let mut result = match spec.integrator {
+        // The response beside the restart file, for a resumed run's verdict.
+        Integrator::Bdf => {
+            let dofs = Response::new(scene, model, files.columns())?
+                .dofs()
+                .to_vec();
+            let mut response = ResponseFile::open(dir, &dofs, records)?;
+            prepared.run(
+                progress,
+                opts,
+                &mut [&mut files, &mut response, &mut restart],
+            )?
+        }
+        Integrator::GeneralizedAlpha => {
+            prepared.run(progress, opts, &mut [&mut files, &mut restart])?
+        }
+    };
     result.history_rows = files.rows();
     let report = TransientReport {
         verb: "transient",

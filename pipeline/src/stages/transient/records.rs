@@ -1,8 +1,11 @@
 //! What a transient run records, for either integrator: the columns of the history and
 //! their values at one step, the writers of `history.npy` + `history_map.json` and
-//! `energy.csv` ([`Recorder`]), and the response the squeal verdict analyses ([`Response`]).
+//! `energy.csv` ([`Recorder`]), the response the squeal verdict analyses ([`Response`]) and
+//! its file `response.npy` ([`ResponseFile`]). A resumed run continues all of them from the
+//! rows its restart file counts ([`super::restart::Records`]).
 
 use super::driver::{ChunkView, EndView, Sink, StepView};
+use super::restart::{continue_lines, Records, RunCheckpoint, RESPONSE_FILE};
 use super::verdict::{self, Verdict};
 use crate::error::PipelineError;
 use crate::history::npy::NpyAppender;
@@ -67,7 +70,9 @@ pub struct Recorder {
     /// Time of the last history row.
     last_t: Option<Real>,
     rows: usize,
-    /// The initial point was recorded.
+    /// Rows of the energy file.
+    energy_rows: usize,
+    /// The initial point was recorded (or the run resumed records that hold it).
     started: bool,
 }
 
@@ -81,6 +86,19 @@ impl Recorder {
         dir: Option<&RunDir>,
         keep: bool,
     ) -> Result<Self, PipelineError> {
+        Self::open_resumed(scene, model, dir, keep, None)
+    }
+
+    /// [`Recorder::open`] continuing the records of a resumed run: the files get the rows
+    /// `records` counts (cut back to them in the same folder, copied into a new one) and are
+    /// appended to; in memory, those rows are read back.
+    pub fn open_resumed(
+        scene: &Scene,
+        model: &ReducedModel,
+        dir: Option<&RunDir>,
+        keep: bool,
+        records: Option<&Records>,
+    ) -> Result<Self, PipelineError> {
         let cols = columns(scene, model)?;
         let noutpt = scene.transient.as_ref().map_or(1, |t| t.noutpt).max(1);
         let (history_path, energy_path) = match dir {
@@ -88,6 +106,26 @@ impl Recorder {
             None => (PathBuf::from("history.npy"), PathBuf::from("energy.csv")),
         };
         let on = scene.output.history;
+        // What the resumed run recorded (its records, history rows, energy rows).
+        let prior = match records.filter(|_| on) {
+            Some(r) => {
+                r.check_columns(&cols)?;
+                match (r.counts.history_rows, r.counts.energy_rows) {
+                    (Some(h), Some(e)) => Some((r, h, e)),
+                    _ => {
+                        return Err(PipelineError::Scene {
+                            field: "output.history".into(),
+                            message: format!(
+                                "the run resumed ({}) wrote no history (output.history = false): \
+                                 resume it with output.history = false too",
+                                r.restart.display()
+                            ),
+                        })
+                    }
+                }
+            }
+            None => None,
+        };
         let (mut history, mut energy) = (None, None);
         if let (Some(dir), true) = (dir, on) {
             dir.write_json(
@@ -98,21 +136,48 @@ impl Recorder {
                     columns: cols.clone(),
                 },
             )?;
-            history = Some(NpyAppender::create(&history_path, cols.len())?);
             let eio = |source| PipelineError::Io {
                 path: energy_path.clone(),
                 source,
             };
-            let mut e = std::io::BufWriter::new(std::fs::File::create(&energy_path).map_err(eio)?);
-            writeln!(e, "{ENERGY_HEADER}").map_err(eio)?;
-            energy = Some(e);
+            match prior {
+                Some((r, h, e)) => {
+                    history = Some(NpyAppender::resume(
+                        &r.history(),
+                        &history_path,
+                        cols.len(),
+                        h,
+                    )?);
+                    continue_lines(&r.energy(), &energy_path, e)?;
+                    let f = std::fs::OpenOptions::new()
+                        .append(true)
+                        .open(&energy_path)
+                        .map_err(eio)?;
+                    energy = Some(std::io::BufWriter::new(f));
+                }
+                None => {
+                    history = Some(NpyAppender::create(&history_path, cols.len())?);
+                    let mut e =
+                        std::io::BufWriter::new(std::fs::File::create(&energy_path).map_err(eio)?);
+                    writeln!(e, "{ENERGY_HEADER}").map_err(eio)?;
+                    energy = Some(e);
+                }
+            }
         }
+        let mut memory = (keep && on).then(|| History {
+            columns: cols.clone(),
+            ..Default::default()
+        });
+        if let (Some(m), Some((r, h, e))) = (memory.as_mut(), prior) {
+            read_back(r, h, e, m)?;
+        }
+        let (rows, energy_rows, last_t) = match prior {
+            Some((r, h, e)) => (h, e, r.counts.history_last_t),
+            None => (0, 0, None),
+        };
         Ok(Self {
             row: Vec::with_capacity(cols.len()),
-            memory: (keep && on).then(|| History {
-                columns: cols.clone(),
-                ..Default::default()
-            }),
+            memory,
             cols,
             gaps: model.gaps.clone(),
             n: model.n(),
@@ -121,9 +186,10 @@ impl Recorder {
             energy,
             history_path,
             energy_path,
-            last_t: None,
-            rows: 0,
-            started: false,
+            last_t,
+            rows,
+            energy_rows,
+            started: records.is_some(),
         })
     }
 
@@ -187,6 +253,7 @@ impl Recorder {
             m.energy.push(e);
         }
         if let Some(w) = self.energy.as_mut() {
+            self.energy_rows += 1;
             writeln!(
                 w,
                 "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
@@ -248,6 +315,48 @@ impl Sink for Recorder {
         }
         self.flush()
     }
+
+    /// The rows of the files (a recorder in memory writes none and adds nothing).
+    fn checkpoint(&self, c: &mut RunCheckpoint) {
+        if self.history.is_some() {
+            c.records.history_rows = Some(self.rows);
+            c.records.history_columns = Some(self.cols.len());
+            c.records.history_last_t = self.last_t;
+        }
+        if self.energy.is_some() {
+            c.records.energy_rows = Some(self.energy_rows);
+        }
+    }
+}
+
+/// The first `rows` rows of the history and `energy_rows` rows of the energy of the run `r`
+/// resumes, into `m`.
+fn read_back(
+    r: &Records,
+    rows: usize,
+    energy_rows: usize,
+    m: &mut History,
+) -> Result<(), PipelineError> {
+    let (_, cols, data) = crate::history::npy::read_npy(&r.history())?;
+    m.values
+        .extend_from_slice(&data[..(rows * cols).min(data.len())]);
+    let p = r.energy();
+    let text = std::fs::read_to_string(&p).map_err(|source| PipelineError::Io {
+        path: p.clone(),
+        source,
+    })?;
+    for (i, line) in text.lines().skip(1).take(energy_rows).enumerate() {
+        let values: Option<Vec<Real>> = line.split(',').map(|x| x.parse().ok()).collect();
+        let e: [Real; 8] =
+            values
+                .and_then(|v| v.try_into().ok())
+                .ok_or_else(|| PipelineError::Input {
+                    path: p.clone(),
+                    message: format!("line {}: not 8 numbers: `{line}`", i + 2),
+                })?;
+        m.energy.push(e);
+    }
+    Ok(())
 }
 
 /// The velocities the squeal verdict analyses: `output.response`, or every velocity column
@@ -296,6 +405,20 @@ impl Response {
             dofs,
             t: Vec::new(),
         })
+    }
+
+    /// Continues the response of a resumed run: its rows up to the restart. The DOFs must be
+    /// the same (an error names `output.response`).
+    pub fn resume(&mut self, r: &Records) -> Result<(), PipelineError> {
+        same_response(r, &self.dofs)?;
+        self.t.clone_from(&r.response_t);
+        self.v.clone_from(&r.response_v);
+        Ok(())
+    }
+
+    /// The reduced DOFs whose velocities it records.
+    pub fn dofs(&self) -> &[usize] {
+        &self.dofs
     }
 
     /// Records the velocities of y = {v, λ, u} at t.
@@ -366,6 +489,80 @@ impl Sink for Response {
     fn step(&mut self, s: &StepView<'_>) -> Result<(), PipelineError> {
         self.push(s.t, s.y);
         Ok(())
+    }
+}
+
+/// The response of the run `r` resumes is that of `dofs` (an error names `output.response`).
+fn same_response(r: &Records, dofs: &[usize]) -> Result<(), PipelineError> {
+    match r.counts.response_dofs == dofs {
+        true => Ok(()),
+        false => Err(PipelineError::Scene {
+            field: "output.response".into(),
+            message: format!(
+                "the run resumed ({}) analysed the velocities of DOFs {:?}, this scene those of \
+                 {dofs:?}: resume with the same output.response and output.grids",
+                r.restart.display(),
+                r.counts.response_dofs,
+            ),
+        }),
+    }
+}
+
+/// `response.npy`: the response of [`Response`] (t, then its velocities) at every accepted
+/// step, the record a resumed run's verdict reads back. Written beside `restart.json`.
+pub struct ResponseFile {
+    dofs: Vec<usize>,
+    file: NpyAppender,
+    row: Vec<Real>,
+}
+
+impl ResponseFile {
+    /// Creates `response.npy` in `dir` for the velocities of `dofs`, or continues the rows of
+    /// the run `records` resumes.
+    pub fn open(
+        dir: &RunDir,
+        dofs: &[usize],
+        records: Option<&Records>,
+    ) -> Result<Self, PipelineError> {
+        let path = dir.path(RESPONSE_FILE);
+        let cols = dofs.len() + 1;
+        let file = match records.and_then(|r| r.counts.response_rows.map(|k| (r, k))) {
+            Some((r, rows)) => {
+                same_response(r, dofs)?;
+                NpyAppender::resume(&r.response(), &path, cols, rows)?
+            }
+            None => NpyAppender::create(&path, cols)?,
+        };
+        Ok(Self {
+            dofs: dofs.to_vec(),
+            file,
+            row: Vec::with_capacity(cols),
+        })
+    }
+}
+
+impl Sink for ResponseFile {
+    fn step(&mut self, s: &StepView<'_>) -> Result<(), PipelineError> {
+        self.row.clear();
+        self.row.push(s.t);
+        self.row.extend(self.dofs.iter().map(|&d| s.y[d]));
+        self.file.push(&self.row)
+    }
+    fn chunk_end(&mut self, c: &ChunkView<'_>) -> Result<(), PipelineError> {
+        match c.failed {
+            true => {
+                let _ = self.file.flush();
+                Ok(())
+            }
+            false => self.file.flush(),
+        }
+    }
+    fn end(&mut self, _: &EndView<'_>) -> Result<(), PipelineError> {
+        self.file.flush()
+    }
+    fn checkpoint(&self, c: &mut RunCheckpoint) {
+        c.records.response_rows = Some(self.file.rows());
+        c.records.response_dofs = self.dofs.clone();
     }
 }
 

@@ -8,13 +8,13 @@
 
 use super::driver::{Sink, StepView};
 use crate::error::PipelineError;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use squeal_contact::GapSet;
 
 type Real = f64;
 
 /// One gap at one time.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct GapEvent {
     pub t: Real,
     /// Gap index (gap-table order).
@@ -24,7 +24,7 @@ pub struct GapEvent {
 }
 
 /// What the run's contact did (`summary.json`'s `contact`).
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct ContactValidity {
     pub n_gaps: usize,
     /// Gaps with p_n < 0 at the start (after the steady state and consistent initial
