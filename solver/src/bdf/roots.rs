@@ -24,13 +24,7 @@ impl Bdf {
     /// Restart the integration at (t, y, y') at order 1 with step `h` (an event: the
     /// solution or the system changed). The counters are kept; the difference arrays,
     /// step history and iteration matrix are dropped.
-    pub fn reinit(
-        &mut self,
-        t: Real,
-        y: &[Real],
-        yp: &[Real],
-        h: Real,
-    ) -> Result<(), SolverError> {
+    pub fn reinit(&mut self, t: Real, y: &[Real], yp: &[Real], h: Real) -> Result<(), SolverError> {
         let n = self.st.n;
         if y.len() != n || yp.len() != n {
             return Err(SolverError::DimensionMismatch {

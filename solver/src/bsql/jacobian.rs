@@ -94,7 +94,11 @@ impl<F: FrictionForces> BsqlSystem<F> {
         for k in 0..ng {
             for i in 0..n {
                 a[(i, n + k)] = s * (self.G[(k, i)] - self.d_dlam[(i, k)]);
-                a[(n + k, i)] = if self.open[k] { 0.0 } else { s * self.G[(k, i)] };
+                a[(n + k, i)] = if self.open[k] {
+                    0.0
+                } else {
+                    s * self.G[(k, i)]
+                };
             }
             for l in 0..ng {
                 a[(n + k, n + l)] = 0.0;

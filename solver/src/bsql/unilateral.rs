@@ -367,7 +367,12 @@ impl Unilateral {
         bdf.interpolate(t_ev, &mut self.y, &mut self.yp)?;
         let (mut y, mut yp) = (self.y.clone(), self.yp.clone());
         if !on_step(sys, t_ev, &y, &yp)? {
-            bdf.reinit(t_ev, &y, &yp, (self.opts.restart_step_fraction * h_used).max(t_tol))?;
+            bdf.reinit(
+                t_ev,
+                &y,
+                &yp,
+                (self.opts.restart_step_fraction * h_used).max(t_tol),
+            )?;
             return Ok(false);
         }
         self.stats.events += 1;
