@@ -160,8 +160,15 @@ fn bouncing_mass_with_friction_matches_analytic_events_and_energy() {
     let mut sys = bouncing_system();
     let (y0, yp0) = start(&mut sys);
     let mut bdf = Bdf::new(bdf_options(&sys), 0.0, &y0, &yp0).unwrap();
-    let mut uni =
-        Unilateral::new(&mut sys, vec![0.0], &y0, &yp0, UnilateralOptions::default()).unwrap();
+    let mut uni = Unilateral::new(
+        &mut sys,
+        vec![0.0],
+        None,
+        &y0,
+        &yp0,
+        UnilateralOptions::default(),
+    )
+    .unwrap();
     let mut bal = EnergyBalance::new();
     bal.push(&sys.observe(0.0, &y0, &yp0).unwrap());
     // Record (t, x', z1') at every callback (events appear twice: before and after).
@@ -228,8 +235,15 @@ fn run_to(t: Real) -> (BdfState, UnilateralState, UnilateralStats, Vec<Real>) {
     let mut sys = bouncing_system();
     let (y0, yp0) = start(&mut sys);
     let mut bdf = Bdf::new(bdf_options(&sys), 0.0, &y0, &yp0).unwrap();
-    let mut uni =
-        Unilateral::new(&mut sys, vec![0.0], &y0, &yp0, UnilateralOptions::default()).unwrap();
+    let mut uni = Unilateral::new(
+        &mut sys,
+        vec![0.0],
+        None,
+        &y0,
+        &yp0,
+        UnilateralOptions::default(),
+    )
+    .unwrap();
     assert!(uni
         .step_to(&mut bdf, &mut sys, t, |_, _, _, _| Ok(true))
         .unwrap()
@@ -251,8 +265,15 @@ fn restart_across_an_open_gap_equals_uninterrupted_run() {
     let mut sys = bouncing_system();
     let (y0, yp0) = start(&mut sys);
     let mut bdf = Bdf::new(bdf_options(&sys), 0.0, &y0, &yp0).unwrap();
-    let mut uni =
-        Unilateral::new(&mut sys, vec![0.0], &y0, &yp0, UnilateralOptions::default()).unwrap();
+    let mut uni = Unilateral::new(
+        &mut sys,
+        vec![0.0],
+        None,
+        &y0,
+        &yp0,
+        UnilateralOptions::default(),
+    )
+    .unwrap();
     let noop = |_: &mut BsqlSystem<BeltCoulomb>, _: Real, _: &[Real], _: &[Real]| Ok(true);
     assert!(uni
         .step_to(&mut bdf, &mut sys, t_mid, noop)

@@ -83,6 +83,8 @@ impl UnilateralOptions {
 /// The active set: everything a restart file needs to continue across an open gap.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct UnilateralState {
+    /// Constraints allowed to separate (the others stay closed, bilateral as in the paper).
+    pub can_open: Vec<bool>,
     /// Open constraints.
     pub open: Vec<bool>,
     /// λ' an open constraint carries (P_0 A per gap; see the module docs).
@@ -157,16 +159,19 @@ fn root_value<F: FrictionForces>(
 
 impl Unilateral {
     /// All constraints closed at the start; `lambda_dot_open[k]` = P_0 A of gap k (0 without
-    /// preload). `y0`, `yp0` is the (consistent) start.
+    /// preload); `can_open` (None: all) marks the constraints that may separate. `y0`, `yp0`
+    /// is the (consistent) start.
     pub fn new<F: FrictionForces>(
         sys: &mut BsqlSystem<F>,
         lambda_dot_open: Vec<Real>,
+        can_open: Option<Vec<bool>>,
         y0: &[Real],
         yp0: &[Real],
         opts: UnilateralOptions,
     ) -> Result<Self, SolverError> {
         let ng = sys.ng;
         let st = UnilateralState {
+            can_open: can_open.unwrap_or_else(|| vec![true; ng]),
             open: vec![false; ng],
             lambda_dot_open,
             gap_ref: vec![0.0; ng],
@@ -187,6 +192,7 @@ impl Unilateral {
         opts.validate()?;
         let ng = sys.ng;
         for (what, l) in [
+            ("can_open flags", st.can_open.len()),
             ("open flags", st.open.len()),
             ("lambda_dot_open", st.lambda_dot_open.len()),
             ("gap_ref", st.gap_ref.len()),
@@ -254,7 +260,7 @@ impl Unilateral {
         for k in 0..sys.ng {
             let g = root_value(sys, &self.st, k, y, yp);
             self.st.g_prev[k] = g;
-            self.st.armed[k] = g > 0.0 && !switched.contains(&k);
+            self.st.armed[k] = g > 0.0 && !switched.contains(&k) && self.st.can_open[k];
         }
     }
 
@@ -293,7 +299,7 @@ impl Unilateral {
                 }
                 for k in 0..s.ng {
                     st.g_prev[k] = g_now[k];
-                    st.armed[k] |= g_now[k] > 0.0;
+                    st.armed[k] |= g_now[k] > 0.0 && st.can_open[k];
                 }
                 let go_on = on_step(s, t, y, yp)?;
                 user_stop = !go_on;
@@ -366,15 +372,8 @@ impl Unilateral {
         let switched: Vec<usize> = (0..ng).filter(|&k| times[k] <= t_ev + t_tol).collect();
         bdf.interpolate(t_ev, &mut self.y, &mut self.yp)?;
         let (mut y, mut yp) = (self.y.clone(), self.yp.clone());
-        if !on_step(sys, t_ev, &y, &yp)? {
-            bdf.reinit(
-                t_ev,
-                &y,
-                &yp,
-                (self.opts.restart_step_fraction * h_used).max(t_tol),
-            )?;
-            return Ok(false);
-        }
+        // A stop asked for here is honoured after the event (the state must stay consistent).
+        let stop = !on_step(sys, t_ev, &y, &yp)?;
         self.stats.events += 1;
         let mut closing = Vec::new();
         for &k in &switched {
@@ -403,6 +402,9 @@ impl Unilateral {
                 .fold(1.0 as Real, |m, x| m.max(x.abs()));
             let mut flip = None;
             for k in 0..ng {
+                if !self.st.can_open[k] {
+                    continue;
+                }
                 if flipped.contains(&k) && !closing.contains(&k) {
                     continue;
                 }
@@ -441,7 +443,7 @@ impl Unilateral {
         self.rearm(sys, &y, &yp, &flipped);
         let h = (self.opts.restart_step_fraction * h_used).max(t_tol);
         bdf.reinit(t_ev, &y, &yp, h)?;
-        on_step(sys, t_ev, &y, &yp)
+        Ok(on_step(sys, t_ev, &y, &yp)? && !stop)
     }
 
     /// Flip constraint k at state y and time t.

@@ -43,6 +43,9 @@ impl FrictionForces for GapFriction {
                 message: e.to_string(),
             })
     }
+    fn near_stick(&mut self, _t: Real, v: &[Real], lambda_dot: &[Real]) -> bool {
+        self.set.near_stick(v, lambda_dot)
+    }
 }
 
 /// The matrices and loads the solver integrates.
