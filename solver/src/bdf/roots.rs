@@ -33,7 +33,7 @@ impl Bdf {
                 got: y.len().min(yp.len()),
             });
         }
-        if !(h > 0.0 && h.is_finite()) || !t.is_finite() {
+        if !(h > 0.0 && h.is_finite() && t.is_finite()) {
             return Err(SolverError::InvalidOption {
                 field: "reinit step",
                 value: format!("t = {t}, h = {h}"),

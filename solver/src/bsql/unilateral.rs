@@ -297,8 +297,8 @@ impl Unilateral {
                     crossed = true;
                     return Ok(false);
                 }
+                st.g_prev.copy_from_slice(g_now);
                 for k in 0..s.ng {
-                    st.g_prev[k] = g_now[k];
                     st.armed[k] |= g_now[k] > 0.0 && st.can_open[k];
                 }
                 let go_on = on_step(s, t, y, yp)?;
