@@ -127,7 +127,7 @@ pub fn problem(scene: &Scene, model: &ReducedModel) -> Result<Problem, PipelineE
         load,
         bsql: BsqlOptions {
             include_friction_damping: t.friction_damping_in_jacobian,
-            ..Default::default()
+            friction_damping_near_stick: t.friction_damping_near_stick,
         },
     })
 }
