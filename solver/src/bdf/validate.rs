@@ -73,6 +73,15 @@ impl BdfState {
         ] {
             finite(name, v)?;
         }
+        if self.start_step > self.stats.steps {
+            return Err(bad(
+                "start_step",
+                format!(
+                    "{} must not exceed stats.steps = {} (the steps at the last restart)",
+                    self.start_step, self.stats.steps
+                ),
+            ));
+        }
         if !(self.h.is_finite() && (self.h > 0.0 || (self.h_pending && self.h == 0.0))) {
             return Err(bad(
                 "h",
@@ -161,8 +170,12 @@ mod tests {
         let mut st = fresh.clone();
         st.yp.pop();
         assert!(err(st).contains("`yp`: has 1 entries, expected 2"));
-        let mut st = fresh;
+        let mut st = fresh.clone();
         st.phi[2][1] = f64::NAN;
         assert!(err(st).contains("`phi[2][1]`: NaN must be finite"));
+        // A restart point after the steps taken (a restart file from a run with events).
+        let mut st = fresh;
+        st.start_step = 5;
+        assert!(err(st).contains("`start_step`: 5 must not exceed stats.steps = 0"));
     }
 }
