@@ -538,3 +538,45 @@ fn generalized_alpha_writes_the_bdf_outputs() {
         );
     }
 }
+
+/// `[[contact]] separation = true` on the tiny brake with a brake load that lets go: the
+/// pad is pulled off the rotor (pmax < 0 after a press, here a negative unit pressure), its
+/// gaps open (events in `summary.json`), separation is an active effect, the energy balance
+/// (with the impact dissipation) closes, and the verdict is not made unresolved by tensile
+/// contact.
+#[test]
+fn separation_opens_the_gaps_and_reports_the_events() {
+    let d = tmp("tiny-separation");
+    let out = d.join("run");
+    transient(
+        &scene(),
+        &out,
+        &[
+            "contact.0.separation=true",
+            "loads.pmax=-2.0",
+            "transient.tfinal=0.05",
+        ],
+    );
+    let s = json(&out.join("summary.json"));
+    let sep = &s["separation"];
+    assert!(sep["openings"].as_u64().unwrap() >= 1, "{sep}");
+    assert!(sep["first_separation_t"].as_f64().unwrap() > 0.0, "{sep}");
+    let effects = s["active_effects"].to_string();
+    assert!(effects.contains("separation"), "{effects}");
+    let reasons = s["verdict"].to_string();
+    assert!(!reasons.contains("contact_tensile"), "{reasons}");
+    let e = &s["energy"];
+    let scale = e["friction_work"]
+        .as_f64()
+        .unwrap()
+        .abs()
+        .max(e["external_work"].as_f64().unwrap().abs())
+        .max(e["initial_energy"].as_f64().unwrap().abs())
+        .max(e["damping_dissipated"].as_f64().unwrap().abs());
+    let res = s["energy_residual"].as_f64().unwrap();
+    println!("separation: {sep}\nenergy {e}\nresidual {res:e} of {scale:e}");
+    assert!(
+        res.abs() < 1e-3 * scale,
+        "energy residual {res:e} vs {scale:e}"
+    );
+}

@@ -174,6 +174,7 @@ fn bdf_run(rtol: Real, max_order: usize) -> Run {
             Belt,
             BsqlOptions {
                 include_friction_damping: true,
+                ..Default::default()
             },
         )
         .unwrap();

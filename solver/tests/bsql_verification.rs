@@ -71,6 +71,7 @@ fn measured_sigma(c: Real, damping_in_jacobian: bool) -> (Real, Real) {
     let b = belt(c);
     let mut sys = b.system(BsqlOptions {
         include_friction_damping: damping_in_jacobian,
+        ..Default::default()
     });
     let (y0, yp0) = initial(&mut sys, &b);
     let mut bdf = Bdf::new(options(&sys), 0.0, &y0, &yp0).unwrap();
@@ -321,6 +322,7 @@ fn iteration_matrix_solve_inverts_finite_difference_jacobian() {
     let b = belt(0.3);
     let mut sys = b.system(BsqlOptions {
         include_friction_damping: true,
+        ..Default::default()
     });
     let (y0, yp0) = initial(&mut sys, &b);
     let cj = 250.0;

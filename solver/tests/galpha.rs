@@ -242,6 +242,7 @@ fn belt_galpha_rate(b: &Belt, h: Real, t_end: Real) -> Real {
 fn belt_bdf2_rate(b: &Belt, h: Real, t_end: Real) -> Real {
     let mut sys = b.system(BsqlOptions {
         include_friction_damping: true,
+        ..Default::default()
     });
     let (mut y0, mut yp0) = belt_initial(b);
     consistent_initial_conditions(
@@ -728,6 +729,7 @@ fn stick_slip_reference() -> Vec<Vec<Real>> {
         stick_slip_friction(),
         BsqlOptions {
             include_friction_damping: true,
+            ..Default::default()
         },
     )
     .unwrap();

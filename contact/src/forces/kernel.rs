@@ -160,3 +160,24 @@ impl GapSet {
         Ok(())
     }
 }
+
+impl GapSet {
+    /// Slip speed below which a gap counts as near sticking: 3 × the regularisation zone of
+    /// [Paper eq. (5)], 30·VTOL (the friction force's slope in |V_t| there is ~μN/VTOL).
+    pub fn near_stick_speed(&self) -> Real {
+        30.0 * self.vtol
+    }
+
+    /// True when some gap slips slower than [`GapSet::near_stick_speed`] (wrong lengths:
+    /// false; the force evaluation reports them).
+    pub fn near_stick(&self, v: &[Real], lambda_dot: &[Real]) -> bool {
+        if self.check_vectors(v, lambda_dot).is_err() {
+            return false;
+        }
+        let limit = self.near_stick_speed();
+        self.gaps
+            .iter()
+            .enumerate()
+            .any(|(ig, gap)| evaluate_gap(self, gap, v, lambda_dot[ig]).slip_speed < limit)
+    }
+}

@@ -33,6 +33,11 @@ pub struct ContactPair {
     /// is listed (default: none).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub grid_temperatures: Vec<(u64, Real)>,
+    /// Unilateral contact: a gap of this pair opens when its pressure p_n would turn tensile
+    /// and closes when its gap closes (events, plastic impact; BDF only) (default: false, the
+    /// paper's bilateral contact, tensile gaps only reported).
+    #[serde(default)]
+    pub separation: bool,
 }
 
 fn default_tolerance() -> Real {

@@ -227,6 +227,10 @@ pub struct TransientSpec {
     /// Include the friction damping C_f = ∂F_f/∂v in the iteration matrix (default: false, as
     /// the paper).
     pub friction_damping_in_jacobian: bool,
+    /// Put C_f into the BDF's Newton matrix automatically at the factorisations where a gap
+    /// slips slower than 30·VTOL (near sticking) (default: true; false = the paper's matrix
+    /// everywhere, which costs Newton failures at every stick).
+    pub friction_damping_near_stick: bool,
     /// Maximum number of steps (default: 500000).
     pub max_steps: usize,
     /// Time integrator: `bdf` (DASSL-style, the paper's) or `generalized_alpha` (Chung–Hulbert,
@@ -277,6 +281,7 @@ impl Default for TransientSpec {
             noutpt: 1,
             restart: None,
             friction_damping_in_jacobian: false,
+            friction_damping_near_stick: true,
             max_steps: 500_000,
             integrator: Integrator::Bdf,
             galpha_h: None,

@@ -21,7 +21,7 @@ impl Bdf {
                 got: y.len().min(yp.len()),
             });
         }
-        if st.stats.steps == 0 {
+        if st.steps_since_start() == 0 {
             if t == st.t {
                 y.copy_from_slice(&st.phi[0]);
                 yp.copy_from_slice(&st.yp);

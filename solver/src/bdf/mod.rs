@@ -12,6 +12,7 @@
 //! - [`step`]: one step and its completion (step-size and order selection).
 //! - [`interpolate`]: the interpolating polynomial for output between steps.
 //! - [`initial`]: consistent initial derivatives.
+//! - [`roots`]: restart at an event ([`Bdf::reinit`]) and root location on the interpolant.
 //! - [`state`]: the serialisable state for restarts, and the statistics.
 
 pub mod coeffs;
@@ -20,6 +21,7 @@ pub mod initial;
 pub mod interpolate;
 pub mod newton;
 pub mod options;
+pub mod roots;
 pub mod state;
 pub mod step;
 mod validate;

@@ -96,6 +96,17 @@ pub struct BdfState {
     pub jacobian_point: Option<JacobianPoint>,
     /// Counters so far.
     pub stats: BdfStats,
+    /// `stats.steps` at the last (re)start: the start-up phase counts steps from here
+    /// (0 unless [`super::Bdf::reinit`] restarted the integration at an event).
+    #[serde(default)]
+    pub start_step: u64,
+}
+
+impl BdfState {
+    /// Steps accepted since the last (re)start.
+    pub(crate) fn steps_since_start(&self) -> u64 {
+        self.stats.steps.saturating_sub(self.start_step)
+    }
 }
 
 impl BdfState {
@@ -134,6 +145,7 @@ impl BdfState {
                 order_histogram: vec![0; max_order + 1],
                 ..Default::default()
             },
+            start_step: 0,
         }
     }
 }

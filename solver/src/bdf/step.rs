@@ -14,7 +14,7 @@ impl Bdf {
         &mut self,
         sys: &mut S,
     ) -> Result<Option<Status>, SolverError> {
-        if self.st.stats.steps == 0 {
+        if self.st.steps_since_start() == 0 {
             self.st.k_used = 0;
             self.st.h_used = 0.0;
             self.st.psi[0] = self.st.h;
@@ -102,7 +102,7 @@ impl Bdf {
                     residual_norm: self.w.last_res_norm,
                 }));
             }
-            if self.st.stats.steps == 0 {
+            if self.st.steps_since_start() == 0 {
                 self.st.psi[0] = self.st.h;
                 for x in self.st.phi[1].iter_mut() {
                     *x *= rr;
@@ -126,7 +126,7 @@ impl Bdf {
         let h_max = self.opts.h_max.unwrap_or(Real::INFINITY);
         if let Some(hf) = self.opts.fixed_step {
             // Fixed step: raise the order by one per step up to max_order, keep h.
-            if st.order < max_order && st.stats.steps >= 1 {
+            if st.order < max_order && st.steps_since_start() >= 1 {
                 st.order += 1;
             }
             st.h = hf;
@@ -135,7 +135,7 @@ impl Bdf {
                 st.phase = 1;
             }
             if st.phase == 0 {
-                if st.stats.steps > 1 {
+                if st.steps_since_start() > 1 {
                     st.order += 1;
                     st.h = (2.0 * st.h).min(h_max);
                 }

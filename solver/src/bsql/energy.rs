@@ -58,6 +58,9 @@ pub struct EnergyBalance {
     pub external_work: Real,
     /// ∫ (Gᵀ λ') · v dt.
     pub constraint_work: Real,
+    /// Kinetic energy lost in plastic impacts at re-contact events (set by the caller from
+    /// [`super::UnilateralStats::impact_dissipated`]; 0 without separation).
+    pub impact_dissipated: Real,
     /// Estimated error of the trapezoidal quadrature, Σ h³/12·|f''| over steps, with f'' of
     /// the net power from the second divided difference of the last three records.
     pub quadrature_error: Real,
@@ -147,7 +150,8 @@ impl EnergyBalance {
         let de = self.kinetic + self.strain - self.initial_energy;
         de - (self.external_work + self.friction_work
             - self.constraint_work
-            - self.damping_dissipated)
+            - self.damping_dissipated
+            - self.impact_dissipated)
     }
 
     /// Scale for a relative balance error: the largest of the energy terms.
@@ -159,6 +163,7 @@ impl EnergyBalance {
             self.friction_work,
             self.external_work,
             self.constraint_work,
+            self.impact_dissipated,
         ]
         .iter()
         .fold(0.0, |m: Real, x| m.max(x.abs()))

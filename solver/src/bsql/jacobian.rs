@@ -17,6 +17,8 @@
 //! meaningful). The (n + ng) system is factorised densely (LU, partial pivoting).
 //! For the initial derivatives (cj → ∞ of J/cj) the same layout holds with A = M and
 //! right-hand side (r_v, s r_λ), giving δv' = δv, δλ' = s μ, δu' = r_u.
+//! An open constraint k (separation, [`super::unilateral`]) has the row F_λk = λ'_k − λ'_open:
+//! cj δλ_k = r_λk, i.e. the diagonal entry s²/cj (s² for ∂F/∂y') in place of s G_k.
 //!
 //! # Where a low-rank update would go
 //! Only D = ∂F_f/∂λ' (and C_f) change between factorisations at equal cj, and they are
@@ -44,7 +46,14 @@ impl<F: FrictionForces> BsqlSystem<F> {
         let lamp = &yp[n..n + ng];
         // Friction tangents at the current point.
         self.d_dlam.fill(0.0);
-        let with_cf = self.opts.include_friction_damping && cj.is_some();
+        let near_stick = cj.is_some()
+            && !self.opts.include_friction_damping
+            && self.opts.friction_damping_near_stick
+            && self.friction.near_stick(t, v, lamp);
+        let with_cf = (self.opts.include_friction_damping || near_stick) && cj.is_some();
+        if near_stick {
+            self.stats.near_stick_factorisations += 1;
+        }
         if with_cf {
             self.d_dv.fill(0.0);
         }
@@ -76,14 +85,26 @@ impl<F: FrictionForces> BsqlSystem<F> {
         } else {
             1.0
         };
-        // Multiplier blocks.
+        // Multiplier blocks; an open constraint's row is cj δλ = r_λ, i.e. (s²/cj) μ = s r_λ/cj
+        // with μ = cj δλ/s (and s² μ = s r_λ for ∂F/∂y').
+        let d_open = match cj {
+            Some(c) => s * s / c,
+            None => s * s,
+        };
         for k in 0..ng {
             for i in 0..n {
                 a[(i, n + k)] = s * (self.G[(k, i)] - self.d_dlam[(i, k)]);
-                a[(n + k, i)] = s * self.G[(k, i)];
+                a[(n + k, i)] = if self.open[k] {
+                    0.0
+                } else {
+                    s * self.G[(k, i)]
+                };
             }
             for l in 0..ng {
                 a[(n + k, n + l)] = 0.0;
+            }
+            if self.open[k] {
+                a[(n + k, n + k)] = d_open;
             }
         }
         Ok(s)

@@ -10,12 +10,14 @@
 //! - [`jacobian`]: the iteration matrix, eq. (18), with the u-row eliminated.
 //! - [`steady`]: the static sliding equilibrium.
 //! - [`energy`]: energy bookkeeping per accepted step.
+//! - [`unilateral`]: separation and re-contact of constraints (events, plastic impact).
 
 pub mod energy;
 pub mod jacobian;
 
 pub mod residual;
 pub mod steady;
+pub mod unilateral;
 
 use faer::Mat;
 use serde::{Deserialize, Serialize};
@@ -23,6 +25,7 @@ use serde::{Deserialize, Serialize};
 pub use energy::{EnergyBalance, EnergyRestart, PowerTerms};
 pub use residual::LoadHistory;
 pub use steady::{steady_state, SteadyOptions, SteadyState};
+pub use unilateral::{Unilateral, UnilateralOptions, UnilateralState, UnilateralStats};
 
 use crate::bdf::{DaeSystem, TolerancePartition, Tolerances};
 use crate::{Real, SolverError};
@@ -47,6 +50,12 @@ pub trait FrictionForces {
         d_dlam: &mut Mat<Real>,
         d_dv: Option<&mut Mat<Real>>,
     ) -> Result<(), SolverError>;
+    /// True when some contact is near sticking (its slip speed within a few regularisation
+    /// speeds of zero): the iteration matrix then needs the friction damping C_f = ∂F_f/∂v,
+    /// whose entries grow like μN/VTOL there (default: never).
+    fn near_stick(&mut self, _t: Real, _v: &[Real], _lambda_dot: &[Real]) -> bool {
+        false
+    }
 }
 
 /// No friction (F_f = 0): a linear constrained structure.
@@ -83,6 +92,11 @@ pub struct BsqlOptions {
     /// (default: false, as the paper: "included only for the complex eigenvalue solution";
     /// Newton then converges linearly in the v-dependence of friction).
     pub include_friction_damping: bool,
+    /// Include C_f automatically in the factorisations at which the friction model reports
+    /// a contact near sticking ([`FrictionForces::near_stick`]) (default: true). Off, a
+    /// stick–slip run takes many Newton failures at each stick (the v-dependence of friction
+    /// is then steep and left out of Newton's matrix).
+    pub friction_damping_near_stick: bool,
 }
 
 #[allow(clippy::derivable_impls)] // Default impl is where defaults are documented.
@@ -90,6 +104,7 @@ impl Default for BsqlOptions {
     fn default() -> Self {
         Self {
             include_friction_damping: false,
+            friction_damping_near_stick: true,
         }
     }
 }
@@ -114,6 +129,8 @@ pub struct BsqlStats {
     pub constraint_drift: Real,
     /// Largest ‖G v‖∞ over observed steps.
     pub max_constraint_drift: Real,
+    /// Factorisations that included C_f because a contact was near sticking.
+    pub near_stick_factorisations: u64,
 }
 
 /// What the last factorisation holds.
@@ -154,6 +171,11 @@ pub struct BsqlSystem<F: FrictionForces> {
     pub(crate) rhs: Vec<Real>,
     pub(crate) lu: crate::linalg::lu::DenseLu,
     factored: Factored,
+    /// Open (separated) constraints: their row is λ' = `lambda_dot_open` instead of G v' = 0.
+    pub(crate) open: Vec<bool>,
+    /// The contact force an open constraint carries (its preload's share; see
+    /// [`unilateral`]).
+    pub(crate) lambda_dot_open: Vec<Real>,
 }
 
 #[allow(non_snake_case)]
@@ -170,7 +192,7 @@ impl<F: FrictionForces> BsqlSystem<F> {
     ) -> Result<Self, SolverError> {
         opts.validate()?;
         let (n, ng, g_scale) = check_matrices(&M, &B, &K, &G, &load)?;
-        let d_dv = if opts.include_friction_damping {
+        let d_dv = if opts.include_friction_damping || opts.friction_damping_near_stick {
             Mat::zeros(n, n)
         } else {
             Mat::zeros(0, 0)
@@ -194,6 +216,8 @@ impl<F: FrictionForces> BsqlSystem<F> {
             rhs: vec![0.0; n + ng],
             lu: crate::linalg::lu::DenseLu::new(n + ng),
             factored: Factored::None,
+            open: vec![false; ng],
+            lambda_dot_open: vec![0.0; ng],
         })
     }
 

@@ -94,7 +94,8 @@ impl<F: FrictionForces> BsqlSystem<F> {
     ///
     /// # Reference
     /// $$F_v = M v' + B v + K u + G^T λ' − P(t) − F_f(λ', v),\quad F_λ = G v',\quad F_u = u' − v$$
-    /// [Paper eq. (16)] with y = {v, λ, u} (λ the contact impulse, see DESIGN.md).
+    /// [Paper eq. (16)] with y = {v, λ, u} (λ the contact impulse, see DESIGN.md). The row
+    /// of an open constraint k (see [`super::unilateral`]) is $F_{λ,k} = λ'_k − λ'_{open,k}$.
     pub(crate) fn eval_residual(
         &mut self,
         t: Real,
@@ -137,8 +138,13 @@ impl<F: FrictionForces> BsqlSystem<F> {
             }
             *r -= f;
         }
-        // F_λ = G v'  [Paper eq. (11)]
+        // F_λ = G v'  [Paper eq. (11)]; an open constraint's row is λ' − λ'_open.
         matvec(self.G.as_ref(), vp, rl, Accum::Replace, 1.0);
+        for k in 0..ng {
+            if self.open[k] {
+                rl[k] = lamp[k] - self.lambda_dot_open[k];
+            }
+        }
         // F_u = u' − v  [Paper eq. (10)]
         for i in 0..n {
             ru[i] = up[i] - v[i];

@@ -164,7 +164,7 @@ pub fn integrate(
     )?;
     let (newton_iterations, factorisations, residual_evals, rejected_steps) = match stepper.stats()
     {
-        IntegratorStats::Bdf { bdf, bsql } => (
+        IntegratorStats::Bdf { bdf, bsql, .. } => (
             bdf.newton_iterations,
             bsql.factorisations,
             bdf.residual_evals,

@@ -21,7 +21,10 @@ use squeal_contact::GapSet;
 use squeal_solver::bdf::{
     Bdf, BdfOptions, BdfState, BdfStats, Status, TolerancePartition, Tolerances,
 };
-use squeal_solver::bsql::{BsqlStats, BsqlSystem, EnergyBalance, EnergyRestart, PowerTerms};
+use squeal_solver::bsql::{
+    BsqlStats, BsqlSystem, EnergyBalance, EnergyRestart, PowerTerms, Unilateral,
+    UnilateralOptions, UnilateralStats,
+};
 use squeal_solver::galpha::{Galpha, GalphaOptions, GalphaStats, GalphaSystem};
 use squeal_solver::SolverError;
 use std::time::Instant;
@@ -123,6 +126,8 @@ pub enum Stepper {
     Bdf {
         bdf: Bdf,
         sys: BsqlSystem<GapFriction>,
+        /// Separation events (`[[contact]] separation = true`), None when off.
+        uni: Option<Unilateral>,
     },
     GeneralizedAlpha {
         ga: Galpha,
@@ -135,8 +140,16 @@ pub enum Stepper {
 #[derive(Debug, Clone, Serialize)]
 #[serde(tag = "integrator", rename_all = "snake_case")]
 pub enum IntegratorStats {
-    Bdf { bdf: BdfStats, bsql: BsqlStats },
-    GeneralizedAlpha { galpha: GalphaStats },
+    Bdf {
+        bdf: BdfStats,
+        bsql: BsqlStats,
+        /// Separation events (None when separation is off).
+        #[serde(skip_serializing_if = "Option::is_none")]
+        separation: Option<UnilateralStats>,
+    },
+    GeneralizedAlpha {
+        galpha: GalphaStats,
+    },
 }
 
 impl IntegratorStats {
@@ -187,7 +200,11 @@ impl Stepper {
                 let sys = problem.system(gaps.clone())?;
                 let bdf = Bdf::new(bdf_options(spec, &sys, rtol, max_order), t0, y0, yp0)
                     .map_err(solver_err("integrator"))?;
-                Ok(Stepper::Bdf { bdf, sys })
+                Ok(Stepper::Bdf {
+                    bdf,
+                    sys,
+                    uni: None,
+                })
             }
             Method::GeneralizedAlpha { h, rtol, rho_inf } => {
                 let obs = problem.system(gaps.clone())?;
@@ -229,7 +246,53 @@ impl Stepper {
                 })?;
             sys.restore_stats(stats);
         }
-        Ok(Stepper::Bdf { bdf, sys })
+        Ok(Stepper::Bdf {
+            bdf,
+            sys,
+            uni: None,
+        })
+    }
+
+    /// Let the gaps with `can_open[k]` separate and close again (events, plastic impact,
+    /// restart at order 1; see [`squeal_solver::bsql::unilateral`]). An open gap carries
+    /// λ' = P_0 A (p_n = 0). BDF only: generalized-α gets an error naming the option.
+    pub fn enable_separation(
+        &mut self,
+        gaps: &GapSet,
+        can_open: Vec<bool>,
+    ) -> Result<(), PipelineError> {
+        match self {
+            Stepper::Bdf { bdf, sys, uni } => {
+                let open_force = gaps.gaps.iter().map(|g| g.p0 * g.area).collect();
+                let (y, yp) = (bdf.y().to_vec(), bdf.yp().to_vec());
+                *uni = Some(
+                    Unilateral::new(
+                        sys,
+                        open_force,
+                        Some(can_open),
+                        &y,
+                        &yp,
+                        UnilateralOptions::default(),
+                    )
+                    .map_err(solver_err("separation"))?,
+                );
+                Ok(())
+            }
+            Stepper::GeneralizedAlpha { .. } => Err(PipelineError::Scene {
+                field: "contact[].separation".into(),
+                message: "separation events need the BDF integrator \
+                          (transient.integrator = \"bdf\")"
+                    .into(),
+            }),
+        }
+    }
+
+    /// Kinetic energy lost in the plastic impacts so far (0 without separation).
+    pub fn impact_dissipated(&self) -> Real {
+        match self {
+            Stepper::Bdf { uni: Some(u), .. } => u.stats().impact_dissipated,
+            _ => 0.0,
+        }
     }
 
     /// Which integrator.
@@ -283,9 +346,10 @@ impl Stepper {
     /// Counters so far.
     pub fn stats(&self) -> IntegratorStats {
         match self {
-            Stepper::Bdf { bdf, sys } => IntegratorStats::Bdf {
+            Stepper::Bdf { bdf, sys, uni } => IntegratorStats::Bdf {
                 bdf: bdf.stats().clone(),
                 bsql: sys.stats().clone(),
+                separation: uni.as_ref().map(|u| u.stats().clone()),
             },
             Stepper::GeneralizedAlpha { ga, .. } => IntegratorStats::GeneralizedAlpha {
                 galpha: ga.stats().clone(),
@@ -307,7 +371,16 @@ impl Stepper {
         F: FnMut(&mut BsqlSystem<GapFriction>, Real, &[Real], &[Real]) -> Result<bool, SolverError>,
     {
         match self {
-            Stepper::Bdf { bdf, sys } => bdf.step_to(sys, tout, on_step),
+            Stepper::Bdf {
+                bdf,
+                sys,
+                uni: Some(u),
+            } => u.step_to(bdf, sys, tout, on_step),
+            Stepper::Bdf {
+                bdf,
+                sys,
+                uni: None,
+            } => bdf.step_to(sys, tout, on_step),
             Stepper::GeneralizedAlpha { ga, sys, obs } => {
                 ga.step_to(sys, tout, |_, t, y, yp| on_step(obs, t, y, yp))
             }
@@ -568,6 +641,7 @@ pub fn drive_from(
             book += clock.elapsed().as_secs_f64();
             Ok(in_chunk < CHUNK && !brk && done - first < opts.max_steps)
         });
+        balance.impact_dissipated = stepper.impact_dissipated();
         let view = ChunkView {
             stepper,
             steps: done,

@@ -41,6 +41,9 @@ pub enum Effect {
     ModalDamping,
     /// C_f = ∂F_f/∂v in the BDF iteration matrix.
     FrictionDampingInJacobian,
+    /// Unilateral contact: `gaps` gaps may separate and close (events, plastic impact), and
+    /// the limit cycle is analysed.
+    Separation { gaps: usize },
     /// The integrator and its setting.
     Integrator {
         integrator: Integrator,
@@ -95,6 +98,10 @@ impl std::fmt::Display for Effect {
             Effect::FrictionDampingInJacobian => {
                 f.write_str("friction damping C_f in the iteration matrix")
             }
+            Effect::Separation { gaps } => write!(
+                f,
+                "separation: {gaps} gaps may open and close (events), limit cycle"
+            ),
             Effect::Integrator {
                 integrator: Integrator::Bdf,
                 max_order,
@@ -190,6 +197,11 @@ pub fn effects(scene: &Scene, model: &ReducedModel, p: &Problem) -> (Vec<Effect>
     }
     if p.bsql.include_friction_damping {
         on.push(Effect::FrictionDampingInJacobian);
+    }
+    let can_open = super::separation_mask(scene, model);
+    let separating = can_open.iter().filter(|&&c| c).count();
+    if separating > 0 {
+        on.push(Effect::Separation { gaps: separating });
     }
     let spec = scene.transient.clone().unwrap_or_default();
     on.push(match spec.integrator {

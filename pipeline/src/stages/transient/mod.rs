@@ -21,6 +21,7 @@ pub mod driver;
 pub mod effects;
 pub mod export;
 pub mod guard;
+pub mod limit_cycle;
 pub mod records;
 pub mod restart;
 pub mod system;
@@ -216,6 +217,14 @@ pub struct TransientResult {
     pub step_bound: StepBound,
     /// What the contact did: tensile gap-steps, the first separation, the smallest p_n.
     pub contact: validity::ContactValidity,
+    /// Separation events (`[[contact]] separation = true`): openings, closings, impact
+    /// dissipation, first separation (absent when separation is off).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub separation: Option<squeal_solver::bsql::UnilateralStats>,
+    /// The limit cycle of the rotor friction face's normal velocity (with separation, when
+    /// the verdict found a dominant frequency; see [`limit_cycle`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub limit_cycle: Option<limit_cycle::LimitCycle>,
     /// The CEA at the run's steady state, when the verdict ran one (`output.verdict_cea`).
     pub verdict_cea: Option<VerdictCeaResult>,
     /// Inputs accepted with a measured value to know about ([`crate::warning`]).
@@ -248,6 +257,18 @@ pub struct Prepared<'a> {
     pub bound: StepBound,
     /// The restart the run continues (`transient.restart`), read and checked.
     pub resume: Option<Resume>,
+}
+
+/// Per gap: may it separate (`separation = true` on its `[[contact]]` pair)? All false for a
+/// stored model without pair counts.
+pub fn separation_mask(scene: &Scene, model: &model::ReducedModel) -> Vec<bool> {
+    let mut mask = Vec::with_capacity(model.gaps.len());
+    for (pair, &count) in model.gap_pairs.iter().enumerate() {
+        let on = scene.contact.get(pair).is_some_and(|c| c.separation);
+        mask.extend(std::iter::repeat_n(on, count));
+    }
+    mask.resize(model.gaps.len(), false);
+    mask
 }
 
 /// Assembles the problem of `scene`'s transient on `model`; checks what the integrator can do.
@@ -341,6 +362,19 @@ impl Prepared<'_> {
                 (st, Some(s.steady), Some(s.ic), None)
             }
         };
+        let can_open = separation_mask(scene, model);
+        let separation = can_open.iter().any(|&c| c);
+        if separation {
+            if restarted_from.is_some() {
+                return Err(PipelineError::Scene {
+                    field: "transient.restart".into(),
+                    message: "a restart file does not carry the open gaps yet: run a scene \
+                              with `[[contact]] separation = true` from its start"
+                        .into(),
+                });
+            }
+            stepper.enable_separation(&model.gaps, can_open)?;
+        }
         // A true resume continues the run's records and bookkeeping; its result covers the
         // whole run from the original start.
         let checkpoint = self.resume.as_ref().and_then(Resume::checkpoint);
@@ -366,6 +400,7 @@ impl Prepared<'_> {
             steady_state: steady.clone(),
             initial_conditions: ic.clone(),
         };
+        let mut face = limit_cycle::FaceMonitor::new(&model.gaps);
         let outcome = {
             let mut monitor = MonitorSink(&mut contact);
             let mut all: Vec<&mut dyn Sink> = vec![
@@ -373,6 +408,9 @@ impl Prepared<'_> {
                 &mut monitor as &mut dyn Sink,
                 &mut origin as &mut dyn Sink,
             ];
+            if separation {
+                all.push(&mut face as &mut dyn Sink);
+            }
             if opts.keep_history {
                 all.push(&mut memory as &mut dyn Sink);
             }
@@ -398,7 +436,6 @@ impl Prepared<'_> {
         }
         // Verdict on the response after the ramp, before any tensile contact.
         let contact = contact.validity;
-        let separation = false;
         let t_after = self.problem.load.t_load.max(t_start);
         let t_stop = contact
             .first_separation
@@ -458,11 +495,18 @@ impl Prepared<'_> {
         let stats = stepper.stats();
         let (drift, max_drift) = stats.constraint_drift();
         let (bdf_stats, galpha_stats, bsql_stats) = match stats.clone() {
-            IntegratorStats::Bdf { bdf, bsql } => (bdf, None, bsql),
+            IntegratorStats::Bdf { bdf, bsql, .. } => (bdf, None, bsql),
             IntegratorStats::GeneralizedAlpha { galpha } => {
                 (BdfStats::default(), Some(galpha), BsqlStats::default())
             }
         };
+        let separation_stats = match &stats {
+            IntegratorStats::Bdf { separation, .. } => separation.clone(),
+            IntegratorStats::GeneralizedAlpha { .. } => None,
+        };
+        let limit_cycle = separation
+            .then(|| face.analyse(t_after, verdict.dominant_frequency_hz))
+            .flatten();
         let energy = outcome.energy.unwrap_or_default();
         let history = memory.take_history();
         Ok(TransientResult {
@@ -496,6 +540,8 @@ impl Prepared<'_> {
             restarted_from,
             step_bound: self.bound.clone(),
             contact,
+            separation: separation_stats,
+            limit_cycle,
             verdict_cea,
             warnings: model
                 .warnings

@@ -43,6 +43,9 @@ impl FrictionForces for GapFriction {
                 message: e.to_string(),
             })
     }
+    fn near_stick(&mut self, _t: Real, v: &[Real], lambda_dot: &[Real]) -> bool {
+        self.set.near_stick(v, lambda_dot)
+    }
 }
 
 /// The matrices and loads the solver integrates.
@@ -124,6 +127,7 @@ pub fn problem(scene: &Scene, model: &ReducedModel) -> Result<Problem, PipelineE
         load,
         bsql: BsqlOptions {
             include_friction_damping: t.friction_damping_in_jacobian,
+            friction_damping_near_stick: t.friction_damping_near_stick,
         },
     })
 }
