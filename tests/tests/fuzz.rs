@@ -387,6 +387,10 @@ fn belt_fixture(dir: &Path) -> PathBuf {
     scene
 }
 
+fn norm(v: [f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
 /// A gap table read has only valid gaps.
 fn check_gap_table(dir: &Path, bytes: &[u8]) -> Result<Outcome, String> {
     let json = bytes
@@ -401,8 +405,17 @@ fn check_gap_table(dir: &Path, bytes: &[u8]) -> Result<Outcome, String> {
     std::fs::write(&path, bytes).unwrap();
     match read_gaps(&path) {
         Ok(gaps) => {
-            let mut pads = std::collections::HashSet::new();
-            for g in &gaps {
+            // A pad grid may carry several gaps; the same (pad grid, rotor grid, normal) twice
+            // is one constraint written twice, which the reader must reject.
+            let twice = |a: &squeal_contact::Gap, b: &squeal_contact::Gap| {
+                let (na, nb) = (norm(a.normal), norm(b.normal));
+                let apart = (0..3)
+                    .map(|k| (a.normal[k] / na - b.normal[k] / nb).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
+                a.pad_node == b.pad_node && a.rotor_node == b.rotor_node && apart <= 1e-12
+            };
+            for (i, g) in gaps.iter().enumerate() {
                 let len = g.normal.iter().map(|x| x * x).sum::<f64>().sqrt();
                 let ok = g.coords.iter().all(|x| x.is_finite())
                     && (len - 1.0).abs() < 1e-6
@@ -412,7 +425,7 @@ fn check_gap_table(dir: &Path, bytes: &[u8]) -> Result<Outcome, String> {
                     && g.p0 >= 0.0
                     && g.temperature.is_finite()
                     && g.pad_node != g.rotor_node
-                    && pads.insert(g.pad_node);
+                    && !gaps[..i].iter().any(|f| twice(f, g));
                 if !ok {
                     return Err(format!("accepted an invalid gap: {g:?}"));
                 }

@@ -73,6 +73,15 @@ impl BdfState {
         ] {
             finite(name, v)?;
         }
+        if self.start_step > self.stats.steps {
+            return Err(bad(
+                "start_step",
+                format!(
+                    "{} must not exceed stats.steps = {} (the steps at the last restart)",
+                    self.start_step, self.stats.steps
+                ),
+            ));
+        }
         if !(self.h.is_finite() && (self.h > 0.0 || (self.h_pending && self.h == 0.0))) {
             return Err(bad(
                 "h",
@@ -111,6 +120,17 @@ impl BdfState {
             length("jacobian_point.yp", p.yp.len(), n, "n")?;
             finite("jacobian_point.t", p.t)?;
             finite("jacobian_point.cj", p.cj)?;
+            // The matrix was formed at cj_old = jacobian_point.cj (newton.rs sets both at once):
+            // any other value re-forms a matrix the run never used (found by fuzzing: 1e308).
+            if !(p.cj > 0.0) || p.cj != self.cj_old {
+                return Err(bad(
+                    "jacobian_point.cj",
+                    format!(
+                        "{} must be positive and equal cj_old = {} (the iteration matrix's cj)",
+                        p.cj, self.cj_old
+                    ),
+                ));
+            }
             finite_all("jacobian_point.y", &p.y)?;
             finite_all("jacobian_point.yp", &p.yp)?;
         }
@@ -161,8 +181,12 @@ mod tests {
         let mut st = fresh.clone();
         st.yp.pop();
         assert!(err(st).contains("`yp`: has 1 entries, expected 2"));
-        let mut st = fresh;
+        let mut st = fresh.clone();
         st.phi[2][1] = f64::NAN;
         assert!(err(st).contains("`phi[2][1]`: NaN must be finite"));
+        // A restart point after the steps taken (a restart file from a run with events).
+        let mut st = fresh;
+        st.start_step = 5;
+        assert!(err(st).contains("`start_step`: 5 must not exceed stats.steps = 0"));
     }
 }
