@@ -332,7 +332,7 @@ fn run_case(
     let loads = scene.loads.clone().unwrap_or_default();
     let damping = scene.damping.clone().unwrap_or_default();
     let law = scene.friction.clone().unwrap_or_default().law;
-    let onset_s = report::onset_time(&cdir, &r.response, study.onset_level)
+    let onset_s = report::onset_time(&cdir, &r.response, study.onset_level, loads.tload)
         .ok()
         .flatten();
     Ok(CaseResult {

@@ -87,7 +87,8 @@ pub struct Root {
 /// What the estimator did, for `summary.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct PencilFit {
-    /// Oscillating roots (f > 0, below the resampling's Nyquist frequency and the band),
+    /// Oscillating roots (at least one period in the window, below the resampling's Nyquist
+    /// frequency and the band),
     /// largest amplitude at the window's end first.
     pub roots: Vec<Root>,
     /// Window [t0, t1] fitted.
@@ -245,8 +246,12 @@ pub fn matrix_pencil(
         .filter_map(|k| {
             let s = z[k].ln() / dt;
             let f = s.im / (2.0 * std::f64::consts::PI);
-            let keep =
-                s.re.is_finite() && f > 0.0 && f < 0.95 * nyquist && f_max.is_none_or(|fm| f <= fm);
+            // At least one period in the window: slower roots are the static creep of the
+            // state, not an oscillation (a real root shows up with a tiny Im part).
+            let keep = s.re.is_finite()
+                && f * span >= 1.0
+                && f < 0.95 * nyquist
+                && f_max.is_none_or(|fm| f <= fm);
             keep.then(|| {
                 let a: Real = (0..nc)
                     .map(|c| (2.0 * amp[(k, c)].norm()).powi(2))
