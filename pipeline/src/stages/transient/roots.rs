@@ -193,8 +193,8 @@ pub fn model_order(s: &[Real], o: &PencilOptions) -> usize {
         .count()
         .max(1);
     let gap = (1..=above)
-        .filter(|&k| k < s.len() && s[k - 1] >= o.gap_ratio * s[k].max(1e-300 * s1))
-        .last();
+        .rev()
+        .find(|&k| k < s.len() && s[k - 1] >= o.gap_ratio * s[k].max(1e-300 * s1));
     gap.unwrap_or(above)
 }
 
@@ -209,7 +209,7 @@ pub fn matrix_pencil(
     o: &PencilOptions,
 ) -> Option<PencilFit> {
     let n = x.first()?.len();
-    if n < 8 || x.iter().any(|c| c.len() != n) || !(dt > 0.0) {
+    if n < 8 || x.iter().any(|c| c.len() != n) || dt.is_nan() || dt <= 0.0 {
         return None;
     }
     let nc = x.len();
@@ -300,7 +300,7 @@ pub fn estimate(
 ) -> Option<PencilFit> {
     let [t0, t1] = window;
     let span = t1 - t0;
-    if !(span > 0.0) || t.len() < 2 || x.is_empty() {
+    if span.is_nan() || span <= 0.0 || t.len() < 2 || x.is_empty() {
         return None;
     }
     let dt = sample_spacing(span, f_dom, f_band, o);
