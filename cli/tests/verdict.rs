@@ -72,12 +72,51 @@ fn coarse_steps_never_give_no_squeal_when_the_cea_has_an_unstable_root() {
                 "{v}"
             );
         } else {
-            // The band bound keeps every step at or below 1/(20 × 10 kHz).
+            // The band bound keeps every step at or below 1/(40 × 10 kHz).
             assert!(
-                v["h_max_window"].as_f64().unwrap() <= 5e-6 * (1.0 + 1e-12),
+                v["h_max_window"].as_f64().unwrap() <= 2.5e-6 * (1.0 + 1e-12),
                 "{v}"
             );
-            assert_eq!(s["step_bound"]["band_h_max"].as_f64().unwrap(), 5e-6);
+            assert_eq!(s["step_bound"]["band_h_max"].as_f64().unwrap(), 2.5e-6);
         }
     }
+}
+
+/// Issue 11, part 2: study case 2 (examples/sample-brake/base.toml) at tight tolerance
+/// (RTOL1 = 1e-8, ATOL1 = 1e-10; 163 427 steps): the response's largest root from the
+/// estimator (`transient_vs_cea[0]`, paired with the CEA at the same state) within 0.5 % of
+/// the CEA's Re p and 0.1 % of its frequency. Slow (~70 s release):
+/// `cargo test --release -p squeal-cli --test verdict -- --ignored case2`.
+///
+/// Measured on the study brake under its clamp load (157.2 psi): σ = 277.5 /s against
+/// Re p = +274.3 /s (+1.2 %, FAILS the 0.5 %), f = 2159.1 against 2158.2 Hz (+0.04 %). The
+/// response after the ramp is 1–3 in/s against a sliding speed of 47–65 in/s: the fit's
+/// residual is 1.6 % and σ moves by ±2 % with the window, the nonlinearity the linear CEA
+/// does not have (docs/verdict.md). Left failing rather than loosened.
+#[test]
+#[ignore]
+fn case2_tight_tolerance_top_root_matches_the_cea() {
+    let out = tmp("verdict-case2-tight");
+    let (ok, _, stderr) = run(squeal()
+        .args(["-q", "transient"])
+        .arg(root().join("examples/sample-brake/base.toml"))
+        .arg("--out")
+        .arg(&out)
+        .args([
+            "--set",
+            "transient.rtol1=1e-8",
+            "--set",
+            "transient.atol1=1e-10",
+        ]));
+    assert!(ok, "{stderr}");
+    let s = json(&out.join("summary.json"));
+    let p = &s["transient_vs_cea"][0];
+    let (ds, df) = (
+        p["rel_diff_growth"].as_f64().unwrap(),
+        p["rel_diff_frequency"].as_f64().unwrap(),
+    );
+    eprintln!("case 2 tight: {p}");
+    assert!(p["cea_real_part"].as_f64().unwrap() > 0.0, "{p}");
+    assert!(ds.abs() < 5e-3, "sigma {ds:+.4} relative: {p}");
+    assert!(df.abs() < 1e-3, "f {df:+.5} relative: {p}");
 }

@@ -11,7 +11,7 @@
 use faer::Mat;
 use squeal_pipeline::progress::Progress;
 use squeal_pipeline::stages::accuracy::{initial_state, integrate, models, Method, RunOutcome};
-use squeal_pipeline::stages::transient::verdict;
+use squeal_pipeline::stages::transient::{roots, verdict};
 use squeal_pipeline::stages::{model, transient::system};
 use squeal_pipeline::{RunDir, Scene};
 use std::f64::consts::PI;
@@ -121,6 +121,34 @@ fn sigma_f(r: &RunOutcome, j: usize, t_after: f64) -> (f64, f64) {
     )
 }
 
+/// The root estimator (matrix pencil, `transient::roots`) on DOF `j`'s velocity after
+/// `t_after` (the run's uniform sample grid): the largest root at the window's end, checked
+/// against the analytic σ0 (absolute tolerance `ds`) and, when given, f0 (relative `df`), the
+/// references the envelope fit of the same test is held to.
+fn check_roots(
+    name: &str,
+    r: &RunOutcome,
+    j: usize,
+    t_after: f64,
+    s0: f64,
+    ds: f64,
+    f0: Option<(f64, f64)>,
+) {
+    let first = r.t.iter().position(|&t| t > t_after).unwrap();
+    let x: Vec<f64> = r.v[first..].iter().map(|v| v[j]).collect();
+    let dt = r.t[first + 1] - r.t[first];
+    let fit = roots::matrix_pencil(&[x], dt, r.t[first], None, &Default::default()).expect("a fit");
+    let top = fit.roots[0];
+    eprintln!(
+        "{name}: pencil sigma = {} ({s0}), f = {} (order {}, residual {:.1e})",
+        top.growth_rate_per_s, top.frequency_hz, fit.order, fit.relative_residual
+    );
+    assert!((top.growth_rate_per_s - s0).abs() < ds, "{name}: {fit:?}");
+    if let Some((f0, df)) = f0 {
+        assert!((top.frequency_hz - f0).abs() < df * f0, "{name}: {fit:?}");
+    }
+}
+
 /// max_k |a_k − b_k| / max_k |b_k| over all sampled DOFs.
 fn rel_diff(a: &RunOutcome, b: &RunOutcome) -> f64 {
     let (mut d, mut s) = (0.0f64, 0.0f64);
@@ -211,6 +239,7 @@ fn mu_one_and_a_half() {
     let (s, f) = sigma_f(&r.run, 0, 0.05);
     eprintln!("mu_1_5: sigma = {s}, f = {f}");
     assert!((s + 0.15).abs() < 0.01 * 0.15, "sigma = {s}");
+    check_roots("mu_1_5", &r.run, 0, 0.05, -0.15, 0.01 * 0.15, None);
 }
 
 /// Contact (normal) stiffness 1e4× the structure's: the pad and rotor normal DOFs get
@@ -229,6 +258,15 @@ fn stiff_contact() {
     let (s0, f0) = models::belt_reference();
     eprintln!("stiff_contact: sigma = {s} ({s0}), f = {f} ({f0})");
     assert!((s - s0).abs() < 0.01 * s0 && (f - f0).abs() < 0.01 * f0);
+    check_roots(
+        "stiff_contact",
+        &r.run,
+        0,
+        0.05,
+        s0,
+        0.01 * s0,
+        Some((f0, 0.01)),
+    );
 }
 
 /// Preload P0 = 0: no normal force, so no friction; the belt decays at σ = −c/(2m) = −0.15.
@@ -241,6 +279,7 @@ fn zero_preload() {
     let (s, _) = sigma_f(&r.run, 0, 0.05);
     eprintln!("p0_zero: sigma = {s}");
     assert!((s + 0.15).abs() < 0.01 * 0.15, "sigma = {s}");
+    check_roots("p0_zero", &r.run, 0, 0.05, -0.15, 0.01 * 0.15, None);
 }
 
 /// Step load (TLOAD = 0): the load jumps at t = 0 (an inconsistent start the initial
@@ -285,6 +324,15 @@ fn long_run_tf_0_1() {
     eprintln!("long_run: sigma = {s} (2.5), f = {f} ({f0})");
     assert!((s - 2.5).abs() < 0.02 * 2.5, "sigma = {s}");
     assert!((f - f0).abs() < 1e-3 * f0, "f = {f}");
+    check_roots(
+        "long_run",
+        &r.run,
+        0,
+        1e-4,
+        2.5,
+        0.02 * 2.5,
+        Some((f0, 1e-3)),
+    );
 }
 
 /// Very light damping: constant μ = 0.45, c = 1e-4 (ζ = 8e-6): σ = −c/(2m) = −5e-5 /s.
@@ -305,6 +353,7 @@ fn very_light_damping() {
     let (s, _) = sigma_f(&r.run, 0, 0.05);
     eprintln!("light_damping: sigma = {s:e} (exact -5e-5)");
     assert!((s + 5e-5).abs() < 5e-6, "sigma = {s}");
+    check_roots("light_damping", &r.run, 0, 0.05, -5e-5, 5e-6, None);
 }
 
 /// Heavy damping: c = 10·m·ω (ζ = 5, overdamped): no oscillation, the kick decays with the
@@ -341,6 +390,15 @@ fn nearly_redundant_constraints() {
     );
     assert!((s - s0).abs() < 0.01 * s0 && (f - f0).abs() < 0.01 * f0);
     assert!(r.run.max_constraint_drift < 1e-8);
+    check_roots(
+        "redundant",
+        &r.run,
+        1,
+        0.05,
+        s0,
+        0.01 * s0,
+        Some((f0, 0.01)),
+    );
 }
 
 /// Generalized-α on the belt as a cross-check of the BDF growth rate (fixed ωh = 0.05):

@@ -91,6 +91,11 @@ pub struct CaseResult {
     pub cea_unstable_modes: Option<Vec<UnstableMode>>,
     /// Why the CEA failed, if it did.
     pub cea_error: Option<String>,
+    /// The response's largest roots (the verdict's estimator), at most 4.
+    pub roots: Vec<crate::stages::transient::roots::Root>,
+    /// The response's significant roots each beside the case's CEA root nearest to it, with
+    /// the relative differences in σ and f (None: no CEA).
+    pub transient_vs_cea: Option<Vec<crate::stages::transient::roots::RootPair>>,
 }
 
 /// Summary of a study run.
@@ -278,6 +283,7 @@ fn run_case(
         ..Default::default()
     };
     let r = transient::run_on_model(scene, &cdir, quiet, None, &model, wall, &opts)?.result;
+    let mut transient_vs_cea = r.transient_vs_cea.clone();
     let (cea_unstable_modes, cea_error) = if study.cea {
         let mut cs = scene.clone();
         if cs.cea.is_none() {
@@ -286,18 +292,37 @@ fn run_case(
         let cea_dir = RunDir::create(&cdir.path("cea"))?;
         let args = cea::CeaArgs::default();
         match cea::run_on_model(&cs, &cea_dir, quiet, &args, model, None, Instant::now()) {
-            Ok(rep) => (
-                Some(
-                    rep.unstable_modes
-                        .iter()
-                        .map(|m| UnstableMode {
-                            frequency_hz: m.frequency_hz,
-                            real_part: m.real_part,
-                        })
-                        .collect(),
-                ),
-                None,
-            ),
+            Ok(rep) => {
+                // Every in-band root of the case's CEA (cea.json), paired with the response's.
+                let modes: Option<Vec<(Real, Real)>> =
+                    std::fs::read_to_string(cea_dir.path("cea.json"))
+                        .ok()
+                        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+                        .and_then(|v| {
+                            v["modes"]
+                                .as_array()?
+                                .iter()
+                                .map(|m| {
+                                    Some((m["frequency_hz"].as_f64()?, m["real_part"].as_f64()?))
+                                })
+                                .collect()
+                        });
+                if let Some(m) = modes {
+                    transient_vs_cea = Some(transient::roots::pair_with_cea(&r.verdict.roots, &m));
+                }
+                (
+                    Some(
+                        rep.unstable_modes
+                            .iter()
+                            .map(|m| UnstableMode {
+                                frequency_hz: m.frequency_hz,
+                                real_part: m.real_part,
+                            })
+                            .collect(),
+                    ),
+                    None,
+                )
+            }
             Err(e) => (None, Some(e.to_string())),
         }
     } else {
@@ -307,7 +332,7 @@ fn run_case(
     let loads = scene.loads.clone().unwrap_or_default();
     let damping = scene.damping.clone().unwrap_or_default();
     let law = scene.friction.clone().unwrap_or_default().law;
-    let onset_s = report::onset_time(&cdir, &r.response, study.onset_level)
+    let onset_s = report::onset_time(&cdir, &r.response, study.onset_level, loads.tload)
         .ok()
         .flatten();
     Ok(CaseResult {
@@ -336,5 +361,7 @@ fn run_case(
         n_gaps: r.n_gaps,
         cea_unstable_modes,
         cea_error,
+        roots: r.verdict.roots.iter().take(4).copied().collect(),
+        transient_vs_cea,
     })
 }

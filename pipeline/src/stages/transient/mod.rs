@@ -24,6 +24,7 @@ pub mod guard;
 pub mod limit_cycle;
 pub mod records;
 pub mod restart;
+pub mod roots;
 pub mod system;
 pub mod validity;
 pub mod verdict;
@@ -152,6 +153,9 @@ pub struct VerdictCeaResult {
     pub unstable_in_band: Vec<(Real, Real)>,
     /// Unstable roots above the band (never squeal: outside what the model was reduced for).
     pub unstable_outside_band: usize,
+    /// Every root in the band (frequency Hz, Re p 1/s), for the transient/CEA table.
+    #[serde(skip)]
+    pub modes_in_band: Vec<(Real, Real)>,
     /// Why it failed, if it did (the verdict then goes without it).
     pub error: Option<String>,
 }
@@ -227,6 +231,9 @@ pub struct TransientResult {
     pub limit_cycle: Option<limit_cycle::LimitCycle>,
     /// The CEA at the run's steady state, when the verdict ran one (`output.verdict_cea`).
     pub verdict_cea: Option<VerdictCeaResult>,
+    /// The response's significant roots each beside the CEA root nearest in frequency, with
+    /// the relative differences in σ and f (when the verdict ran a CEA).
+    pub transient_vs_cea: Option<Vec<roots::RootPair>>,
     /// Inputs accepted with a measured value to know about ([`crate::warning`]).
     pub warnings: Vec<crate::warning::Warning>,
     /// The sampled history (with [`TransientOptions::keep_history`]).
@@ -443,10 +450,13 @@ impl Prepared<'_> {
             .map(|e| e.t);
         // The growth and frequency are fitted on the whole window after the ramp; a clear
         // growth counts as squeal only within the part where the contact was valid.
-        let (response, mut verdict) = resp.verdict(t_after, opts.stall_h, None, memory.columns());
+        let band = scene.band_hz();
+        let po = roots::PencilOptions::default();
+        let (response, mut verdict) =
+            resp.verdict(t_after, opts.stall_h, None, memory.columns(), band, &po);
         let growth_while_valid = match t_stop {
             Some(_) => {
-                resp.verdict(t_after, opts.stall_h, t_stop, memory.columns())
+                resp.verdict(t_after, opts.stall_h, t_stop, memory.columns(), band, &po)
                     .1
             }
             None => verdict.clone(),
@@ -491,6 +501,10 @@ impl Prepared<'_> {
         verdict.state = state;
         verdict.resolution = resolution;
         verdict.detectable_growth_per_s = detectable;
+        let transient_vs_cea = verdict_cea
+            .as_ref()
+            .filter(|c| c.error.is_none())
+            .map(|c| roots::pair_with_cea(&verdict.roots, &c.modes_in_band));
         let (active_effects, ignored) = effects::effects(scene, model, &self.problem);
         let stats = stepper.stats();
         let (drift, max_drift) = stats.constraint_drift();
@@ -543,6 +557,7 @@ impl Prepared<'_> {
             separation: separation_stats,
             limit_cycle,
             verdict_cea,
+            transient_vs_cea,
             warnings: model
                 .warnings
                 .iter()
@@ -574,11 +589,18 @@ impl Prepared<'_> {
                     .map(|(_, m)| (m.frequency_hz, m.real_part))
                     .collect(),
                 unstable_outside_band: c.out.outside_band.n_unstable,
+                modes_in_band: c
+                    .out
+                    .modes
+                    .iter()
+                    .map(|m| (m.frequency_hz, m.real_part))
+                    .collect(),
                 error: None,
             },
             Err(e) => VerdictCeaResult {
                 unstable_in_band: Vec::new(),
                 unstable_outside_band: 0,
+                modes_in_band: Vec::new(),
                 error: Some(e.to_string()),
             },
         }

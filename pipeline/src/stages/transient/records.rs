@@ -6,6 +6,7 @@
 
 use super::driver::{ChunkView, EndView, Sink, StepView};
 use super::restart::{continue_lines, Records, RunCheckpoint, RESPONSE_FILE};
+use super::roots;
 use super::verdict::{self, Verdict};
 use crate::error::PipelineError;
 use crate::history::npy::NpyAppender;
@@ -366,6 +367,8 @@ pub struct Response {
     dofs: Vec<usize>,
     t: Vec<Real>,
     v: Vec<Vec<Real>>,
+    /// The accelerations v' of the same DOFs (the root estimator's Hermite resampling).
+    a: Vec<Vec<Real>>,
 }
 
 impl Response {
@@ -402,6 +405,7 @@ impl Response {
         };
         Ok(Self {
             v: vec![Vec::new(); dofs.len()],
+            a: vec![Vec::new(); dofs.len()],
             dofs,
             t: Vec::new(),
         })
@@ -413,6 +417,7 @@ impl Response {
         same_response(r, &self.dofs)?;
         self.t.clone_from(&r.response_t);
         self.v.clone_from(&r.response_v);
+        self.a.clone_from(&r.response_a);
         Ok(())
     }
 
@@ -421,11 +426,12 @@ impl Response {
         &self.dofs
     }
 
-    /// Records the velocities of y = {v, λ, u} at t.
-    pub fn push(&mut self, t: Real, y: &[Real]) {
+    /// Records the velocities of y = {v, λ, u} and their derivatives at t.
+    pub fn push(&mut self, t: Real, y: &[Real], yp: &[Real]) {
         self.t.push(t);
         for (k, &d) in self.dofs.iter().enumerate() {
             self.v[k].push(y[d]);
+            self.a[k].push(yp[d]);
         }
     }
 
@@ -435,19 +441,26 @@ impl Response {
     }
 
     /// The verdict on the response after `t_after` (the end of the load ramp), and the name
-    /// of the history column it analysed.
+    /// of the history column of its envelope cross-check.
+    ///
+    /// The roots are fitted on every recorded DOF over [t_after, end] ([`roots::estimate`],
+    /// `band_hz` bounds the sampling and the roots kept); the envelope on the DOF with the
+    /// largest peak after the ramp.
     ///
     /// With `stall_h`, only the growth phase is analysed: the steps up to the first one
     /// shorter than `stall_h` after the ramp (where a squealing response reaches slip reversal
     /// and the step collapses).
     ///
     /// With `t_stop`, only the steps before it are analysed (the contact went tensile there).
+    #[allow(clippy::too_many_arguments)]
     pub fn verdict(
         &self,
         t_after: Real,
         stall_h: Option<Real>,
         t_stop: Option<Real>,
         cols: &[Column],
+        band_hz: Option<Real>,
+        opts: &roots::PencilOptions,
     ) -> (String, Verdict) {
         let t = &self.t;
         let stall = stall_h
@@ -455,8 +468,11 @@ impl Response {
             .unwrap_or(t.len());
         let stop = t_stop.map_or(t.len(), |ts| t.partition_point(|&x| x < ts));
         let end = stall.min(stop);
-        let (t, v): (&[Real], Vec<&[Real]>) =
-            (&t[..end], self.v.iter().map(|v| &v[..end]).collect());
+        let (t, v, a): (&[Real], Vec<&[Real]>, Vec<&[Real]>) = (
+            &t[..end],
+            self.v.iter().map(|v| &v[..end]).collect(),
+            self.a.iter().map(|a| &a[..end]).collect(),
+        );
         let pick = v
             .iter()
             .enumerate()
@@ -470,7 +486,7 @@ impl Response {
             })
             .max_by(|a, b| a.1.total_cmp(&b.1))
             .map(|(k, _)| k);
-        match pick {
+        let (name, envelope) = match pick {
             Some(k) => {
                 let d = self.dofs[k];
                 let name = cols
@@ -481,13 +497,32 @@ impl Response {
                 (name, verdict::analyse(t, v[k], t_after))
             }
             None => ("none".into(), verdict::analyse(&[], &[], 0.0)),
-        }
+        };
+        // The window after the ramp (the first sample at or after t_after).
+        let first = t.partition_point(|&s| s < t_after);
+        let window = match (t.get(first), t.last()) {
+            (Some(&a), Some(&b)) if b > a => [a, b],
+            _ => [t_after, t_after],
+        };
+        let fit = roots::estimate(
+            &t[first..],
+            &v.iter().map(|v| &v[first..]).collect::<Vec<_>>(),
+            &a.iter().map(|a| &a[first..]).collect::<Vec<_>>(),
+            window,
+            envelope.dominant_frequency_hz,
+            band_hz,
+            opts,
+        );
+        let h_max = (first.max(1)..t.len())
+            .map(|i| t[i] - t[i - 1])
+            .fold(None, |m: Option<Real>, h| Some(m.map_or(h, |m| m.max(h))));
+        (name, Verdict::new(fit, envelope, window, h_max))
     }
 }
 
 impl Sink for Response {
     fn step(&mut self, s: &StepView<'_>) -> Result<(), PipelineError> {
-        self.push(s.t, s.y);
+        self.push(s.t, s.y, s.yp);
         Ok(())
     }
 }
@@ -508,8 +543,9 @@ fn same_response(r: &Records, dofs: &[usize]) -> Result<(), PipelineError> {
     }
 }
 
-/// `response.npy`: the response of [`Response`] (t, then its velocities) at every accepted
-/// step, the record a resumed run's verdict reads back. Written beside `restart.json`.
+/// `response.npy`: the response of [`Response`] (t, then its velocities, then their
+/// accelerations) at every accepted step, the record a resumed run's verdict reads back.
+/// Written beside `restart.json`.
 pub struct ResponseFile {
     dofs: Vec<usize>,
     file: NpyAppender,
@@ -525,7 +561,7 @@ impl ResponseFile {
         records: Option<&Records>,
     ) -> Result<Self, PipelineError> {
         let path = dir.path(RESPONSE_FILE);
-        let cols = dofs.len() + 1;
+        let cols = 2 * dofs.len() + 1;
         let file = match records.and_then(|r| r.counts.response_rows.map(|k| (r, k))) {
             Some((r, rows)) => {
                 same_response(r, dofs)?;
@@ -546,6 +582,7 @@ impl Sink for ResponseFile {
         self.row.clear();
         self.row.push(s.t);
         self.row.extend(self.dofs.iter().map(|&d| s.y[d]));
+        self.row.extend(self.dofs.iter().map(|&d| s.yp[d]));
         self.file.push(&self.row)
     }
     fn chunk_end(&mut self, c: &ChunkView<'_>) -> Result<(), PipelineError> {

@@ -285,9 +285,10 @@ pub struct Records {
     pub folder: PathBuf,
     pub counts: RecordCounts,
     /// The response rows up to the restart: times and, per DOF of `counts.response_dofs`,
-    /// velocities.
+    /// velocities and accelerations (the root estimator's Hermite resampling reads both).
     pub response_t: Vec<Real>,
     pub response_v: Vec<Vec<Real>>,
+    pub response_a: Vec<Vec<Real>>,
 }
 
 impl Records {
@@ -323,6 +324,7 @@ impl Records {
             counts,
             response_t: Vec::new(),
             response_v: Vec::new(),
+            response_a: Vec::new(),
         };
         let c = r.counts.clone();
         if let (Some(rows), Some(cols)) = (c.history_rows, c.history_columns) {
@@ -381,21 +383,24 @@ impl Records {
             let p = r.response();
             let (have, cols, data) = read_npy(&p)
                 .map_err(|e| r.bad("response_rows", format!("{rows} rows are needed: {e}")))?;
-            if cols != c.response_dofs.len() + 1 || have < rows {
+            let nd = c.response_dofs.len();
+            if cols != 2 * nd + 1 || have < rows {
                 return Err(r.bad(
                     "response_rows",
                     format!(
                         "{rows} rows of {} columns, but {} holds {have} rows of {cols} columns",
-                        c.response_dofs.len() + 1,
+                        2 * nd + 1,
                         p.display()
                     ),
                 ));
             }
-            r.response_v = vec![Vec::with_capacity(rows); cols - 1];
+            r.response_v = vec![Vec::with_capacity(rows); nd];
+            r.response_a = vec![Vec::with_capacity(rows); nd];
             for row in data.chunks_exact(cols).take(rows) {
                 r.response_t.push(row[0]);
-                for (k, v) in row[1..].iter().enumerate() {
-                    r.response_v[k].push(*v);
+                for k in 0..nd {
+                    r.response_v[k].push(row[1 + k]);
+                    r.response_a[k].push(row[1 + nd + k]);
                 }
             }
         }

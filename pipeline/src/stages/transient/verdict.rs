@@ -1,13 +1,16 @@
-//! The squeal verdict: growth rate of the response envelope and its dominant frequency.
+//! The squeal verdict: the response's roots (growth rate σ and frequency of each damped
+//! exponential, [`super::roots`]) and, as a cross-check, the envelope of one DOF.
 
 use super::guard::{Resolution, Unresolved, VerdictState};
+use super::roots::{PencilFit, Root};
 use serde::Serialize;
 
 type Real = f64;
 
-/// Verdict on one response history (after the load ramp).
+/// The growth of one DOF's envelope and its zero-crossing frequency (the cross-check of the
+/// root estimator; blind to growth below ln 2 / window and biased by beating roots).
 #[derive(Debug, Clone, Serialize)]
-pub struct Verdict {
+pub struct Envelope {
     /// Growth rate σ of the envelope: least-squares fit of ln h_k = a + σ t_k over the half
     /// peak-to-peak amplitudes h_k = |x_{k+1} − x_k|/2 of consecutive extremes, placed at their
     /// mid-times (None: < 3 of them). For c + A e^{σt} sin(ωt + φ) these are exactly
@@ -23,7 +26,41 @@ pub struct Verdict {
     pub growth_factor: Option<Real>,
     /// Half peak-to-peak amplitudes used in the fit.
     pub n_peaks: usize,
-    /// Window [t_start, t_end] analysed.
+    /// Window [t_start, t_end] analysed (the later half after the ramp).
+    pub window: [Real; 2],
+    /// Largest accepted step in the window.
+    pub h_max_window: Option<Real>,
+}
+
+impl Envelope {
+    /// A clear growth: the envelope grows faster than `rate` (per unit time) and by at least
+    /// `min_factor` over the analysed window.
+    pub fn is_squeal(&self, rate: Real, min_factor: Real) -> bool {
+        match (self.growth_rate_per_s, self.growth_factor) {
+            (Some(g), Some(f)) => g > rate && f >= min_factor,
+            _ => false,
+        }
+    }
+}
+
+/// Verdict on one response history (after the load ramp).
+#[derive(Debug, Clone, Serialize)]
+pub struct Verdict {
+    /// σ of the root that decides: the fastest-growing significant root of the estimator
+    /// (None: no fit).
+    pub growth_rate_per_s: Option<Real>,
+    /// Frequency of the estimator's largest root at the window's end.
+    pub dominant_frequency_hz: Option<Real>,
+    /// e^{σT} of the deciding root over the fitted window T.
+    pub growth_factor: Option<Real>,
+    /// The response's oscillating roots, largest at the window's end first (at most 12).
+    pub roots: Vec<Root>,
+    /// How the roots were estimated (window, channels, samples, order, residual).
+    pub estimator: Option<PencilFit>,
+    /// The envelope cross-check (one DOF, the later half of the window).
+    pub envelope: Envelope,
+    /// Window [t_start, t_end] the roots were fitted on (after the ramp, before any
+    /// invalidity or step collapse).
     pub window: [Real; 2],
     /// `squeal`, `no_squeal`, or `unresolved` with its reasons (the guard: `guard.rs`).
     #[serde(flatten)]
@@ -40,9 +77,39 @@ pub struct Verdict {
 }
 
 impl Verdict {
-    /// A clear growth: the envelope grows faster than `rate` (per unit time) and by at least
-    /// `min_factor` over the analysed window. (The verdict's `state` also weighs whether a run
-    /// without it could have seen squeal.)
+    /// The estimator's roots with the envelope as cross-check: the state is judged later by
+    /// the guard.
+    pub fn new(
+        fit: Option<PencilFit>,
+        envelope: Envelope,
+        window: [Real; 2],
+        h_max: Option<Real>,
+    ) -> Self {
+        let deciding = fit.as_ref().and_then(|f| f.deciding().copied());
+        let span = fit.as_ref().map_or(0.0, |f| f.window[1] - f.window[0]);
+        let mut roots = fit.as_ref().map_or_else(Vec::new, |f| f.roots.clone());
+        roots.truncate(12);
+        Verdict {
+            growth_rate_per_s: deciding.map(|r| r.growth_rate_per_s),
+            dominant_frequency_hz: roots.first().map(|r| r.frequency_hz),
+            growth_factor: deciding.map(|r| (r.growth_rate_per_s * span).exp()),
+            roots,
+            estimator: fit,
+            envelope,
+            window,
+            state: VerdictState::Unresolved {
+                reasons: vec![Unresolved::NoResponse],
+            },
+            resolution: Vec::new(),
+            detectable_growth_per_s: None,
+            h_max_window: h_max,
+            valid_until: None,
+        }
+    }
+
+    /// A clear growth: the deciding root grows faster than `rate` (per unit time) and by at
+    /// least `min_factor` over the fitted window. (The verdict's `state` also weighs whether
+    /// a run without it could have seen squeal.)
     pub fn is_squeal(&self, rate: Real, min_factor: Real) -> bool {
         match (self.growth_rate_per_s, self.growth_factor) {
             (Some(g), Some(f)) => g > rate && f >= min_factor,
@@ -64,13 +131,13 @@ pub fn slope(x: &[Real], y: &[Real]) -> Option<Real> {
     (sxx > 0.0).then(|| sxy / sxx)
 }
 
-/// Verdict of the later half of the samples with t > `t_after`.
+/// Envelope of the later half of the samples with t > `t_after`.
 ///
 /// Only the later half is analysed: right after the load ramp the response holds every excited
 /// mode, and a self-excited pair (σ ± iω) comes with a stable partner (−σ ± iω) of the same
 /// frequency whose beating biases an envelope fit; by the second half the partner has decayed
 /// by e^{−σT/2} relative to the growing mode.
-pub fn analyse(t: &[Real], x: &[Real], t_after: Real) -> Verdict {
+pub fn analyse(t: &[Real], x: &[Real], t_after: Real) -> Envelope {
     let first = t.iter().position(|&s| s > t_after).unwrap_or(t.len());
     let t_mid = match (t.get(first), t.last()) {
         (Some(&a), Some(&b)) => 0.5 * (a + b),
@@ -129,7 +196,7 @@ pub fn analyse(t: &[Real], x: &[Real], t_after: Real) -> Verdict {
         (Some(a), Some(b)) => b - a,
         _ => 0.0,
     };
-    Verdict {
+    Envelope {
         growth_rate_per_s: growth,
         growth_factor: growth.map(|g| (g * span).exp()),
         dominant_frequency_hz: freq,
@@ -138,13 +205,6 @@ pub fn analyse(t: &[Real], x: &[Real], t_after: Real) -> Verdict {
             t.first().copied().unwrap_or(0.0),
             t.last().copied().unwrap_or(0.0),
         ],
-        // Judged by the guard once the run's validity is known.
-        state: VerdictState::Unresolved {
-            reasons: vec![Unresolved::NoResponse],
-        },
-        resolution: Vec::new(),
-        detectable_growth_per_s: None,
-        valid_until: None,
         h_max_window: (1..t.len())
             .map(|i| t[i] - t[i - 1])
             .fold(None, |m: Option<Real>, h| Some(m.map_or(h, |m| m.max(h)))),
