@@ -50,9 +50,9 @@ fn field<'py>(
     what: &str,
     i: usize,
 ) -> PyResult<Option<Bound<'py, PyAny>>> {
-    let has = row.call_method1("__contains__", (key,)).map_err(|_| {
-        InputError::new_err(format!("<arrays>.{what}: row {i} is not a mapping"))
-    })?;
+    let has = row
+        .call_method1("__contains__", (key,))
+        .map_err(|_| InputError::new_err(format!("<arrays>.{what}: row {i} is not a mapping")))?;
     if !has.extract::<bool>()? {
         return Ok(None);
     }
@@ -83,7 +83,11 @@ pub fn dofmap_from_py(obj: &Bound<'_, PyAny>) -> PyResult<ReducedDofMap> {
             let v = req(k)?;
             v.extract::<u64>()
                 .or_else(|_| {
-                    v.extract::<f64>().ok().filter(|x| x.fract() == 0.0 && *x >= 0.0).map(|x| x as u64).ok_or(())
+                    v.extract::<f64>()
+                        .ok()
+                        .filter(|x| x.fract() == 0.0 && *x >= 0.0)
+                        .map(|x| x as u64)
+                        .ok_or(())
                 })
                 .map_err(|_| bad("dofs", i, k, format!("{v} is not a non-negative integer")))
         };
@@ -161,7 +165,10 @@ pub fn gaps_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Gap>> {
                         "gaps",
                         i,
                         &k,
-                        format!("unknown column (the columns are {})", GAP_COLUMNS.join(", ")),
+                        format!(
+                            "unknown column (the columns are {})",
+                            GAP_COLUMNS.join(", ")
+                        ),
                     ));
                 }
             }

@@ -5,9 +5,9 @@ use crate::arrays::{dofmap_to_py, gaps_to_py, mat_to_py};
 use crate::progress::Hook;
 use crate::scene::PyScene;
 use crate::values::{json_to_py, value_text};
+use num_complex::Complex64;
 use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::IntoPyArray;
-use num_complex::Complex64;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use squeal_meshes::CellKind;
@@ -174,7 +174,9 @@ pub fn transient<'py>(
     d.set_item("time", Array1::from(time).into_pyarray(py))?;
     d.set_item(
         "columns",
-        h.map_or(Vec::new(), |h| h.columns.iter().map(|c| c.name.clone()).collect()),
+        h.map_or(Vec::new(), |h| {
+            h.columns.iter().map(|c| c.name.clone()).collect()
+        }),
     )?;
     d.set_item(
         "column_info",
@@ -228,8 +230,12 @@ pub fn cea<'py>(
     let d = PyDict::new(py);
     d.set_item(
         "eigenvalues",
-        Array1::from_iter(c.modes.iter().map(|x| Complex64::new(x.eigenvalue.re, x.eigenvalue.im)))
-            .into_pyarray(py),
+        Array1::from_iter(
+            c.modes
+                .iter()
+                .map(|x| Complex64::new(x.eigenvalue.re, x.eigenvalue.im)),
+        )
+        .into_pyarray(py),
     )?;
     d.set_item(
         "frequencies_hz",
@@ -250,7 +256,9 @@ pub fn cea<'py>(
             c.modes[j]
                 .shape
                 .get(i)
-                .map_or(Complex64::new(f64::NAN, f64::NAN), |z| Complex64::new(z.re, z.im))
+                .map_or(Complex64::new(f64::NAN, f64::NAN), |z| {
+                    Complex64::new(z.re, z.im)
+                })
         })
         .into_pyarray(py),
     )?;
@@ -311,10 +319,14 @@ pub fn sweep_value(
                     .collect(),
             );
         }
-        serde_json::to_string(&p).map_err(|e| PipelineError::Output {
+        let failed = p.failed();
+        let mut v = serde_json::to_value(&p).map_err(|e| PipelineError::Output {
             path: run_dir.clone(),
             message: e.to_string(),
-        })
+        })?;
+        // SweepPoint::failed: an error, or a transient stopped before TFINAL.
+        v["failed"] = serde_json::Value::Bool(failed);
+        Ok(v.to_string())
     })
 }
 

@@ -18,14 +18,54 @@ use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 use squeal_pipeline::PipelineError;
 
-create_exception!(squeal, SquealError, PyException, "Base class of squeal's errors.");
-create_exception!(squeal, SceneError, SquealError, "A scene (file, text, dict, key or value) is invalid.");
-create_exception!(squeal, InputError, SquealError, "An input file or array is missing or invalid (the message names it).");
-create_exception!(squeal, MeshError, SquealError, "The mesh stage failed (gmsh, .msh reader).");
-create_exception!(squeal, ModelError, SquealError, "Building the reduced model failed (FE, reduction, contact).");
-create_exception!(squeal, SolverError, SquealError, "The transient integrator or the complex eigenvalue analysis failed.");
-create_exception!(squeal, OutputError, SquealError, "Writing an output failed.");
-create_exception!(squeal, Cancelled, SquealError, "The run was cancelled by its progress callback.");
+create_exception!(
+    squeal,
+    SquealError,
+    PyException,
+    "Base class of squeal's errors."
+);
+create_exception!(
+    squeal,
+    SceneError,
+    SquealError,
+    "A scene (file, text, dict, key or value) is invalid."
+);
+create_exception!(
+    squeal,
+    InputError,
+    SquealError,
+    "An input file or array is missing or invalid (the message names it)."
+);
+create_exception!(
+    squeal,
+    MeshError,
+    SquealError,
+    "The mesh stage failed (gmsh, .msh reader)."
+);
+create_exception!(
+    squeal,
+    ModelError,
+    SquealError,
+    "Building the reduced model failed (FE, reduction, contact)."
+);
+create_exception!(
+    squeal,
+    SolverError,
+    SquealError,
+    "The transient integrator or the complex eigenvalue analysis failed."
+);
+create_exception!(
+    squeal,
+    OutputError,
+    SquealError,
+    "Writing an output failed."
+);
+create_exception!(
+    squeal,
+    Cancelled,
+    SquealError,
+    "The run was cancelled by its progress callback."
+);
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();

@@ -73,9 +73,10 @@ impl PyScene {
     /// map `dofs` (n records `{component, kind, grid, comp}` or `{component, kind: "modal",
     /// index}`) and the gap table `gaps` (records with the columns `pad_grid, rotor_grid, x, y,
     /// z, nx, ny, nz, area, p0, temperature`; unit normals), as `squeal.reduce` returns them.
-    /// `toml` holds the rest of the scene (`[friction]`, `[rotor]`, `[transient]`, `[cea]`, …).
+    /// `toml` holds the rest of the scene (`[friction]`, `[rotor]`, `[transient]`, `[cea]`, …)
+    /// as TOML text or a dict.
     #[staticmethod]
-    #[pyo3(signature = (K, M, dofs, gaps=None, B=None, p_brake=None, toml="", base_dir=PathBuf::from("."), set=None))]
+    #[pyo3(signature = (K, M, dofs, gaps=None, B=None, p_brake=None, toml=None, base_dir=PathBuf::from("."), set=None))]
     #[allow(non_snake_case)]
     fn from_arrays(
         K: &Bound<'_, PyAny>,
@@ -84,10 +85,20 @@ impl PyScene {
         gaps: Option<&Bound<'_, PyAny>>,
         B: Option<&Bound<'_, PyAny>>,
         p_brake: Option<&Bound<'_, PyAny>>,
-        toml: &str,
+        toml: Option<&Bound<'_, PyAny>>,
         base_dir: PathBuf,
         set: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
+        let text = match toml {
+            None => String::new(),
+            Some(t) if t.is_instance_of::<PyDict>() => {
+                let doc = to_toml(t, "toml")?;
+                toml::to_string(&doc).map_err(|e| {
+                    SceneError::new_err(format!("toml: cannot be written as TOML: {e}"))
+                })?
+            }
+            Some(t) => t.extract::<String>()?,
+        };
         let a = StoredArrays {
             k: arrays::mat_from_py(K, "K")?,
             m: arrays::mat_from_py(M, "M")?,
@@ -96,10 +107,13 @@ impl PyScene {
                 .map(|p| arrays::vec_from_py(p, "p_brake"))
                 .transpose()?,
             dofs: arrays::dofmap_from_py(dofs)?,
-            gaps: gaps.map(arrays::gaps_from_py).transpose()?.unwrap_or_default(),
+            gaps: gaps
+                .map(arrays::gaps_from_py)
+                .transpose()?
+                .unwrap_or_default(),
         };
         let o = overrides(set)?;
-        Scene::with_arrays(toml, base_dir, &o, a)
+        Scene::with_arrays(&text, base_dir, &o, a)
             .map(|inner| Self { inner })
             .map_err(|e| to_py(&e))
     }
@@ -146,7 +160,11 @@ impl PyScene {
     /// Names of the scene's components.
     #[getter]
     fn components(&self) -> Vec<String> {
-        self.inner.components.iter().map(|c| c.name.clone()).collect()
+        self.inner
+            .components
+            .iter()
+            .map(|c| c.name.clone())
+            .collect()
     }
 
     fn __repr__(&self) -> String {
@@ -162,7 +180,10 @@ impl PyScene {
         self.inner == other.inner
     }
 
-    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
         let f = py.import("squeal._squeal")?.getattr("scene_from_state")?;
         let arrays = match &self.inner.model.arrays {
             Some(a) => {
@@ -210,7 +231,9 @@ pub fn scene_from_state(
                 m.remove("from");
             }
             let text = toml::to_string(&doc).map_err(|e| SceneError::new_err(e.to_string()))?;
-            let req = |k: &str| get(k)?.ok_or_else(|| SceneError::new_err(format!("state: no {k}")));
+            let req =
+                |k: &str| get(k)?.ok_or_else(|| SceneError::new_err(format!("state: no {k}")));
+            let text = text.into_pyobject(d.py())?.into_any();
             PyScene::from_arrays(
                 &req("K")?,
                 &req("M")?,
@@ -218,7 +241,7 @@ pub fn scene_from_state(
                 get("gaps")?.as_ref(),
                 get("B")?.as_ref(),
                 get("p_brake")?.as_ref(),
-                &text,
+                Some(&text),
                 base_dir,
                 None,
             )

@@ -24,9 +24,9 @@ pub fn to_toml(obj: &Bound<'_, PyAny>, where_: &str) -> PyResult<toml::Value> {
     if let Ok(d) = obj.cast::<PyDict>() {
         let mut t = toml::map::Map::new();
         for (k, v) in d.iter() {
-            let key: String = k.extract().map_err(|_| {
-                SceneError::new_err(format!("{where_}: key {k} is not a string"))
-            })?;
+            let key: String = k
+                .extract()
+                .map_err(|_| SceneError::new_err(format!("{where_}: key {k} is not a string")))?;
             let inner = format!("{where_}.{key}");
             if v.is_none() {
                 continue; // None = not given (the default).
@@ -44,10 +44,14 @@ pub fn to_toml(obj: &Bound<'_, PyAny>, where_: &str) -> PyResult<toml::Value> {
     }
     // numpy scalars and other numbers: through float / int.
     if obj.hasattr("__index__")? {
-        return Ok(toml::Value::Integer(obj.call_method0("__index__")?.extract()?));
+        return Ok(toml::Value::Integer(
+            obj.call_method0("__index__")?.extract()?,
+        ));
     }
     if obj.hasattr("__float__")? {
-        return Ok(toml::Value::Float(obj.call_method0("__float__")?.extract()?));
+        return Ok(toml::Value::Float(
+            obj.call_method0("__float__")?.extract()?,
+        ));
     }
     Err(SceneError::new_err(format!(
         "{where_}: {} is not a TOML value (bool, int, float, str, list, dict)",

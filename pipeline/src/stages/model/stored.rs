@@ -345,11 +345,10 @@ pub fn load_arrays(scene: &Scene) -> Result<ReducedModel, PipelineError> {
     let k = symmetric("KR", &a.k, &path("K"), &mut warnings)?;
     let m = symmetric("MR", &a.m, &path("M"), &mut warnings)?;
     check_mass("MR", &m, &path("M"))?;
-    let b = a
-        .b
-        .as_ref()
-        .map(|b| symmetric("BR", b, &path("B"), &mut warnings))
-        .transpose()?;
+    let b =
+        a.b.as_ref()
+            .map(|b| symmetric("BR", b, &path("B"), &mut warnings))
+            .transpose()?;
     let p_brake = match &a.p_brake {
         Some(p) => {
             let pm = Mat::from_fn(p.len(), 1, |i, _| p[i]);
