@@ -48,6 +48,8 @@ class Scene:
         B and p_brake, the DOF map and gap table as records (lists of dicts or DataFrames)."""
     def set(self, key: str, value: _Value) -> "Scene":
         """A copy with ``key`` (dotted, as ``--set``) set to ``value``, validated again."""
+    def set_many(self, values: Mapping[str, _Value]) -> "Scene":
+        """A copy with several keys set together, validated once all are set."""
     def to_toml(self) -> str:
         """The scene as TOML, every default filled in."""
     def to_dict(self) -> Dict[str, Any]:

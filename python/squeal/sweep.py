@@ -81,7 +81,9 @@ def sweep(
 
     ``param`` is a dotted scene key as ``--set`` writes it (``friction.law.mu0``,
     ``components.0.geometry.thickness``), or a tuple of keys with ``values`` a list of tuples
-    (a grid, e.g. ``itertools.product(thicknesses, mus)``).
+    (a grid, e.g. ``itertools.product(thicknesses, mus)``); the keys of one value are set
+    together and the scene validated once (values that must change together, like both pads'
+    arc, can be two keys of one axis).
 
     With ``client`` (a ``dask.distributed.Client``) each value is one task on the cluster;
     without it, values run on ``jobs`` local threads (default: the CPU count). The reduced
@@ -121,9 +123,7 @@ def sweep(
         # The model key of the value's scene groups values sharing a reduced model; a value
         # whose scene is invalid has none (its task records the error).
         try:
-            s = scene
-            for k, v in assignments:
-                s = s.set(k, v)
+            s = scene.set_many(dict(assignments))
             mkey = _squeal.model_key(s)
         except SquealError:
             mkey = None
@@ -140,7 +140,7 @@ def sweep(
             ev.update(kw)
             progress(ev)
 
-    emit("begin", label=f"sweep {', '.join(keys)} ({len(tasks)} values)", bar=True)
+    emit("begin", label=f"sweep ({len(tasks)} values)", bar=True)
     points: Dict[int, Dict[str, Any]] = {}
     if client is not None:
         futures = {}

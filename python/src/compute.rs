@@ -300,10 +300,7 @@ pub fn sweep_value(
     let hook = Hook::new(progress);
     let base = &scene.inner;
     run(py, &hook, |h| {
-        let mut s = base.clone();
-        for (k, v) in &texts {
-            s = sweep::values::scene_for(&s, k, v)?;
-        }
+        let mut s = sweep::values::scene_for_all(base, &texts)?;
         if analysis != sweep::Analysis::Transient && s.cea.is_none() {
             s.cea = Some(Default::default());
         }

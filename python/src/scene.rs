@@ -128,6 +128,15 @@ impl PyScene {
         Ok(Self { inner: s })
     }
 
+    /// A copy with several keys set together (validated once all are set: values that must
+    /// change together, such as both pads' arc); `values` maps dotted keys to values.
+    fn set_many(&self, values: &Bound<'_, PyDict>) -> PyResult<Self> {
+        let mut s = self.inner.clone();
+        s.set_all(&overrides(Some(values))?)
+            .map_err(|e| to_py(&e))?;
+        Ok(Self { inner: s })
+    }
+
     /// The scene as TOML, every default filled in (what `squeal check` prints).
     fn to_toml(&self) -> String {
         self.inner.resolved_toml()
