@@ -81,13 +81,16 @@ def main() -> None:
     ap.add_argument("--squeal", default=str(ROOT / "target" / "debug" / "squeal"))
     ap.add_argument("--out", default=str(ROOT / "docs" / "bench" / "python_sweep.json"))
     args = ap.parse_args()
+    load_before = os.getloadavg()
     with tempfile.TemporaryDirectory(prefix="squeal-bench-") as d:
         tmp = Path(d)
         cli = cli_runs(args.squeal, tmp)
         py = {w: py_runs(w, tmp) for w in (1, 2)}
     doc = {
         "what": "CEA sweeps on examples/sample-brake/base.toml, fresh model cache each; wall seconds",
-        "machine": {"cpus": os.cpu_count(), "platform": platform.platform()},
+        "machine": {"cpus": os.cpu_count(), "platform": platform.platform(),
+                    "load_average_1_5_15_before": list(load_before),
+                    "load_average_1_5_15_after": list(os.getloadavg())},
         "build": "Python module: workspace dev profile (numerical crates opt-level 2); CLI: "
                  + os.path.relpath(args.squeal, ROOT),
         "sweeps": {
