@@ -117,7 +117,10 @@ pub fn scene_for_all(
             )));
         }
     }
-    let texts: Vec<String> = assignments.iter().map(|(p, v)| format!("{p}={v}")).collect();
+    let texts: Vec<String> = assignments
+        .iter()
+        .map(|(p, v)| format!("{p}={v}"))
+        .collect();
     let values: Vec<&str> = assignments.iter().map(|(_, v)| v.as_str()).collect();
     let mut scene = base.clone();
     scene.set_all(&texts).map_err(|e| {
@@ -178,5 +181,36 @@ mod tests {
         assert_eq!(value_json("32"), serde_json::json!(32));
         assert_eq!(value_json("hex8"), serde_json::json!("hex8"));
         assert_eq!(value_json("[1, 2]"), serde_json::json!([1, 2]));
+    }
+
+    /// Keys that must change together (both pads' arc on the study brake) are set together
+    /// and validated once; one at a time the first is refused; an invalid key names the keys.
+    #[test]
+    fn keys_set_together() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../examples/sample-brake/base.toml");
+        let base = Scene::load(&path, &[]).unwrap();
+        let pair = |k: &str, v: &str| (k.to_string(), v.to_string());
+        let both = [
+            pair("components.1.geometry.n_elements", "3"),
+            pair("components.2.geometry.n_elements", "3"),
+        ];
+        let e = scene_for(&base, &both[0].0, &both[0].1)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("inboard pad"), "{e}");
+        let s = scene_for_all(&base, &both).unwrap();
+        let doc = toml::Value::try_from(&s).unwrap();
+        assert_eq!(
+            doc["components"][2]["geometry"]["n_elements"].as_integer(),
+            Some(3)
+        );
+        let e = scene_for_all(&base, &[both[0].clone(), pair("friction.law.mu0x", "0.5")])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("--param components.1.geometry.n_elements, friction.law.mu0x"),
+            "{e}"
+        );
     }
 }
