@@ -4,6 +4,7 @@
 //! so a typo is an error naming the key. Only what the scene names is computed.
 
 pub mod accuracy;
+pub mod arrays;
 mod brake;
 pub mod cea;
 pub mod contact;
@@ -12,6 +13,7 @@ pub mod reduction;
 pub mod transient;
 
 pub use accuracy::AccuracySpec;
+pub use arrays::{ArraysRef, StoredArrays};
 pub use cea::{CeaSpec, CeaState, CeaSweepSpec, SweepVary};
 pub use contact::{ContactPair, FrictionSpec, RotorSpec};
 pub use overrides::apply_override;
@@ -238,7 +240,7 @@ impl Scene {
         for assignment in overrides {
             apply_override(&mut doc, assignment)?;
         }
-        Self::from_value(doc, source, base_dir)
+        Self::from_value(doc, source, base_dir, None)
     }
 
     /// Types and validates a scene document.
@@ -246,6 +248,7 @@ impl Scene {
         doc: toml::Value,
         source: &Path,
         base_dir: PathBuf,
+        arrays: Option<ArraysRef>,
     ) -> Result<Scene, PipelineError> {
         let mut scene: Scene =
             doc.try_into()
@@ -254,6 +257,7 @@ impl Scene {
                     message: e.to_string(),
                 })?;
         scene.base_dir = base_dir;
+        scene.model.arrays = arrays;
         scene.validate()?;
         Ok(scene)
     }
@@ -277,7 +281,12 @@ impl Scene {
         let mut source = PathBuf::from("<scene set ");
         source.as_mut_os_string().push(assignments.join(", "));
         source.as_mut_os_string().push(">");
-        *self = Self::from_value(doc, &source, self.base_dir.clone())?;
+        *self = Self::from_value(
+            doc,
+            &source,
+            self.base_dir.clone(),
+            self.model.arrays.clone(),
+        )?;
         Ok(())
     }
 
@@ -434,6 +443,32 @@ impl Scene {
                 .or(ReductionSpec::default().frequency_of_interest_hz),
             _ => self.model.band_hz,
         }
+    }
+
+    /// A scene over a stored model given in memory: `text` is the scene TOML (`model.from` is
+    /// set to `arrays`; `model.matrices`, `dofmap`, `gaps` must not be given), `arrays` the
+    /// matrices, DOF map and gaps. Nothing is read from files for the model; the arrays are
+    /// checked when the model is built.
+    pub fn with_arrays(
+        text: &str,
+        base_dir: impl Into<PathBuf>,
+        overrides: &[String],
+        arrays: StoredArrays,
+    ) -> Result<Scene, PipelineError> {
+        let mut doc: toml::Value = toml::from_str(text).map_err(|e| PipelineError::SceneParse {
+            path: PathBuf::from("<string>"),
+            message: e.to_string(),
+        })?;
+        for assignment in overrides {
+            apply_override(&mut doc, assignment)?;
+        }
+        apply_override(&mut doc, "model.from=\"arrays\"")?;
+        Self::from_value(
+            doc,
+            Path::new("<string>"),
+            base_dir.into(),
+            Some(ArraysRef(std::sync::Arc::new(arrays))),
+        )
     }
 
     /// Resolves a path written in the scene against the scene's folder.

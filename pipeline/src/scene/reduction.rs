@@ -75,6 +75,10 @@ pub enum ModelSource {
     Op4,
     /// Punch file with DMIG `KR`, `MR` (and `BR`, `PBRAKE`), rows/columns = grid/component of the map.
     Punch,
+    /// Matrices, DOF map and gaps given in memory by a library caller
+    /// (`Scene::with_arrays`, the Python package's `Scene.from_arrays`); a scene file alone
+    /// cannot name this source.
+    Arrays,
 }
 
 /// `[model]`: the reduced model's source and the node merging of meshed components.
@@ -105,6 +109,10 @@ pub struct ModelSpec {
     /// the CEA's roots outside the band.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub band_hz: Option<Real>,
+    /// The model's arrays with `from = "arrays"` (in memory only, never read from or written
+    /// to TOML).
+    #[serde(skip)]
+    pub arrays: Option<super::ArraysRef>,
 }
 
 impl Default for ModelSpec {
@@ -118,6 +126,7 @@ impl Default for ModelSpec {
             temperature: None,
             merge_tolerance: 1e-6,
             band_hz: None,
+            arrays: None,
         }
     }
 }
@@ -151,7 +160,29 @@ impl ModelSpec {
         if let Some(t) = self.temperature.filter(|t| !t.is_finite()) {
             return Err(bad("temperature", format!("{t} must be finite")));
         }
-        if self.from != ModelSource::Mesh {
+        if self.from == ModelSource::Arrays {
+            if self.arrays.is_none() {
+                return Err(bad(
+                    "from",
+                    "`arrays` names a model given in memory (Scene::with_arrays, Python \
+                     squeal.Scene.from_arrays); a scene file cannot hold one"
+                        .into(),
+                ));
+            }
+            for (field, set) in [
+                ("matrices", self.matrices.is_some()),
+                ("dofmap", self.dofmap.is_some()),
+                ("gaps", self.gaps.is_some()),
+            ] {
+                if set {
+                    return Err(bad(
+                        field,
+                        "not used with from = \"arrays\" (the arrays hold the model); remove it"
+                            .into(),
+                    ));
+                }
+            }
+        } else if self.from != ModelSource::Mesh {
             if self.matrices.is_none() {
                 return Err(bad(
                     "matrices",

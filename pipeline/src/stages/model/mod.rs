@@ -13,7 +13,7 @@ mod stored;
 pub use cache::{CacheUse, ModelCache};
 pub use from_mesh::build_from_mesh;
 pub use grids::GridInfo;
-pub use stored::{load_stored, write_stored, StoredFiles};
+pub use stored::{load_arrays, load_stored, write_stored, StoredFiles};
 
 use crate::error::PipelineError;
 use crate::output::RunDir;
@@ -192,6 +192,7 @@ pub fn build(
     match scene.model.from {
         ModelSource::Mesh => build_from_mesh(scene, dir, progress),
         ModelSource::Op4 | ModelSource::Punch => load_stored(scene),
+        ModelSource::Arrays => load_arrays(scene),
     }
 }
 

@@ -232,10 +232,36 @@ pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
         .map(|p| (0..n).map(|i| p[(i, 0)]).collect())
         .unwrap_or_else(|| vec![0.0; n]);
 
-    let mut gaps = match &spec.gaps {
+    let gaps = match &spec.gaps {
         Some(p) => read_gaps(&scene.resolve(p))?,
         None => Vec::new(),
     };
+    let gaps_path = spec
+        .gaps
+        .as_ref()
+        .map_or(dpath.clone(), |p| scene.resolve(p));
+    finish(
+        scene,
+        (k, m, b, p_brake),
+        dofs,
+        gaps,
+        warnings,
+        (&gaps_path, &dpath),
+    )
+}
+
+/// The scene's late values on a stored model: sliding velocities from `[rotor]`, P0 and
+/// temperature overrides, the friction law; gap DOFs from the map (`paths`: the gap table and
+/// the DOF map, named by errors).
+fn finish(
+    scene: &Scene,
+    (k, m, b, p_brake): (Mat<Real>, Mat<Real>, Option<Mat<Real>>, Vec<Real>),
+    dofs: ReducedDofMap,
+    mut gaps: Vec<squeal_contact::Gap>,
+    warnings: Vec<crate::warning::Warning>,
+    (gaps_path, dpath): (&Path, &Path),
+) -> Result<ReducedModel, PipelineError> {
+    let spec = &scene.model;
     let rotor = scene.rotor.clone().unwrap_or_default();
     let w = rotor.rpm * 2.0 * std::f64::consts::PI / 60.0;
     let omega = rotor.axis.map(|a| w * a);
@@ -276,11 +302,76 @@ pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
         warnings,
     };
     model.assign_gap_dofs().map_err(|e| PipelineError::Input {
-        path: spec
-            .gaps
-            .as_ref()
-            .map_or(dpath.clone(), |p| scene.resolve(p)),
+        path: gaps_path.to_path_buf(),
         message: format!("{e} (DOF map {})", dpath.display()),
     })?;
     Ok(model)
+}
+
+/// The stored model of a scene with `model.from = "arrays"` ([`crate::scene::StoredArrays`]),
+/// checked as [`load_stored`] checks files: the DOF map, shapes against it, finite entries,
+/// symmetry of KR, MR, BR, MR positive definite, gap values (unit normals). Errors name the
+/// array as `<arrays>.K`, `<arrays>.dofs`, `<arrays>.gaps`.
+pub fn load_arrays(scene: &Scene) -> Result<ReducedModel, PipelineError> {
+    let a = scene
+        .model
+        .arrays
+        .as_ref()
+        .ok_or_else(|| PipelineError::Scene {
+            field: "model.from".into(),
+            message: "`arrays` without arrays in memory".into(),
+        })?;
+    let a = &a.0;
+    let path = |what: &str| std::path::PathBuf::from(format!("<arrays>.{what}"));
+    let dpath = path("dofs");
+    check_dofmap(&a.dofs, &dpath)?;
+    let n = a.dofs.len();
+    let shape = |name: &str, r: usize, c: usize, want: usize| {
+        if r != n || c != want {
+            Err(PipelineError::Input {
+                path: path(name),
+                message: format!("is {r}x{c}; the DOF map has {n} DOFs, expected {n}x{want}"),
+            })
+        } else {
+            Ok(())
+        }
+    };
+    shape("K", a.k.nrows(), a.k.ncols(), n)?;
+    shape("M", a.m.nrows(), a.m.ncols(), n)?;
+    if let Some(b) = &a.b {
+        shape("B", b.nrows(), b.ncols(), n)?;
+    }
+    let mut warnings = Vec::new();
+    let k = symmetric("KR", &a.k, &path("K"), &mut warnings)?;
+    let m = symmetric("MR", &a.m, &path("M"), &mut warnings)?;
+    check_mass("MR", &m, &path("M"))?;
+    let b =
+        a.b.as_ref()
+            .map(|b| symmetric("BR", b, &path("B"), &mut warnings))
+            .transpose()?;
+    let p_brake = match &a.p_brake {
+        Some(p) => {
+            let pm = Mat::from_fn(p.len(), 1, |i, _| p[i]);
+            shape("p_brake", p.len(), 1, 1)?;
+            check_finite("PBRAKE", &pm, &path("p_brake"))?;
+            p.clone()
+        }
+        None => vec![0.0; n],
+    };
+    let gpath = path("gaps");
+    let places: Vec<String> = (0..a.gaps.len()).map(|i| format!("row {i}")).collect();
+    super::gap_table::check_gaps(&a.gaps, &places, true, true).map_err(|message| {
+        PipelineError::Input {
+            path: gpath.clone(),
+            message,
+        }
+    })?;
+    finish(
+        scene,
+        (k, m, b, p_brake),
+        a.dofs.clone(),
+        a.gaps.clone(),
+        warnings,
+        (&gpath, &dpath),
+    )
 }

@@ -275,8 +275,11 @@ pub fn run(
     Ok(report)
 }
 
-/// Builds (or reads) the model of one value and runs the analyses; failures are recorded.
-fn run_value(
+/// Builds (or reads through `cache`) the model of one value's `scene` (as
+/// [`values::scene_for`] makes it) and runs the analyses with their files in `vdir`; failures
+/// are recorded in the point, never returned. The Python package runs a sweep's values as
+/// separate tasks (threads or Dask workers) through this.
+pub fn run_value(
     index: usize,
     label: &str,
     scene: &Scene,

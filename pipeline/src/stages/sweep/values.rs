@@ -96,32 +96,54 @@ pub fn value_json(text: &str) -> serde_json::Value {
 /// The scene of one value: `base` with `param=value`, validated. Errors name the parameter:
 /// the key must be a value the scene accepts and holds once resolved.
 pub fn scene_for(base: &Scene, param: &str, value: &str) -> Result<Scene, PipelineError> {
-    let assignment = format!("{param}={value}");
+    scene_for_all(base, &[(param.to_string(), value.to_string())])
+}
+
+/// [`scene_for`] for several parameters set together (one point of a grid, or keys that must
+/// change together such as both pads' arc), validated once all are set.
+pub fn scene_for_all(
+    base: &Scene,
+    assignments: &[(String, String)],
+) -> Result<Scene, PipelineError> {
+    let params: Vec<&str> = assignments.iter().map(|(p, _)| p.as_str()).collect();
     let wrap = |message: String| PipelineError::Option {
-        option: format!("--param {param}"),
+        option: format!("--param {}", params.join(", ")),
         message,
     };
-    if param.trim().is_empty() || param.contains('=') {
-        return Err(wrap(
-            "must be a dotted scene key such as friction.law.mu".into(),
-        ));
+    for p in &params {
+        if p.trim().is_empty() || p.contains('=') {
+            return Err(wrap(format!(
+                "`{p}` must be a dotted scene key such as friction.law.mu"
+            )));
+        }
     }
+    let texts: Vec<String> = assignments
+        .iter()
+        .map(|(p, v)| format!("{p}={v}"))
+        .collect();
+    let values: Vec<&str> = assignments.iter().map(|(_, v)| v.as_str()).collect();
     let mut scene = base.clone();
-    scene.set_all(&[assignment]).map_err(|e| {
+    scene.set_all(&texts).map_err(|e| {
         wrap(format!(
-            "not a value this scene accepts (set to {value}): {e}"
+            "not a value this scene accepts (set to {}): {e}",
+            values.join(", ")
         ))
     })?;
     let resolved = toml::Value::try_from(&scene).map_err(|e| wrap(e.to_string()))?;
-    let mut node = &resolved;
-    for seg in param.split('.') {
-        let next = match node {
-            toml::Value::Table(t) => t.get(seg),
-            toml::Value::Array(a) => seg.parse::<usize>().ok().and_then(|i| a.get(i)),
-            _ => None,
-        };
-        node =
-            next.ok_or_else(|| wrap(format!("the resolved scene has no such value (no `{seg}`)")))?;
+    for p in &params {
+        let mut node = &resolved;
+        for seg in p.split('.') {
+            let next = match node {
+                toml::Value::Table(t) => t.get(seg),
+                toml::Value::Array(a) => seg.parse::<usize>().ok().and_then(|i| a.get(i)),
+                _ => None,
+            };
+            node = next.ok_or_else(|| {
+                wrap(format!(
+                    "the resolved scene has no such value (no `{seg}` in `{p}`)"
+                ))
+            })?;
+        }
     }
     Ok(scene)
 }
@@ -159,5 +181,36 @@ mod tests {
         assert_eq!(value_json("32"), serde_json::json!(32));
         assert_eq!(value_json("hex8"), serde_json::json!("hex8"));
         assert_eq!(value_json("[1, 2]"), serde_json::json!([1, 2]));
+    }
+
+    /// Keys that must change together (both pads' arc on the study brake) are set together
+    /// and validated once; one at a time the first is refused; an invalid key names the keys.
+    #[test]
+    fn keys_set_together() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../examples/sample-brake/base.toml");
+        let base = Scene::load(&path, &[]).unwrap();
+        let pair = |k: &str, v: &str| (k.to_string(), v.to_string());
+        let both = [
+            pair("components.1.geometry.n_elements", "3"),
+            pair("components.2.geometry.n_elements", "3"),
+        ];
+        let e = scene_for(&base, &both[0].0, &both[0].1)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("inboard pad"), "{e}");
+        let s = scene_for_all(&base, &both).unwrap();
+        let doc = toml::Value::try_from(&s).unwrap();
+        assert_eq!(
+            doc["components"][2]["geometry"]["n_elements"].as_integer(),
+            Some(3)
+        );
+        let e = scene_for_all(&base, &[both[0].clone(), pair("friction.law.mu0x", "0.5")])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("--param components.1.geometry.n_elements, friction.law.mu0x"),
+            "{e}"
+        );
     }
 }

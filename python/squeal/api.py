@@ -1,0 +1,229 @@
+"""The compute functions of each verb, with typed results."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import warnings
+from dataclasses import dataclass
+from typing import Any, Callable, Dict, List, Optional, Tuple, Union
+
+import numpy as np
+
+from . import _squeal
+from ._squeal import Scene
+
+ProgressCallback = Callable[[Dict[str, Any]], None]
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+class _Workdir:
+    """The folder gmsh writes its .geo/.msh into: the caller's, or a temporary one."""
+
+    def __init__(self, workdir: Optional[PathLike]) -> None:
+        self._tmp = None if workdir is not None else tempfile.TemporaryDirectory(prefix="squeal-")
+        self.path = os.fspath(workdir) if workdir is not None else self._tmp.name
+
+    def __enter__(self) -> str:
+        return self.path
+
+    def __exit__(self, *exc: object) -> None:
+        if self._tmp is not None:
+            self._tmp.cleanup()
+
+
+def _fs(p: Optional[PathLike]) -> Optional[str]:
+    return None if p is None else os.fspath(p)
+
+
+def _warn(ws: List[str]) -> None:
+    for w in ws:
+        warnings.warn(f"squeal: {w}", stacklevel=3)
+
+
+@dataclass
+class ModesResult:
+    """Modal analysis of one component (``squeal modes``)."""
+
+    frequencies_hz: np.ndarray
+    """Natural frequencies, Hz (n_modes)."""
+    shapes: np.ndarray
+    """Mass-normalised mode shapes at the nodes, (n_nodes, 3, n_modes); zeros at fixed DOFs."""
+    nodes: np.ndarray
+    """Node coordinates (n_nodes, 3)."""
+    node_tags: np.ndarray
+    """gmsh node tags (n_nodes)."""
+    cells: List[Tuple[str, np.ndarray]]
+    """Volume cells as meshio takes them: (meshio cell type, connectivity into ``nodes``)."""
+    report: Dict[str, Any]
+    """``modes.json``'s content (statistics of the assembly and the Lanczos solver)."""
+
+    def to_meshio(self) -> Any:
+        """A ``meshio.Mesh`` with one point array ``mode_NN`` per mode."""
+        import meshio
+
+        data = {f"mode_{j + 1:02d}": self.shapes[:, :, j] for j in range(self.shapes.shape[2])}
+        return meshio.Mesh(self.nodes, self.cells, point_data=data)
+
+
+@dataclass
+class ReducedModel:
+    """The reduced model (``squeal reduce``): row/column i of the matrices is ``dofs[i]``."""
+
+    K: np.ndarray
+    """Reduced stiffness (n × n, symmetric)."""
+    M: np.ndarray
+    """Reduced mass (n × n, symmetric)."""
+    B: Optional[np.ndarray]
+    """Element damping Σ (GE/W4) K_c (n × n), None without element damping."""
+    p_brake: np.ndarray
+    """Unit brake load (n)."""
+    dofs: List[Dict[str, Any]]
+    """DOF map records: ``component, kind ("grid"|"modal"), grid, comp, index, shared_with``."""
+    gaps: List[Dict[str, Any]]
+    """Gap records: ``pad_grid, rotor_grid, x, y, z, nx, ny, nz, area, p0, temperature`` and
+    the sliding velocity ``vx_slide, vy_slide, vz_slide``."""
+    gap_pairs: List[int]
+    """Gaps of each ``[[contact]]`` pair, in scene order."""
+    friction_law: Any
+    components: List[Dict[str, Any]]
+    warnings: List[str]
+    cache: Optional[Dict[str, Any]]
+    """Cache use (``hit``, ``key``, ``note``) when a cache was given."""
+
+    def to_scene(self, toml: Union[str, Dict[str, Any], None] = None, base_dir: PathLike = ".") -> Scene:
+        """A scene over these arrays (``Scene.from_arrays``), no files needed."""
+        return Scene.from_arrays(
+            self.K, self.M, self.dofs, gaps=self.gaps, B=self.B, p_brake=self.p_brake,
+            toml=toml, base_dir=base_dir,
+        )
+
+
+@dataclass
+class TransientResult:
+    """The nonlinear BSQL transient (``squeal transient``)."""
+
+    time: np.ndarray
+    """Times of the recorded rows, s."""
+    columns: List[str]
+    """Names of the history's columns (``history_map.json``; column 0 is ``t``)."""
+    column_info: List[Dict[str, Any]]
+    """What each column is (kind, grid, component, gap, DOF)."""
+    history: np.ndarray
+    """The recorded rows (every NOUTPT-th step), as ``history.npy``."""
+    energy: np.ndarray
+    energy_columns: List[str]
+    summary: Dict[str, Any]
+    """``summary.json``'s body: status, steps, CPU, squeal, growth rate, statistics, …"""
+    verdict: Dict[str, Any]
+    """The squeal verdict (state, growth rate, dominant frequency, reasons)."""
+    success: bool
+    """The integration reached TFINAL (else ``summary["status"]`` says why it stopped)."""
+    warnings: List[str]
+    cache: Optional[Dict[str, Any]]
+
+    def column(self, name: str) -> np.ndarray:
+        """One column of the history by name."""
+        return self.history[:, self.columns.index(name)]
+
+    def to_dataframe(self) -> Any:
+        """The history as a pandas DataFrame (one column per record)."""
+        import pandas as pd
+
+        return pd.DataFrame(self.history, columns=self.columns)
+
+
+@dataclass
+class CeaResult:
+    """Complex eigenvalues about the steady sliding state (``squeal cea``)."""
+
+    eigenvalues: np.ndarray
+    """p = Re p + i ω per mode (complex), modes up to ``cea.max_frequency_hz`` sorted by
+    frequency; the motion is Re(u e^{pt})."""
+    frequencies_hz: np.ndarray
+    damping_ratios: np.ndarray
+    """ζ = −2 Re p/|Im p| (NaN for a real root)."""
+    unstable: np.ndarray
+    """Boolean per mode."""
+    shapes: np.ndarray
+    """Complex mode shapes on the reduced DOFs (n × n_modes)."""
+    dofs: List[Dict[str, Any]]
+    report: Dict[str, Any]
+    """``cea.json``'s content (state, contact, modes, roots outside the band, statistics)."""
+    sweep: Optional[Dict[str, Any]]
+    """``cea.sweep.json``'s content with a friction sweep."""
+    warnings: List[str]
+    cache: Optional[Dict[str, Any]]
+
+    @property
+    def real_parts(self) -> np.ndarray:
+        """Re p per mode, 1/s (> 0: growing)."""
+        return self.eigenvalues.real
+
+
+def modes(
+    scene: Scene,
+    component: Optional[str] = None,
+    *,
+    workdir: Optional[PathLike] = None,
+    progress: Optional[ProgressCallback] = None,
+) -> ModesResult:
+    """Modal analysis of one component (``component``: its name; default the scene's only one).
+
+    gmsh's ``.geo``/``.msh`` go into ``workdir`` (default: a temporary folder).
+    """
+    with _Workdir(workdir) as w:
+        d = _squeal.modes(scene, w, component=component, progress=progress)
+    return ModesResult(**d)
+
+
+def reduce(
+    scene: Scene,
+    *,
+    cache: Optional[PathLike] = None,
+    workdir: Optional[PathLike] = None,
+    progress: Optional[ProgressCallback] = None,
+) -> ReducedModel:
+    """The reduced model of the scene: mesh → FE → Craig–Bampton → superelement → gaps → loads
+    (or the stored model it names). ``cache``: a model-cache folder (as ``--cache``)."""
+    with _Workdir(workdir) as w:
+        d = _squeal.reduce(scene, w, cache=_fs(cache), progress=progress)
+    _warn(d["warnings"])
+    return ReducedModel(**d)
+
+
+def transient(
+    scene: Scene,
+    *,
+    cache: Optional[PathLike] = None,
+    workdir: Optional[PathLike] = None,
+    progress: Optional[ProgressCallback] = None,
+) -> TransientResult:
+    """The nonlinear transient of the scene, in memory (no file is written but gmsh's).
+
+    An integration that stops before TFINAL returns with ``success = False`` and the status in
+    ``summary``; errors raise.
+    """
+    with _Workdir(workdir) as w:
+        d = _squeal.transient(scene, w, cache=_fs(cache), progress=progress)
+    _warn(d["warnings"])
+    return TransientResult(**d)
+
+
+def cea(
+    scene: Scene,
+    mu: Optional[Tuple[float, float, int]] = None,
+    *,
+    cache: Optional[PathLike] = None,
+    workdir: Optional[PathLike] = None,
+    progress: Optional[ProgressCallback] = None,
+) -> CeaResult:
+    """Complex eigenvalue analysis about the steady sliding state (or the restart state the
+    scene's ``[cea]`` names). ``mu=(first, last, count)``: also a friction sweep with mode
+    tracking, as ``squeal cea --mu first:last:count`` (in ``CeaResult.sweep``)."""
+    if mu is not None:
+        mu = (float(mu[0]), float(mu[1]), int(mu[2]))
+    with _Workdir(workdir) as w:
+        d = _squeal.cea(scene, w, mu=mu, cache=_fs(cache), progress=progress)
+    _warn(d["warnings"])
+    return CeaResult(**d)

@@ -1,0 +1,225 @@
+//! numpy ↔ faer matrices, and the DOF map and gap table as records (lists of dicts, or a
+//! pandas DataFrame) in both directions.
+
+use crate::errors::InputError;
+use numpy::ndarray::Array2;
+use numpy::{AllowTypeChange, IntoPyArray, PyArray2, PyArrayLike1, PyArrayLike2};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use squeal_contact::Gap;
+use squeal_pipeline::stages::model::gap_table::GAP_COLUMNS;
+use squeal_reduction::superelement::{DofKind, ReducedDof, ReducedDofMap};
+
+type Real = f64;
+
+/// A 2-D float array (anything numpy converts) as a faer matrix.
+pub fn mat_from_py(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<faer::Mat<Real>> {
+    let a: PyArrayLike2<'_, Real, AllowTypeChange> = obj.extract().map_err(|e| {
+        InputError::new_err(format!("<arrays>.{name}: not a 2-D float array ({e})"))
+    })?;
+    let v = a.as_array();
+    Ok(faer::Mat::from_fn(v.nrows(), v.ncols(), |i, j| v[[i, j]]))
+}
+
+/// A 1-D float array as a vector.
+pub fn vec_from_py(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<Real>> {
+    let a: PyArrayLike1<'_, Real, AllowTypeChange> = obj.extract().map_err(|e| {
+        InputError::new_err(format!("<arrays>.{name}: not a 1-D float array ({e})"))
+    })?;
+    Ok(a.as_array().to_vec())
+}
+
+/// A faer matrix as a numpy array (copied).
+pub fn mat_to_py<'py>(py: Python<'py>, m: &faer::Mat<Real>) -> Bound<'py, PyArray2<Real>> {
+    Array2::from_shape_fn((m.nrows(), m.ncols()), |(i, j)| m[(i, j)]).into_pyarray(py)
+}
+
+/// Rows of records: a DataFrame (`to_dict("records")`) or any iterable of mappings.
+fn records<'py>(obj: &Bound<'py, PyAny>) -> PyResult<Vec<Bound<'py, PyAny>>> {
+    let obj = if obj.hasattr("to_dict")? && !obj.is_instance_of::<PyDict>() {
+        obj.call_method1("to_dict", ("records",))?
+    } else {
+        obj.clone()
+    };
+    obj.try_iter()?.collect()
+}
+
+fn field<'py>(
+    row: &Bound<'py, PyAny>,
+    key: &str,
+    what: &str,
+    i: usize,
+) -> PyResult<Option<Bound<'py, PyAny>>> {
+    let has = row
+        .call_method1("__contains__", (key,))
+        .map_err(|_| InputError::new_err(format!("<arrays>.{what}: row {i} is not a mapping")))?;
+    if !has.extract::<bool>()? {
+        return Ok(None);
+    }
+    let v = row.get_item(key)?;
+    // pandas fills absent values of a column with None or NaN.
+    let missing = v.is_none() || v.extract::<f64>().is_ok_and(|x| x.is_nan());
+    Ok(if missing { None } else { Some(v) })
+}
+
+fn bad(what: &str, i: usize, key: &str, msg: impl std::fmt::Display) -> PyErr {
+    InputError::new_err(format!("<arrays>.{what}: row {i}, key `{key}`: {msg}"))
+}
+
+/// The DOF map from records `{component, kind: "grid"|"modal", grid, comp | index,
+/// shared_with}` (what `squeal.reduce` returns).
+pub fn dofmap_from_py(obj: &Bound<'_, PyAny>) -> PyResult<ReducedDofMap> {
+    let mut dofs = Vec::new();
+    for (i, row) in records(obj)?.iter().enumerate() {
+        let get = |k: &str| field(row, k, "dofs", i);
+        let req = |k: &str| get(k)?.ok_or_else(|| bad("dofs", i, k, "missing"));
+        let component: String = req("component")?
+            .extract()
+            .map_err(|e| bad("dofs", i, "component", e))?;
+        let kind: String = req("kind")?
+            .extract()
+            .map_err(|e| bad("dofs", i, "kind", e))?;
+        let int = |k: &str| -> PyResult<u64> {
+            let v = req(k)?;
+            v.extract::<u64>()
+                .or_else(|_| {
+                    v.extract::<f64>()
+                        .ok()
+                        .filter(|x| x.fract() == 0.0 && *x >= 0.0)
+                        .map(|x| x as u64)
+                        .ok_or(())
+                })
+                .map_err(|_| bad("dofs", i, k, format!("{v} is not a non-negative integer")))
+        };
+        let kind = match kind.as_str() {
+            "grid" => {
+                let comp = int("comp")?;
+                if !(1..=6).contains(&comp) {
+                    return Err(bad("dofs", i, "comp", format!("{comp} is not in 1..=6")));
+                }
+                DofKind::Grid {
+                    grid: int("grid")?,
+                    comp: comp as u8,
+                }
+            }
+            "modal" => DofKind::Modal {
+                index: int("index")? as usize,
+            },
+            other => {
+                return Err(bad(
+                    "dofs",
+                    i,
+                    "kind",
+                    format!("`{other}`: expected `grid` or `modal`"),
+                ))
+            }
+        };
+        let shared_with: Vec<String> = match get("shared_with")? {
+            Some(v) => v.extract().map_err(|e| bad("dofs", i, "shared_with", e))?,
+            None => Vec::new(),
+        };
+        dofs.push(ReducedDof {
+            component,
+            shared_with,
+            kind,
+        });
+    }
+    Ok(ReducedDofMap { dofs })
+}
+
+/// The DOF map as records.
+pub fn dofmap_to_py<'py>(py: Python<'py>, map: &ReducedDofMap) -> PyResult<Bound<'py, PyList>> {
+    let out = PyList::empty(py);
+    for d in &map.dofs {
+        let r = PyDict::new(py);
+        r.set_item("component", &d.component)?;
+        let (kind, grid, comp, index) = match d.kind {
+            DofKind::Grid { grid, comp } => ("grid", Some(grid), Some(comp), None),
+            DofKind::Modal { index } => ("modal", None, None, Some(index)),
+        };
+        r.set_item("kind", kind)?;
+        r.set_item("grid", grid)?;
+        r.set_item("comp", comp)?;
+        r.set_item("index", index)?;
+        r.set_item("shared_with", d.shared_with.clone())?;
+        out.append(r)?;
+    }
+    Ok(out)
+}
+
+/// Extra gap columns `squeal.reduce` returns and `from_arrays` ignores (the sliding velocity
+/// is the scene's `[rotor]` ω × r).
+const DERIVED_GAP_COLUMNS: [&str; 3] = ["vx_slide", "vy_slide", "vz_slide"];
+
+/// The gap table from records with the CSV gap table's columns (`pad_grid, rotor_grid, x, y,
+/// z, nx, ny, nz, area, p0, temperature`); the values are checked when the model is built.
+pub fn gaps_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Gap>> {
+    let mut gaps = Vec::new();
+    for (i, row) in records(obj)?.iter().enumerate() {
+        if let Ok(d) = row.cast::<PyDict>() {
+            for k in d.keys() {
+                let k: String = k.extract()?;
+                if !GAP_COLUMNS.contains(&k.as_str()) && !DERIVED_GAP_COLUMNS.contains(&k.as_str())
+                {
+                    return Err(bad(
+                        "gaps",
+                        i,
+                        &k,
+                        format!(
+                            "unknown column (the columns are {})",
+                            GAP_COLUMNS.join(", ")
+                        ),
+                    ));
+                }
+            }
+        }
+        let req = |k: &str| field(row, k, "gaps", i)?.ok_or_else(|| bad("gaps", i, k, "missing"));
+        let num = |k: &str| -> PyResult<Real> {
+            let v = req(k)?;
+            v.extract::<Real>()
+                .map_err(|_| bad("gaps", i, k, format!("{v} is not a number")))
+        };
+        let id = |k: &str| -> PyResult<u64> {
+            let v = req(k)?;
+            v.extract::<u64>()
+                .map_err(|_| bad("gaps", i, k, format!("{v} is not a grid id")))
+        };
+        gaps.push(Gap {
+            pad_node: id("pad_grid")?,
+            rotor_node: id("rotor_grid")?,
+            coords: [num("x")?, num("y")?, num("z")?],
+            pad_dofs: [None; 3],
+            rotor_dofs: [None; 3],
+            normal: [num("nx")?, num("ny")?, num("nz")?],
+            area: num("area")?,
+            v_slide: [0.0; 3],
+            p0: num("p0")?,
+            temperature: num("temperature")?,
+        });
+    }
+    Ok(gaps)
+}
+
+/// The gap table as records (the CSV columns and the sliding velocity).
+pub fn gaps_to_py<'py>(py: Python<'py>, gaps: &[Gap]) -> PyResult<Bound<'py, PyList>> {
+    let out = PyList::empty(py);
+    for g in gaps {
+        let r = PyDict::new(py);
+        r.set_item("pad_grid", g.pad_node)?;
+        r.set_item("rotor_grid", g.rotor_node)?;
+        for (k, v) in ["x", "y", "z"].iter().zip(g.coords) {
+            r.set_item(*k, v)?;
+        }
+        for (k, v) in ["nx", "ny", "nz"].iter().zip(g.normal) {
+            r.set_item(*k, v)?;
+        }
+        r.set_item("area", g.area)?;
+        r.set_item("p0", g.p0)?;
+        r.set_item("temperature", g.temperature)?;
+        for (k, v) in DERIVED_GAP_COLUMNS.iter().zip(g.v_slide) {
+            r.set_item(*k, v)?;
+        }
+        out.append(r)?;
+    }
+    Ok(out)
+}
