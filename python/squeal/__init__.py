@@ -31,10 +31,12 @@ from ._squeal import (
 )
 from .api import (
     CeaResult,
+    CompareResult,
     ModesResult,
     ReducedModel,
     TransientResult,
     cea,
+    compare,
     modes,
     reduce,
     transient,
@@ -45,6 +47,7 @@ from .sweep import sweep
 __all__ = [
     "Cancelled",
     "CeaResult",
+    "CompareResult",
     "InputError",
     "MeshError",
     "ModelError",
@@ -58,6 +61,7 @@ __all__ = [
     "TqdmProgress",
     "TransientResult",
     "__version__",
+    "compare",
     "cea",
     "modes",
     "reduce",

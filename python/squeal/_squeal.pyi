@@ -74,6 +74,22 @@ def cea(
     cache: Optional[_Path] = None,
     progress: _Progress = None,
 ) -> Dict[str, Any]: ...
+def compare(
+    a: str,
+    b: str,
+    workdir: _Path,
+    tol_freq: Optional[float] = None,
+    tol_mac: Optional[float] = None,
+    tol_matrix: Optional[float] = None,
+    tol_root: Optional[float] = None,
+    tol_summary: Optional[float] = None,
+    modes: Optional[int] = None,
+    pair_mac: float = 0.5,
+    scene: Optional[str] = None,
+    cea: bool = True,
+    cache: Optional[_Path] = None,
+    progress: _Progress = None,
+) -> Dict[str, Any]: ...
 def sweep_value(
     scene: Scene,
     assignments: Sequence[Tuple[str, _Value]],

@@ -227,3 +227,70 @@ def cea(
         d = _squeal.cea(scene, w, mu=mu, cache=_fs(cache), progress=progress)
     _warn(d["warnings"])
     return CeaResult(**d)
+
+
+EXIT_BEYOND_TOLERANCE = 4
+"""``squeal compare``'s exit status when a check fails (``CompareResult.exit_code``)."""
+
+
+@dataclass
+class CompareResult:
+    """Regression of two reduced models or two run folders (``squeal compare A B``)."""
+
+    passed: bool
+    """Every check within its tolerance (a tolerance left ``None`` is reported, not checked)."""
+    report: Dict[str, Any]
+    """``compare.json``'s content: ``matrices`` (‖A−B‖_F/‖A‖_F per matrix), ``modes`` (MAC
+    pairing, Δf/f), ``roots`` (CEA roots paired, Δf, ΔRe p), ``summaries`` (run folders),
+    ``checks``."""
+
+    @property
+    def exit_code(self) -> int:
+        """What ``squeal compare`` exits with: 0 passed, 4 beyond a tolerance."""
+        return 0 if self.passed else EXIT_BEYOND_TOLERANCE
+
+    def matrices(self) -> Dict[str, float]:
+        """Relative Frobenius difference per matrix name (KR, MR, BR, PBRAKE)."""
+        return {m["name"]: m["relative"] for m in self.report["matrices"]}
+
+
+def compare(
+    a: PathLike,
+    b: PathLike,
+    *,
+    tol_freq: Optional[float] = None,
+    tol_mac: Optional[float] = None,
+    tol_matrix: Optional[float] = None,
+    tol_root: Optional[float] = None,
+    tol_summary: Optional[float] = None,
+    modes: Optional[int] = None,
+    pair_mac: float = 0.5,
+    scene: Optional[PathLike] = None,
+    cea: bool = True,
+    cache: Optional[PathLike] = None,
+    out: Optional[PathLike] = None,
+    progress: Optional[ProgressCallback] = None,
+) -> CompareResult:
+    """Compares two reduced models (scenes, ``.op4``/``.pch`` with ``dofmap.json`` beside them,
+    ``squeal reduce`` folders) or two run folders, as ``squeal compare A B``: undamped
+    frequencies paired by MAC, matrix difference norms, CEA roots paired (Δf, ΔRe p),
+    ``summary.json`` values side by side. ``out``: also write ``compare.json``/``compare.md``
+    there. ``scene``: friction, rotor and loads for the CEA of stored matrices."""
+    with _Workdir(out) as w:
+        d = _squeal.compare(
+            _fs(a),
+            _fs(b),
+            w,
+            tol_freq=tol_freq,
+            tol_mac=tol_mac,
+            tol_matrix=tol_matrix,
+            tol_root=tol_root,
+            tol_summary=tol_summary,
+            modes=modes,
+            pair_mac=pair_mac,
+            scene=_fs(scene),
+            cea=cea,
+            cache=_fs(cache),
+            progress=progress,
+        )
+    return CompareResult(passed=bool(d["passed"]), report=d)

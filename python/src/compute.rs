@@ -337,3 +337,49 @@ pub fn model_key(scene: &PyScene) -> PyResult<Option<String>> {
         .map(|k| Some(k.hex))
         .map_err(|e| crate::errors::to_py(&e))
 }
+
+/// Compares two reduced models (scenes, stored matrices, reduce folders) or two run folders
+/// (`squeal compare A B`): `compare.json`'s report as a dict, also written (with
+/// `compare.md`) into `workdir`.
+#[pyfunction]
+#[pyo3(signature = (a, b, workdir, tol_freq=None, tol_mac=None, tol_matrix=None, tol_root=None,
+    tol_summary=None, modes=None, pair_mac=0.5, scene=None, cea=true, cache=None, progress=None))]
+pub fn compare<'py>(
+    py: Python<'py>,
+    a: PathBuf,
+    b: PathBuf,
+    workdir: PathBuf,
+    tol_freq: Option<f64>,
+    tol_mac: Option<f64>,
+    tol_matrix: Option<f64>,
+    tol_root: Option<f64>,
+    tol_summary: Option<f64>,
+    modes: Option<usize>,
+    pair_mac: f64,
+    scene: Option<PathBuf>,
+    cea: bool,
+    cache: Option<PathBuf>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    use squeal_pipeline::stages::compare as cmp;
+    let hook = Hook::new(progress);
+    let opts = cmp::CompareOptions {
+        tol_freq,
+        tol_mac,
+        tol_matrix,
+        tol_root,
+        tol_summary,
+        modes,
+        pair_mac,
+        scene,
+        cea,
+        cache: cache.map(ModelCache::new),
+    };
+    let report = run(py, &hook, |h| {
+        let dir = RunDir::create(&workdir)?;
+        let r = cmp::compute(&a, &b, &opts, &dir, &h.progress)?;
+        cmp::write(&r, &dir)?;
+        Ok(r)
+    })?;
+    json_to_py(py, &report)
+}

@@ -27,6 +27,7 @@ fn _squeal(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compute::cea, m)?)?;
     m.add_function(wrap_pyfunction!(compute::sweep_value, m)?)?;
     m.add_function(wrap_pyfunction!(compute::model_key, m)?)?;
+    m.add_function(wrap_pyfunction!(compute::compare, m)?)?;
     m.add_function(wrap_pyfunction!(scene::scene_from_state, m)?)?;
     Ok(())
 }
