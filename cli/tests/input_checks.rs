@@ -417,7 +417,9 @@ fn example_scenes() -> Vec<PathBuf> {
         for e in std::fs::read_dir(root().join(dir)).unwrap() {
             let p = e.unwrap().path();
             if p.extension().is_some_and(|x| x == "toml")
-                && !p.ends_with("study.toml")
+                && !p
+                    .file_name()
+                    .is_some_and(|n| n.to_string_lossy().starts_with("study"))
                 && !p.ends_with("components.toml")
             {
                 out.push(p);

@@ -22,8 +22,8 @@ use squeal_solver::bdf::{
     Bdf, BdfOptions, BdfState, BdfStats, Status, TolerancePartition, Tolerances,
 };
 use squeal_solver::bsql::{
-    BsqlStats, BsqlSystem, EnergyBalance, EnergyRestart, PowerTerms, Unilateral,
-    UnilateralOptions, UnilateralStats,
+    BsqlStats, BsqlSystem, EnergyBalance, EnergyRestart, PowerTerms, Unilateral, UnilateralOptions,
+    UnilateralStats,
 };
 use squeal_solver::galpha::{Galpha, GalphaOptions, GalphaStats, GalphaSystem};
 use squeal_solver::SolverError;
