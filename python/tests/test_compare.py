@@ -49,7 +49,9 @@ def test_stiffer_pad_agrees_with_the_cli(cli, tmp_path):
     r = squeal.compare(TINY, b, tol_matrix=1e-3, cea=False)
     assert not r.passed and r.exit_code == p.returncode
     m = r.matrices()
-    assert m["KR"] > 1e-3 and m["MR"] == 0.0
+    # Scaling one component's E scales its K alone: the Craig-Bampton basis (fixed-interface
+    # eigenvectors, constraint modes -Kii^-1 Kib) is unchanged, so MR moves by round-off only.
+    assert m["KR"] > 1e-3 and m["MR"] < 1e-12
     # Only the pad's stiffness changed: no frequency falls, and the stiffest change is 5 %
     # (a mode living in the pad alone scales by sqrt(1.05)).
     for pair in r.report["modes"]:
