@@ -14,31 +14,9 @@ pub const HEX8_NODES: [[Real; 3]; 8] = [
     [-1.0, 1.0, 1.0],
 ];
 
-/// Parametric coordinates of the hex20 nodes: corners, then mid-edges
-/// 8:(0,1) 9:(1,2) 10:(2,3) 11:(3,0) 12:(4,5) 13:(5,6) 14:(6,7) 15:(7,4) 16:(0,4) 17:(1,5)
-/// 18:(2,6) 19:(3,7).
-pub const HEX20_NODES: [[Real; 3]; 20] = [
-    [-1.0, -1.0, -1.0],
-    [1.0, -1.0, -1.0],
-    [1.0, 1.0, -1.0],
-    [-1.0, 1.0, -1.0],
-    [-1.0, -1.0, 1.0],
-    [1.0, -1.0, 1.0],
-    [1.0, 1.0, 1.0],
-    [-1.0, 1.0, 1.0],
-    [0.0, -1.0, -1.0],
-    [1.0, 0.0, -1.0],
-    [0.0, 1.0, -1.0],
-    [-1.0, 0.0, -1.0],
-    [0.0, -1.0, 1.0],
-    [1.0, 0.0, 1.0],
-    [0.0, 1.0, 1.0],
-    [-1.0, 0.0, 1.0],
-    [-1.0, -1.0, 0.0],
-    [1.0, -1.0, 0.0],
-    [1.0, 1.0, 0.0],
-    [-1.0, 1.0, 0.0],
-];
+/// Parametric coordinates of the hex20 nodes (corners, then mid-edges, VTK order): the mesh
+/// reader's table, which checks det J at these points, so elements and checks share one.
+pub use squeal_meshes::jacobian::HEX_NODES as HEX20_NODES;
 
 /// Parametric coordinates of the quad4 nodes (and quad8 corners).
 pub const QUAD4_NODES: [[Real; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];

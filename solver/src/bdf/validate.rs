@@ -122,7 +122,7 @@ impl BdfState {
             finite("jacobian_point.cj", p.cj)?;
             // The matrix was formed at cj_old = jacobian_point.cj (newton.rs sets both at once):
             // any other value re-forms a matrix the run never used (found by fuzzing: 1e308).
-            if !(p.cj > 0.0) || p.cj != self.cj_old {
+            if p.cj <= 0.0 || p.cj != self.cj_old {
                 return Err(bad(
                     "jacobian_point.cj",
                     format!(
