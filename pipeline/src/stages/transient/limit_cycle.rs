@@ -31,6 +31,10 @@ pub const SATURATION_LEVEL: Real = 0.5;
 /// cycle after the ramp is a self-excited oscillation, i.e. squeal.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Saturation {
+    /// End of the linear growth, where the roots are fitted to: the earlier of `t` and the
+    /// first gap opening after the ramp (the contact set changes there; a gap that opened
+    /// during the ramp is not counted).
+    pub growth_end: Real,
     /// First time after the ramp the per-step peak reached `level`.
     pub t: Real,
     /// [`SATURATION_LEVEL`] × the limit cycle's peak.
@@ -105,16 +109,29 @@ impl FaceMonitor {
 
 impl FaceMonitor {
     /// Where the record after `t_from` saturated into `lc` (see [`saturation`]).
-    pub fn saturation(&self, t_from: Real, lc: &LimitCycle) -> Option<Saturation> {
-        saturation(&self.t, &self.peak, t_from, lc)
+    pub fn saturation(
+        &self,
+        t_from: Real,
+        lc: &LimitCycle,
+        first_opening: Option<Real>,
+    ) -> Option<Saturation> {
+        saturation(&self.t, &self.peak, t_from, lc, first_opening)
     }
 }
 
 /// The saturation of a record (t, per-step peak) after `t_from` into the limit cycle `lc`:
 /// the first time the peak reaches [`SATURATION_LEVEL`] × `lc.peak_normal_velocity`, and the
-/// growth of the amplitude from the first cycle after `t_from` to the limit cycle. None
-/// without a positive peak in the first cycle or without a crossing of the level.
-pub fn saturation(t: &[Real], peak: &[Real], t_from: Real, lc: &LimitCycle) -> Option<Saturation> {
+/// growth of the amplitude from the first cycle after `t_from` to the limit cycle; the growth
+/// ends there or at `first_opening` (the run's first gap opening) when that is after
+/// `t_from`. None without a positive peak in the first cycle or without a crossing of the
+/// level.
+pub fn saturation(
+    t: &[Real],
+    peak: &[Real],
+    t_from: Real,
+    lc: &LimitCycle,
+    first_opening: Option<Real>,
+) -> Option<Saturation> {
     if !(lc.frequency_hz > 0.0 && lc.peak_normal_velocity > 0.0) {
         return None;
     }
@@ -125,12 +142,16 @@ pub fn saturation(t: &[Real], peak: &[Real], t_from: Real, lc: &LimitCycle) -> O
         .zip(peak)
         .filter(|(&ti, _)| ti >= t0 && ti < first_end)
         .fold(0.0 as Real, |m, (_, &p)| m.max(p));
-    if !(first_cycle_peak > 0.0) {
+    if first_cycle_peak.is_nan() || first_cycle_peak <= 0.0 {
         return None;
     }
     let level = SATURATION_LEVEL * lc.peak_normal_velocity;
     let i = (0..t.len()).find(|&i| t[i] >= t0 && peak[i] >= level)?;
+    let growth_end = first_opening
+        .filter(|&o| o > t0)
+        .map_or(t[i], |o| o.min(t[i]));
     Some(Saturation {
+        growth_end,
         t: t[i],
         level,
         first_cycle_peak,
@@ -246,8 +267,15 @@ mod tests {
         let (a, tau, f) = (2.0, 0.5, 10.0);
         let (t, p, m) = record(a, tau, 4.0);
         let lc = analyse(&t, &p, &m, 0.0, f).unwrap();
-        let s = saturation(&t, &p, 0.0, &lc).unwrap();
+        let s = saturation(&t, &p, 0.0, &lc, None).unwrap();
         assert!((s.t - 0.5 * tau).abs() <= 1.0 / f, "{s:?}");
+        assert_eq!(s.growth_end, s.t);
+        // A gap that opened before the level was reached ends the growth there; one that
+        // opened before `t_from` (during the ramp) does not.
+        let early = saturation(&t, &p, 0.0, &lc, Some(0.1)).unwrap();
+        assert_eq!((early.growth_end, early.t), (0.1, s.t));
+        let ramp = saturation(&t, &p, 0.05, &lc, Some(0.01)).unwrap();
+        assert_eq!(ramp.growth_end, ramp.t);
         assert!((s.level - 0.5 * a).abs() < 1e-3, "{s:?}");
         // First cycle: the largest of a·(t/τ)|sin ωt| over t < 1/f = 0.1 is at the second
         // crest, t ≈ 0.075: 2·0.15 = 0.30; below the ramp's value at 1/f, 0.4.

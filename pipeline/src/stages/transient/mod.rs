@@ -460,15 +460,21 @@ impl Prepared<'_> {
         let limit_cycle = separation
             .then(|| face.analyse(t_after, verdict.dominant_frequency_hz))
             .flatten();
-        let saturation = limit_cycle
-            .as_ref()
-            .filter(|l| l.reached)
-            .and_then(|l| face.saturation(t_after, l));
+        let saturation = limit_cycle.as_ref().filter(|l| l.reached).and_then(|l| {
+            let first_opening = match stepper.stats() {
+                IntegratorStats::Bdf {
+                    separation: Some(s),
+                    ..
+                } => s.first_separation_t,
+                _ => None,
+            };
+            face.saturation(t_after, l, first_opening)
+        });
         if let Some(sat) = saturation {
             let (_, before) = resp.verdict(
                 t_after,
                 opts.stall_h,
-                Some(sat.t),
+                Some(sat.growth_end),
                 memory.columns(),
                 band,
                 &po,
