@@ -542,8 +542,8 @@ fn generalized_alpha_writes_the_bdf_outputs() {
 /// `[[contact]] separation = true` on the tiny brake with a brake load that lets go: the
 /// pad is pulled off the rotor (pmax < 0 after a press, here a negative unit pressure), its
 /// gaps open (events in `summary.json`), separation is an active effect, the energy balance
-/// (with the impact dissipation) closes, and the verdict is not made unresolved by tensile
-/// contact.
+/// (with the impact dissipation) closes, the verdict is not made unresolved by tensile
+/// contact, and the events do not count as steps.
 #[test]
 fn separation_opens_the_gaps_and_reports_the_events() {
     let d = tmp("tiny-separation");
@@ -563,6 +563,19 @@ fn separation_opens_the_gaps_and_reports_the_events() {
     assert!(sep["first_separation_t"].as_f64().unwrap() > 0.0, "{sep}");
     let effects = s["active_effects"].to_string();
     assert!(effects.contains("separation"), "{effects}");
+    // Steps are the integrator's accepted steps: the sinks see each event twice (before and
+    // after the switch, same t), and the contact monitor (the initial point + one per step)
+    // must not count the second.
+    let events = sep["events"].as_u64().unwrap();
+    assert!(events >= 1, "{sep}");
+    let steps = s["steps"].as_u64().unwrap();
+    assert_eq!(s["steps"], s["bdf_stats"]["steps"], "{}", s["bdf_stats"]);
+    assert_eq!(
+        s["contact"]["steps"].as_u64().unwrap(),
+        steps + 1,
+        "contact monitor {} vs {steps} accepted steps and {events} events",
+        s["contact"]
+    );
     let reasons = s["verdict"].to_string();
     assert!(!reasons.contains("contact_tensile"), "{reasons}");
     let e = &s["energy"];

@@ -405,10 +405,18 @@ fn bdf_options(
 }
 
 /// One accepted step (or the initial point, `step` = the steps before the run) as sinks see it.
+///
+/// At a separation event the sinks see two views at the same time t: the state before the
+/// switch (it ends the integrator's accepted step that crossed the event, cut back to the
+/// event) and the state after it (switched rows, impact, consistent y'), which has
+/// `repeat = true` and is no step: counters of steps skip it.
 pub struct StepView<'a> {
-    /// Accepted steps so far, counted from the start of the integration (a restarted run
-    /// continues its count).
+    /// Accepted integrator steps so far, counted from the start of the integration (a
+    /// restarted run continues its count); the state after an event does not add one.
     pub step: usize,
+    /// This view is at the same time as the previous one: the state after an event, not an
+    /// accepted step.
+    pub repeat: bool,
     pub t: Real,
     /// y = {v, λ, u}.
     pub y: &'a [Real],
@@ -588,6 +596,7 @@ pub fn drive_from(
         }
         let view = StepView {
             step: first,
+            repeat: false,
             t: t_start,
             y: &y,
             yp: &yp,
@@ -602,6 +611,9 @@ pub fn drive_from(
     let bar = progress.bar(&opts.label);
     let span = (opts.tfinal - t_start).max(Real::MIN_POSITIVE);
     let mut done = first;
+    // Time of the last view the sinks saw: a view at the same time is an event's second
+    // state (after the switch), not an accepted step.
+    let mut last_t = t_start;
     let status = loop {
         progress.check(&opts.label)?;
         let tout = sinks
@@ -612,8 +624,12 @@ pub fn drive_from(
         let mut stash: Option<PipelineError> = None;
         let st = stepper.step_to(tout, |obs, t, y, yp| {
             let clock = Instant::now();
-            done += 1;
-            in_chunk += 1;
+            let repeat = t <= last_t;
+            last_t = t;
+            if !repeat {
+                done += 1;
+                in_chunk += 1;
+            }
             let p = match opts.energy {
                 true => {
                     let p = obs.observe(t, y, yp)?;
@@ -624,6 +640,7 @@ pub fn drive_from(
             };
             let view = StepView {
                 step: done,
+                repeat,
                 t,
                 y,
                 yp,

@@ -16,7 +16,10 @@
 //!
 //! A clear growth before any of these failures is a positive (`squeal`): the A-stable
 //! integrators used here do not create growth, and the contact was valid while it grew.
-//! Anything else is `unresolved`, with every reason and its numbers.
+//! So is a limit cycle that was reached (separation on) with an amplitude grown by the
+//! required factor from the first cycle after the ramp: a self-excited oscillation that
+//! saturated. A reached limit cycle is never `no_squeal`. Anything else is `unresolved`, with
+//! every reason and its numbers.
 
 use super::validity::{ContactValidity, GapEvent};
 use crate::scene::Integrator;
@@ -75,6 +78,14 @@ pub enum Unresolved {
     },
     /// No response after the load ramp to analyse.
     NoResponse,
+    /// A limit cycle was reached but neither a clear growth before saturation nor an
+    /// amplitude grown by the required factor shows that it is self-excited.
+    LimitCycleWithoutGrowth {
+        peak_normal_velocity: Real,
+        /// The limit cycle's peak over the first cycle's after the ramp (None: not measured).
+        amplitude_growth: Option<Real>,
+        min_growth_factor: Real,
+    },
 }
 
 /// The verdict's state.
@@ -134,6 +145,22 @@ impl std::fmt::Display for Unresolved {
                 write!(f, ": {}", super::status_text(status))
             }
             Unresolved::NoResponse => f.write_str("no response after the load ramp"),
+            Unresolved::LimitCycleWithoutGrowth {
+                peak_normal_velocity,
+                amplitude_growth,
+                min_growth_factor,
+            } => {
+                write!(
+                    f,
+                    "limit cycle (peak normal velocity {peak_normal_velocity:.3e}) without a \
+                     clear growth to it"
+                )?;
+                match amplitude_growth {
+                    Some(g) => write!(f, ": amplitude ×{g:.2} from the first cycle"),
+                    None => f.write_str(": no amplitude of the first cycle"),
+                }?;
+                write!(f, ", not ×{min_growth_factor:.2}")
+            }
         }
     }
 }
@@ -198,6 +225,25 @@ pub struct Evidence<'a> {
     pub rho_inf: Real,
     pub min_growth_rate_per_s: Real,
     pub min_growth_factor: Real,
+    /// The limit cycle the run reached (separation on, `limit_cycle.reached`): its peak and
+    /// the growth of the amplitude to it (None: not reached).
+    pub limit_cycle: Option<LimitCycleEvidence>,
+}
+
+/// A reached limit cycle as the guard weighs it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LimitCycleEvidence {
+    pub peak_normal_velocity: Real,
+    /// The limit cycle's peak over the first cycle's after the ramp.
+    pub amplitude_growth: Option<Real>,
+}
+
+impl LimitCycleEvidence {
+    /// The amplitude grew by at least `min_factor` (≥ 2) to the limit cycle.
+    pub fn self_excited(&self, min_factor: Real) -> bool {
+        self.amplitude_growth
+            .is_some_and(|g| g >= min_factor.max(2.0))
+    }
 }
 
 /// The resolution of each frequency, the window's detectable growth, and the state.
@@ -227,6 +273,17 @@ pub fn judge(e: &Evidence<'_>) -> (VerdictState, Vec<Resolution>, Option<Real>) 
         return (VerdictState::Squeal, resolutions, detectable);
     }
     let mut reasons = Vec::new();
+    if let Some(lc) = &e.limit_cycle {
+        if lc.self_excited(e.min_growth_factor) {
+            return (VerdictState::Squeal, resolutions, detectable);
+        }
+        // Never `no_squeal`: the run oscillates at a stationary amplitude.
+        reasons.push(Unresolved::LimitCycleWithoutGrowth {
+            peak_normal_velocity: lc.peak_normal_velocity,
+            amplitude_growth: lc.amplitude_growth,
+            min_growth_factor: e.min_growth_factor.max(2.0),
+        });
+    }
     if e.h_max_window.is_none() {
         reasons.push(Unresolved::NoResponse);
     }
@@ -317,6 +374,36 @@ mod tests {
             rho_inf: 0.9,
             min_growth_rate_per_s: 100.0,
             min_growth_factor: 2.0,
+            limit_cycle: None,
+        }
+    }
+
+    /// A reached limit cycle (separation on) with the fitted window showing no growth: its
+    /// amplitude grew ×8 from the first cycle, so `squeal`; ×1.2 is not evidence of
+    /// self-excitation but never `no_squeal` either.
+    #[test]
+    fn a_reached_limit_cycle_is_squeal_never_no_squeal() {
+        let c = ContactValidity::default();
+        let ok = Status::Reached { t: 0.02 };
+        let mut e = base(&c, &ok);
+        e.separation = true;
+        assert_eq!(judge(&e).0, VerdictState::NoSqueal);
+        e.limit_cycle = Some(LimitCycleEvidence {
+            peak_normal_velocity: 3.0,
+            amplitude_growth: Some(8.0),
+        });
+        assert_eq!(judge(&e).0, VerdictState::Squeal);
+        for growth in [Some(1.2), None] {
+            e.limit_cycle = Some(LimitCycleEvidence {
+                peak_normal_velocity: 3.0,
+                amplitude_growth: growth,
+            });
+            let s = judge(&e).0;
+            assert!(
+                matches!(&s, VerdictState::Unresolved { reasons }
+                    if matches!(reasons[0], Unresolved::LimitCycleWithoutGrowth { .. })),
+                "{s:?}"
+            );
         }
     }
 

@@ -22,6 +22,28 @@ type Real = f64;
 pub const CYCLES: usize = 10;
 /// Largest relative variation of the per-cycle peaks of a stationary envelope.
 pub const TOLERANCE: Real = 0.05;
+/// The response saturates (leaves its linear growth) when its per-step peak first reaches
+/// this fraction of the limit cycle's peak: the growth is fitted before it.
+pub const SATURATION_LEVEL: Real = 0.5;
+
+/// How a response reached its limit cycle: the time it saturated and the amplitude it grew
+/// by. A reached limit cycle whose amplitude grew by the verdict's factor from the first
+/// cycle after the ramp is a self-excited oscillation, i.e. squeal.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Saturation {
+    /// End of the linear growth, where the roots are fitted to: the earlier of `t` and the
+    /// first gap opening after the ramp (the contact set changes there; a gap that opened
+    /// during the ramp is not counted).
+    pub growth_end: Real,
+    /// First time after the ramp the per-step peak reached `level`.
+    pub t: Real,
+    /// [`SATURATION_LEVEL`] × the limit cycle's peak.
+    pub level: Real,
+    /// Peak of the first cycle (1/f) after the ramp.
+    pub first_cycle_peak: Real,
+    /// The limit cycle's peak / `first_cycle_peak`.
+    pub amplitude_growth: Real,
+}
 
 /// The limit cycle as `summary.json` reports it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -83,6 +105,58 @@ impl FaceMonitor {
             frequency_hz?,
         )
     }
+}
+
+impl FaceMonitor {
+    /// Where the record after `t_from` saturated into `lc` (see [`saturation`]).
+    pub fn saturation(
+        &self,
+        t_from: Real,
+        lc: &LimitCycle,
+        first_opening: Option<Real>,
+    ) -> Option<Saturation> {
+        saturation(&self.t, &self.peak, t_from, lc, first_opening)
+    }
+}
+
+/// The saturation of a record (t, per-step peak) after `t_from` into the limit cycle `lc`:
+/// the first time the peak reaches [`SATURATION_LEVEL`] × `lc.peak_normal_velocity`, and the
+/// growth of the amplitude from the first cycle after `t_from` to the limit cycle; the growth
+/// ends there or at `first_opening` (the run's first gap opening) when that is after
+/// `t_from`. None without a positive peak in the first cycle or without a crossing of the
+/// level.
+pub fn saturation(
+    t: &[Real],
+    peak: &[Real],
+    t_from: Real,
+    lc: &LimitCycle,
+    first_opening: Option<Real>,
+) -> Option<Saturation> {
+    if !(lc.frequency_hz > 0.0 && lc.peak_normal_velocity > 0.0) {
+        return None;
+    }
+    let t0 = t_from.max(*t.first()?);
+    let first_end = t0 + 1.0 / lc.frequency_hz;
+    let first_cycle_peak = t
+        .iter()
+        .zip(peak)
+        .filter(|(&ti, _)| ti >= t0 && ti < first_end)
+        .fold(0.0 as Real, |m, (_, &p)| m.max(p));
+    if first_cycle_peak.is_nan() || first_cycle_peak <= 0.0 {
+        return None;
+    }
+    let level = SATURATION_LEVEL * lc.peak_normal_velocity;
+    let i = (0..t.len()).find(|&i| t[i] >= t0 && peak[i] >= level)?;
+    let growth_end = first_opening
+        .filter(|&o| o > t0)
+        .map_or(t[i], |o| o.min(t[i]));
+    Some(Saturation {
+        growth_end,
+        t: t[i],
+        level,
+        first_cycle_peak,
+        amplitude_growth: lc.peak_normal_velocity / first_cycle_peak,
+    })
 }
 
 impl Sink for FaceMonitor {
@@ -183,6 +257,32 @@ mod tests {
         assert!(lc.reached, "{lc:?}");
         assert!((lc.rms_normal_velocity - 2.0 / 2f64.sqrt()).abs() < 1e-3);
         assert!((lc.peak_normal_velocity - 2.0).abs() < 1e-3);
+    }
+
+    /// The ramped sine a·min(1, t/τ)·sin(ωt): half the limit cycle's peak is first reached
+    /// near t = τ/2 (at a crest, within a period), and the amplitude grew from the first
+    /// cycle's peak a·(1/f)/τ (to one period's resolution) to a.
+    #[test]
+    fn saturation_is_where_the_envelope_reaches_half_the_limit_cycle() {
+        let (a, tau, f) = (2.0, 0.5, 10.0);
+        let (t, p, m) = record(a, tau, 4.0);
+        let lc = analyse(&t, &p, &m, 0.0, f).unwrap();
+        let s = saturation(&t, &p, 0.0, &lc, None).unwrap();
+        assert!((s.t - 0.5 * tau).abs() <= 1.0 / f, "{s:?}");
+        assert_eq!(s.growth_end, s.t);
+        // A gap that opened before the level was reached ends the growth there; one that
+        // opened before `t_from` (during the ramp) does not.
+        let early = saturation(&t, &p, 0.0, &lc, Some(0.1)).unwrap();
+        assert_eq!((early.growth_end, early.t), (0.1, s.t));
+        let ramp = saturation(&t, &p, 0.05, &lc, Some(0.01)).unwrap();
+        assert_eq!(ramp.growth_end, ramp.t);
+        assert!((s.level - 0.5 * a).abs() < 1e-3, "{s:?}");
+        // First cycle: the largest of a·(t/τ)|sin ωt| over t < 1/f = 0.1 is at the second
+        // crest, t ≈ 0.075: 2·0.15 = 0.30; below the ramp's value at 1/f, 0.4.
+        let first = s.first_cycle_peak;
+        assert!(first > 0.2 && first < a * (1.0 / f) / tau, "{s:?}");
+        assert!((s.amplitude_growth - lc.peak_normal_velocity / first).abs() < 1e-12);
+        assert!(s.amplitude_growth > 5.0, "{s:?}");
     }
 
     #[test]

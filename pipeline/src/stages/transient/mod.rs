@@ -454,6 +454,36 @@ impl Prepared<'_> {
         let po = roots::PencilOptions::default();
         let (response, mut verdict) =
             resp.verdict(t_after, opts.stall_h, None, memory.columns(), band, &po);
+        // With separation the response may saturate into a limit cycle; the fit over the
+        // whole window then sees little growth. The growth that matters is the one before
+        // the response saturated: the roots are fitted there.
+        let limit_cycle = separation
+            .then(|| face.analyse(t_after, verdict.dominant_frequency_hz))
+            .flatten();
+        let saturation = limit_cycle.as_ref().filter(|l| l.reached).and_then(|l| {
+            let first_opening = match stepper.stats() {
+                IntegratorStats::Bdf {
+                    separation: Some(s),
+                    ..
+                } => s.first_separation_t,
+                _ => None,
+            };
+            face.saturation(t_after, l, first_opening)
+        });
+        if let Some(sat) = saturation {
+            let (_, before) = resp.verdict(
+                t_after,
+                opts.stall_h,
+                Some(sat.growth_end),
+                memory.columns(),
+                band,
+                &po,
+            );
+            if before.estimator.is_some() {
+                verdict = before;
+            }
+            verdict.saturation = Some(sat);
+        }
         let growth_while_valid = match t_stop {
             Some(_) => {
                 resp.verdict(t_after, opts.stall_h, t_stop, memory.columns(), band, &po)
@@ -480,11 +510,12 @@ impl Prepared<'_> {
             (_, Some(band)) => frequencies.push((guard::FrequencySource::BandTop, band)),
             _ => {}
         }
+        let clear_growth = growth_while_valid.is_squeal(
+            scene.output.squeal_growth_threshold,
+            scene.output.squeal_min_growth_factor,
+        );
         let (state, resolution, detectable) = guard::judge(&guard::Evidence {
-            clear_growth: growth_while_valid.is_squeal(
-                scene.output.squeal_growth_threshold,
-                scene.output.squeal_min_growth_factor,
-            ),
+            clear_growth,
             window: verdict.window,
             h_max_window: verdict.h_max_window,
             frequencies,
@@ -497,6 +528,16 @@ impl Prepared<'_> {
             rho_inf: spec.rho_inf,
             min_growth_rate_per_s: scene.output.min_growth_rate_per_s,
             min_growth_factor: scene.output.squeal_min_growth_factor,
+            limit_cycle: limit_cycle.as_ref().filter(|l| l.reached).map(|l| {
+                guard::LimitCycleEvidence {
+                    peak_normal_velocity: l.peak_normal_velocity,
+                    amplitude_growth: saturation.map(|s| s.amplitude_growth),
+                }
+            }),
+        });
+        verdict.evidence = state.is_squeal().then_some(match clear_growth {
+            true => verdict::SquealEvidence::Growth,
+            false => verdict::SquealEvidence::LimitCycle,
         });
         verdict.state = state;
         verdict.resolution = resolution;
@@ -518,9 +559,6 @@ impl Prepared<'_> {
             IntegratorStats::Bdf { separation, .. } => separation.clone(),
             IntegratorStats::GeneralizedAlpha { .. } => None,
         };
-        let limit_cycle = separation
-            .then(|| face.analyse(t_after, verdict.dominant_frequency_hz))
-            .flatten();
         let energy = outcome.energy.unwrap_or_default();
         let history = memory.take_history();
         Ok(TransientResult {

@@ -36,7 +36,8 @@ pub struct ContactValidity {
     pub first_separation: Option<GapEvent>,
     /// The smallest p_n of any gap at any step.
     pub min_pressure: Option<GapEvent>,
-    /// Steps observed.
+    /// Points observed: the initial one and every accepted step (an event's state after the
+    /// switch, at the same time, is not counted).
     pub steps: u64,
 }
 
@@ -75,7 +76,11 @@ impl Sink for ContactMonitor {
     fn step(&mut self, s: &StepView<'_>) -> Result<(), PipelineError> {
         let v = &mut self.validity;
         let first = v.steps == 0;
-        v.steps += 1;
+        // The state after an event (same t as the step before it) is no step: its pressures
+        // are watched, the step counters are not advanced.
+        if !s.repeat {
+            v.steps += 1;
+        }
         for (g, (&a, &p0)) in self.area.iter().zip(&self.p0).enumerate() {
             let p = -s.yp[self.offset + g] / a + p0; // [Paper eq. (1)]
             if v.min_pressure.is_none_or(|m| p < m.pressure) {
@@ -86,7 +91,7 @@ impl Sink for ContactMonitor {
                 });
             }
             if p < 0.0 {
-                v.tensile_gap_steps += 1;
+                v.tensile_gap_steps += u64::from(!s.repeat);
                 if first {
                     v.tensile_at_start += 1;
                 }

@@ -2,6 +2,7 @@
 //! exponential, [`super::roots`]) and, as a cross-check, the envelope of one DOF.
 
 use super::guard::{Resolution, Unresolved, VerdictState};
+use super::limit_cycle::Saturation;
 use super::roots::{PencilFit, Root};
 use serde::Serialize;
 
@@ -74,6 +75,23 @@ pub struct Verdict {
     /// The contact went tensile here (separation off): a growth counts as squeal only when
     /// it is clear before this time (None: the contact stayed valid).
     pub valid_until: Option<Real>,
+    /// A reached limit cycle (separation on): where the response saturated; the roots and
+    /// the window are then those of the growth before it (None: no limit cycle reached).
+    pub saturation: Option<Saturation>,
+    /// What a `squeal` rests on: a clear growth of the deciding root, or a reached limit
+    /// cycle whose amplitude grew by the required factor (None: not squeal).
+    pub evidence: Option<SquealEvidence>,
+}
+
+/// What a `squeal` verdict rests on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SquealEvidence {
+    /// The deciding root grows clearly in the fitted window.
+    Growth,
+    /// The run reached a limit cycle with an amplitude grown by the required factor (the
+    /// fitted growth alone was not clear).
+    LimitCycle,
 }
 
 impl Verdict {
@@ -104,6 +122,8 @@ impl Verdict {
             detectable_growth_per_s: None,
             h_max_window: h_max,
             valid_until: None,
+            saturation: None,
+            evidence: None,
         }
     }
 
