@@ -115,6 +115,31 @@ impl BdfState {
         if self.phase > 1 {
             return Err(bad("phase", format!("{} is not 0 or 1", self.phase)));
         }
+        // After a step ψ holds the last steps summed (ψ_0 = h_used, the step just taken),
+        // strictly increasing: the coefficients divide by them (fuzzing: ψ_0 = 1e-320 gave NaN
+        // friction forces). Before any step the integrator sets ψ_0 = h itself.
+        if self.h_used > 0.0 && (self.psi[0] - self.h_used).abs() > 1e-12 * self.h_used {
+            return Err(bad(
+                "psi",
+                format!(
+                    "psi[0] = {} must equal the last step h_used = {}",
+                    self.psi[0], self.h_used
+                ),
+            ));
+        }
+        for i in 1..=self.k_used.min(self.psi.len() - 1) {
+            if self.psi[i] <= self.psi[i - 1] {
+                return Err(bad(
+                    "psi",
+                    format!(
+                        "psi[{i}] = {} must exceed psi[{}] = {} (sums of the last steps)",
+                        self.psi[i],
+                        i - 1,
+                        self.psi[i - 1]
+                    ),
+                ));
+            }
+        }
         if let Some(p) = &self.jacobian_point {
             length("jacobian_point.y", p.y.len(), n, "n")?;
             length("jacobian_point.yp", p.yp.len(), n, "n")?;

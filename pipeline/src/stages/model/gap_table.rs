@@ -165,7 +165,8 @@ pub(crate) fn check_gaps(
     unit_normal: bool,
     unique_pads: bool,
 ) -> Result<(), String> {
-    let mut pads: HashMap<u64, usize> = HashMap::new();
+    // Every earlier gap of each pad grid (a pad grid may carry several).
+    let mut pads: HashMap<u64, Vec<usize>> = HashMap::new();
     for (i, g) in gaps.iter().enumerate() {
         let at = &places[i];
         for (c, v) in ["x", "y", "z"].iter().zip(g.coords) {
@@ -213,16 +214,22 @@ pub(crate) fn check_gaps(
         // A pad grid may carry several gaps (e.g. two faces at a corner), but the same
         // pad/rotor pair with the same normal twice is one constraint written twice: G would
         // lose rank and a multiplier would be undetermined.
-        if let Some(first) = pads.insert(g.pad_node, i).filter(|_| unique_pads) {
+        let earlier = pads.entry(g.pad_node).or_default();
+        if unique_pads {
             // Same direction to round-off (|n̂_a − n̂_b| ≤ 1e-12): normals 1e-6 rad apart are a
-            // nearly redundant pair the solver must handle, not a duplicate.
-            let f = &gaps[first];
-            let (na, nb) = (norm3(f.normal), norm3(g.normal));
-            let apart = (0..3)
-                .map(|k| (f.normal[k] / na - g.normal[k] / nb).powi(2))
-                .sum::<Real>()
-                .sqrt();
-            if f.rotor_node == g.rotor_node && apart <= 1e-12 {
+            // nearly redundant pair the solver must handle, not a duplicate. Checked against
+            // every earlier gap of the pad grid, not only the last (fuzzing found a duplicate
+            // with another gap of the same pad grid between them).
+            let twice = earlier.iter().copied().find(|&first| {
+                let f = &gaps[first];
+                let (na, nb) = (norm3(f.normal), norm3(g.normal));
+                let apart = (0..3)
+                    .map(|k| (f.normal[k] / na - g.normal[k] / nb).powi(2))
+                    .sum::<Real>()
+                    .sqrt();
+                f.rotor_node == g.rotor_node && apart <= 1e-12
+            });
+            if let Some(first) = twice {
                 return Err(format!(
                     "{at}: pad grid {} already has this gap ({}): the same pad grid, rotor grid \
                      {} and normal twice",
@@ -230,6 +237,7 @@ pub(crate) fn check_gaps(
                 ));
             }
         }
+        earlier.push(i);
     }
     Ok(())
 }
