@@ -16,6 +16,9 @@ use squeal_solver::bsql::SteadyOptions;
 use squeal_solver::cea::{CeaOptions, SweepOptions};
 use std::path::PathBuf;
 
+/// The most points a CEA friction sweep (`cea.sweep.mu`) may have.
+pub const MAX_SWEEP_POINTS: usize = 100_000;
+
 type Real = f64;
 
 /// The state the problem is linearised about.
@@ -126,6 +129,14 @@ impl CeaSweepSpec {
                     return Err(err(
                         "mu",
                         format!("[{a}, {b}, {n}]: need finite first < last and count >= 1"),
+                    ));
+                }
+                // One CEA per point: a count beyond this is a typo, and allocating it aborted
+                // the process (found by fuzzing: the count 1e18 from a scene).
+                if *n > MAX_SWEEP_POINTS {
+                    return Err(err(
+                        "mu",
+                        format!("[{a}, {b}, {n}]: count above {MAX_SWEEP_POINTS} points"),
                     ));
                 }
                 if *n == 1 {
