@@ -441,18 +441,6 @@ fn run(cli: Cli) -> Result<ExitCode> {
             no_cea,
             cache,
         } => {
-            for (name, v) in [
-                ("--tol-freq", tol_freq),
-                ("--tol-mac", tol_mac),
-                ("--tol-matrix", tol_matrix),
-                ("--tol-root", tol_root),
-                ("--tol-summary", tol_summary),
-                ("--pair-mac", Some(pair_mac)),
-            ] {
-                if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0)) {
-                    anyhow::bail!("{name} {v}: must be a finite number >= 0");
-                }
-            }
             let dir = RunDir::create(&out.unwrap_or_else(|| PathBuf::from("out/compare")))?;
             let opts = stages::compare::CompareOptions {
                 tol_freq,

@@ -91,8 +91,11 @@ fn coarse_steps_never_give_no_squeal_when_the_cea_has_an_unstable_root() {
 /// Measured on the study brake under its clamp load (157.2 psi): σ = 277.5 /s against
 /// Re p = +274.3 /s (+1.2 %, FAILS the 0.5 %), f = 2159.1 against 2158.2 Hz (+0.04 %). The
 /// response after the ramp is 1–3 in/s against a sliding speed of 47–65 in/s: the fit's
-/// residual is 1.6 % and σ moves by ±2 % with the window, the nonlinearity the linear CEA
-/// does not have (docs/verdict.md). Left failing rather than loosened.
+/// residual is 1.6 % and σ moves by ±2 % with the window; the residual stays at 0.8–1.2 %
+/// whatever the model order (40–120) and the sampling (5–20 µs), so the response is not a sum
+/// of damped exponentials to better than ~1 %: the nonlinearity the linear CEA does not have
+/// (docs/verdict.md). Left failing rather than loosened; the same state reached by a gentler
+/// ramp passes (`case2_state_slow_ramp_top_root_matches_the_cea`).
 #[test]
 #[ignore]
 fn case2_tight_tolerance_top_root_matches_the_cea() {
@@ -116,6 +119,45 @@ fn case2_tight_tolerance_top_root_matches_the_cea() {
         p["rel_diff_frequency"].as_f64().unwrap(),
     );
     eprintln!("case 2 tight: {p}");
+    assert!(p["cea_real_part"].as_f64().unwrap() > 0.0, "{p}");
+    assert!(ds.abs() < 5e-3, "sigma {ds:+.4} relative: {p}");
+    assert!(df.abs() < 1e-3, "f {df:+.5} relative: {p}");
+}
+
+/// The estimator's accuracy where the response is linear enough: study case 2's final state
+/// (the same steady sliding state and CEA root, Re p = +274.31 /s at 2158.21 Hz), reached by
+/// a 2 ms load ramp instead of 0.5 ms (TF 7.5 ms, the same 5.5 ms window after the ramp).
+/// The gentler ramp rings the strongly damped modes far less (the 9.5 kHz root's amplitude
+/// at the window's start 0.21 against 0.84 in/s): the fit's residual is 0.26 % and σ =
+/// 274.09 /s (−0.08 %), f = 2158.23 Hz (+0.001 %) (measured, release build, 133 793 steps,
+/// ~70 s CPU). `cargo test --release -p squeal-cli --test verdict -- --ignored slow_ramp`.
+#[test]
+#[ignore]
+fn case2_state_slow_ramp_top_root_matches_the_cea() {
+    let out = tmp("verdict-case2-slow-ramp");
+    let (ok, _, stderr) = run(squeal()
+        .args(["-q", "transient"])
+        .arg(root().join("examples/sample-brake/base.toml"))
+        .arg("--out")
+        .arg(&out)
+        .args([
+            "--set",
+            "transient.rtol1=1e-8",
+            "--set",
+            "transient.atol1=1e-10",
+            "--set",
+            "loads.tload=0.002",
+            "--set",
+            "transient.tfinal=0.0075",
+        ]));
+    assert!(ok, "{stderr}");
+    let s = json(&out.join("summary.json"));
+    let p = &s["transient_vs_cea"][0];
+    let (ds, df) = (
+        p["rel_diff_growth"].as_f64().unwrap(),
+        p["rel_diff_frequency"].as_f64().unwrap(),
+    );
+    eprintln!("case 2 state, 2 ms ramp: {p}");
     assert!(p["cea_real_part"].as_f64().unwrap() > 0.0, "{p}");
     assert!(ds.abs() < 5e-3, "sigma {ds:+.4} relative: {p}");
     assert!(df.abs() < 1e-3, "f {df:+.5} relative: {p}");

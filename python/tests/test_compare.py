@@ -60,3 +60,15 @@ def test_stiffer_pad_agrees_with_the_cli(cli, tmp_path):
     cli_report = read_json(d / "compare.json")
     for key in ("matrices", "modes", "checks", "passed", "n_dofs"):
         assert _same(r.report[key], cli_report[key]), key
+
+
+def test_a_negative_or_nan_tolerance_is_an_error_naming_it(cli, tmp_path):
+    # The check lives in the library (CompareOptions::validate), so the package and the
+    # command line refuse the same values with the same message.
+    import pytest
+
+    for kw, flag, value in [("tol_freq", "--tol-freq", -0.1), ("pair_mac", "--pair-mac", math.nan)]:
+        with pytest.raises(squeal.SceneError, match=f"compare.{kw}"):
+            squeal.compare(TINY, TINY, cea=False, **{kw: value})
+        d, p = cli("compare", str(TINY), str(TINY), flag, str(value), check=False)
+        assert p.returncode != 0 and f"compare.{kw}" in p.stderr, p.stderr

@@ -65,6 +65,29 @@ pub struct CompareOptions {
     pub cache: Option<model::ModelCache>,
 }
 
+impl CompareOptions {
+    /// Checks the tolerances and `pair_mac` (finite and >= 0); the error names the option
+    /// and the value. `compute` calls it, so the CLI and the Python package get the same check.
+    pub fn validate(&self) -> Result<(), PipelineError> {
+        for (name, v) in [
+            ("tol_freq", self.tol_freq),
+            ("tol_mac", self.tol_mac),
+            ("tol_matrix", self.tol_matrix),
+            ("tol_root", self.tol_root),
+            ("tol_summary", self.tol_summary),
+            ("pair_mac", Some(self.pair_mac)),
+        ] {
+            if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0)) {
+                return Err(PipelineError::Option {
+                    option: format!("compare.{name}"),
+                    message: format!("{v}: must be a finite number >= 0"),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
 impl Default for CompareOptions {
     fn default() -> Self {
         Self {
@@ -241,6 +264,7 @@ pub fn compute(
     dir: &RunDir,
     progress: &Progress,
 ) -> Result<CompareReport, PipelineError> {
+    opts.validate()?;
     let (ia, ib) = (Input::detect(a)?, Input::detect(b)?);
     if ia.is_run() != ib.is_run() {
         return Err(PipelineError::Input {

@@ -175,7 +175,7 @@ pub const PAPER_NS: [u64; 8] = [2504, 2300, 1748, 2246, 1086, 3520, 3306, 68];
 /// The table of the paper with our columns, Markdown.
 pub fn table(cases: &[CaseResult]) -> String {
     let mut s = String::from(
-        "| Case | RTOL1 | TLOAD | μ | G | W3 | P0 | TF | NS | paper NS | CPU s | t reached | verdict | growth (1/s) | f (Hz) | top root vs CEA (Δσ/σ, Δf/f) | unstable CEA modes (Hz: Re) |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| Case | RTOL1 | TLOAD | μ | G | W3 | P0 | TF | NS | paper NS | CPU s | t reached | verdict | deciding root σ (1/s) at f (Hz) | largest root f (Hz) | largest root vs CEA (Δσ/σ, Δf/f) | unstable CEA modes (Hz: Re) |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for c in cases {
         let cea = match (&c.cea_unstable_modes, &c.cea_error) {
@@ -204,6 +204,14 @@ pub fn table(cases: &[CaseResult]) -> String {
                     100.0 * p.rel_diff_frequency
                 )
             });
+        // The deciding root (the fastest-growing significant one, which the verdict and the
+        // growth column use) and the largest one (which the CEA pairing lists first) can differ.
+        let deciding = c.growth_rate_per_s.map_or("–".into(), |g| {
+            match c.roots.iter().find(|r| r.growth_rate_per_s == g) {
+                Some(r) => format!("{g:.3e} at {:.0}", r.frequency_hz),
+                None => format!("{g:.3e}"),
+            }
+        });
         let paper_ns = PAPER_NS
             .get((c.case as usize).wrapping_sub(1))
             .map_or("–".into(), |n| n.to_string());
@@ -222,7 +230,7 @@ pub fn table(cases: &[CaseResult]) -> String {
             c.cpu_s,
             c.t_end,
             c.verdict.label(),
-            opt(c.growth_rate_per_s, 3),
+            deciding,
             c.dominant_frequency_hz
                 .map_or("–".into(), |f| format!("{f:.0}")),
             cea
