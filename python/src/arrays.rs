@@ -195,6 +195,7 @@ pub fn gaps_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Gap>> {
             v_slide: [0.0; 3],
             p0: num("p0")?,
             temperature: num("temperature")?,
+            tie: None,
         });
     }
     Ok(gaps)

@@ -151,6 +151,7 @@ fn parse_csv(text: &str) -> Result<(Vec<Gap>, Vec<String>), String> {
             v_slide: [0.0; 3],
             p0: num("p0")?,
             temperature: num("temperature")?,
+            tie: None,
         });
         places.push(format!("line {ln}"));
     }
