@@ -89,6 +89,16 @@ pub enum ContactError {
         /// Vector length.
         n: usize,
     },
+    /// A tied gap's face data are inconsistent (counts of nodes, weights, DOFs).
+    #[error("gap {gap} (pad node {pad_node}): {message}")]
+    Tie {
+        /// Gap index.
+        gap: usize,
+        /// Pad node id.
+        pad_node: u64,
+        /// What is inconsistent.
+        message: String,
+    },
     /// A non-finite value appeared (input or result) at a gap.
     #[error(
         "non-finite {what} = {value} at gap {gap} (pad node {pad_node}, rotor node {rotor_node})"

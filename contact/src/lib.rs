@@ -6,6 +6,12 @@
 //! exact tangents ([`GapSet::add_forces`], [`GapSet::add_tangents`]), and the contact
 //! constraint matrix G ([`GapSet::constraint_matrix`]).
 //!
+//! Two pairings make the gaps: [`match_gaps`] pairs coincident pad and rotor nodes
+//! (PREBSQL's rule); [`tie_gaps`] projects each pad node on the rotor's quad4/quad8 faces
+//! ([`RotorFace`]) and ties it to the face point, whose nodes carry the shape-function
+//! weights N_a(ξ*) ([`FaceTie`]): non-matching meshes. Every force, tangent and G routine
+//! works on both ([`Gap::rotor_terms`]).
+//!
 //! # Sign conventions (read this once)
 //!
 //! * `n = S_p/|S_p|` is the outward pad normal, pointing from the pad toward the rotor.
@@ -27,4 +33,7 @@ pub type Real = f64;
 pub use error::{ContactError, NodeReport};
 pub use forces::GapOutput;
 pub use friction::{FrictionEval, FrictionLaw};
-pub use gaps::{match_gaps, ContactNode, Gap, GapSet, MatchOptions};
+pub use gaps::{
+    match_gaps, tie_gaps, ContactNode, FaceKind, FaceTie, Gap, GapSet, MatchOptions, RotorFace,
+    TieOptions, TieOutcome, TieStats, Unmatched, FACE_SNAP,
+};

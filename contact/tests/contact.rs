@@ -307,6 +307,7 @@ fn three_gaps(law: FrictionLaw, vslide: f64) -> GapSet {
         v_slide: [vslide, 0.3 * vslide, -0.1 * vslide],
         p0: 2.0,
         temperature: 60.0,
+        tie: None,
     };
     GapSet::new(
         vec![
@@ -426,6 +427,7 @@ fn one_gap(mu: f64, vslide: f64) -> GapSet {
         v_slide: [vslide, 0.0, 0.0],
         p0: 10.0,
         temperature: 0.0,
+        tie: None,
     };
     GapSet::new(vec![gap], FrictionLaw::Constant { mu }, 1e-3).unwrap()
 }

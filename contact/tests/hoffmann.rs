@@ -51,6 +51,7 @@ fn gap_set(mu: f64) -> Result<GapSet, ContactError> {
         v_slide: [1.0, 0.0, 0.0],
         p0: 1.0,
         temperature: 0.0,
+        tie: None,
     };
     GapSet::new(vec![gap], FrictionLaw::Constant { mu }, 1e-3)
 }

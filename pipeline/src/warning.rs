@@ -5,12 +5,12 @@
 //! then the `warnings` of each verb's `summary.json`); the `squeal` command prints them to
 //! stderr.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 type Real = f64;
 
 /// One warning about an input.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Warning {
     /// The input: a file (and the matrix or line in it) or a scene key.
     pub input: String,

@@ -48,6 +48,7 @@ fn gaps() -> GapSet {
         v_slide: [1.0, 0.0, 0.0],
         p0: P0,
         temperature: 0.0,
+        tie: None,
     };
     GapSet::new(vec![gap], FrictionLaw::Constant { mu: MU }, 1e-3).unwrap()
 }

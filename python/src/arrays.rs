@@ -6,8 +6,8 @@ use numpy::ndarray::Array2;
 use numpy::{AllowTypeChange, IntoPyArray, PyArray2, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use squeal_contact::Gap;
-use squeal_pipeline::stages::model::gap_table::GAP_COLUMNS;
+use squeal_contact::{FaceKind, FaceTie, Gap};
+use squeal_pipeline::stages::model::gap_table::{GAP_COLUMNS, TIE_COLUMNS};
 use squeal_reduction::superelement::{DofKind, ReducedDof, ReducedDofMap};
 
 type Real = f64;
@@ -159,7 +159,9 @@ pub fn gaps_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Gap>> {
         if let Ok(d) = row.cast::<PyDict>() {
             for k in d.keys() {
                 let k: String = k.extract()?;
-                if !GAP_COLUMNS.contains(&k.as_str()) && !DERIVED_GAP_COLUMNS.contains(&k.as_str())
+                if !GAP_COLUMNS.contains(&k.as_str())
+                    && !DERIVED_GAP_COLUMNS.contains(&k.as_str())
+                    && !TIE_COLUMNS.contains(&k.as_str())
                 {
                     return Err(bad(
                         "gaps",
@@ -195,6 +197,37 @@ pub fn gaps_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Gap>> {
             v_slide: [0.0; 3],
             p0: num("p0")?,
             temperature: num("temperature")?,
+            tie: match field(row, "face", "gaps", i)? {
+                None => None,
+                Some(face) => {
+                    let face = face.extract::<u64>().map_err(|_| {
+                        bad("gaps", i, "face", format!("{face} is not a face index"))
+                    })?;
+                    let nodes: Vec<u64> = req("face_grids")?
+                        .extract()
+                        .map_err(|_| bad("gaps", i, "face_grids", "not a list of grid ids"))?;
+                    let weights: Vec<Real> = req("weights")?
+                        .extract()
+                        .map_err(|_| bad("gaps", i, "weights", "not a list of numbers"))?;
+                    let kind = FaceKind::from_n_nodes(nodes.len()).ok_or_else(|| {
+                        bad(
+                            "gaps",
+                            i,
+                            "face_grids",
+                            format!("{} grids (4 or 8)", nodes.len()),
+                        )
+                    })?;
+                    Some(FaceTie {
+                        face,
+                        kind,
+                        xi: [num("xi")?, num("eta")?],
+                        nodes,
+                        weights,
+                        distance: 0.0,
+                        dofs: Vec::new(),
+                    })
+                }
+            },
         });
     }
     Ok(gaps)
@@ -218,6 +251,13 @@ pub fn gaps_to_py<'py>(py: Python<'py>, gaps: &[Gap]) -> PyResult<Bound<'py, PyL
         r.set_item("temperature", g.temperature)?;
         for (k, v) in DERIVED_GAP_COLUMNS.iter().zip(g.v_slide) {
             r.set_item(*k, v)?;
+        }
+        if let Some(t) = &g.tie {
+            r.set_item("face", t.face)?;
+            r.set_item("xi", t.xi[0])?;
+            r.set_item("eta", t.xi[1])?;
+            r.set_item("face_grids", t.nodes.clone())?;
+            r.set_item("weights", t.weights.clone())?;
         }
         out.append(r)?;
     }

@@ -6,7 +6,10 @@ use faer::Mat;
 impl GapSet {
     /// Triplets `(row = gap, col = DOF, value)` of G: row g is `+nᵀ` on the rotor DOFs and
     /// `−nᵀ` on the pad DOFs (fixed DOFs are skipped), so that `G u = 0` reads
-    /// `(u_rotor − u_pad)·n = 0`. Checks DOF indices against `n`.
+    /// `(u_rotor − u_pad)·n = 0`. Checks DOF indices against `n`. A tied gap's rotor point is
+    /// `Σ_a N_a(ξ*) u_a`: its row has `N_a nᵀ` on each face node (the weights sum to 1, so the
+    /// row sums to zero in each direction and a rigid translation leaves `G u = 0`).
+    /// Several triplets may share a (row, column) (a node tied twice); they add.
     ///
     /// # Reference
     /// $$(\vec u_d - \vec u_p)\cdot\vec n = 0 \;(9),\qquad \mathbf{G}\{\dot v\} = 0 \;(11)$$
@@ -19,8 +22,10 @@ impl GapSet {
                 if g.normal[k] == 0.0 {
                     continue;
                 }
-                if let Some(d) = g.rotor_dofs[k] {
-                    t.push((ig, d, g.normal[k])); // [Paper eq. (9)]
+                for (w, dofs) in g.rotor_terms() {
+                    if let Some(d) = dofs[k] {
+                        t.push((ig, d, w * g.normal[k])); // [Paper eq. (9)]
+                    }
                 }
                 if let Some(d) = g.pad_dofs[k] {
                     t.push((ig, d, -g.normal[k]));

@@ -46,7 +46,14 @@ pub(crate) fn evaluate_gap(set: &GapSet, gap: &Gap, v: &[Real], lambda: Real) ->
     let n = gap.normal;
     let pressure = -lambda / gap.area + gap.p0; // [Paper eq. (1)], F_z = −λ̇
     let vp = gather(v, &gap.pad_dofs);
-    let vr = gather(v, &gap.rotor_dofs);
+    // The rotor point's velocity Σ_a N_a v_a (one node with weight 1 when coincident).
+    let mut vr = [0.0; 3];
+    for (w, dofs) in gap.rotor_terms() {
+        let va = gather(v, dofs);
+        for k in 0..3 {
+            vr[k] += w * va[k];
+        }
+    }
     let dv = [
         vr[0] - vp[0] + gap.v_slide[0], // [Paper eq. (2)]
         vr[1] - vp[1] + gap.v_slide[1],
@@ -116,7 +123,8 @@ impl GapSet {
     }
 
     /// Adds the friction forces of all gaps to `f` (length n = `v.len()`): `+F_t V_t/|V_t|` on
-    /// the pad DOFs, the opposite on the rotor DOFs. `lambda_dot` (length ng) are the contact
+    /// the pad DOFs, the opposite on the rotor DOFs (on a tied gap, on each face node times
+    /// its weight N_a(ξ*); the rotor velocity of eq. (2) is Σ_a N_a v_a). `lambda_dot` (length ng) are the contact
     /// multipliers (tensile normal force; see the module docs for the sign).
     ///
     /// # Reference
@@ -152,8 +160,10 @@ impl GapSet {
                 if let Some(d) = gap.pad_dofs[k] {
                     f[d] += fp[k]; // [Paper eq. (6)]
                 }
-                if let Some(d) = gap.rotor_dofs[k] {
-                    f[d] -= fp[k]; // [Paper eq. (7)]
+                for (w, dofs) in gap.rotor_terms() {
+                    if let Some(d) = dofs[k] {
+                        f[d] -= w * fp[k]; // [Paper eq. (7)], spread with the face weights
+                    }
                 }
             }
         }

@@ -32,6 +32,9 @@ impl GapSet {
     /// division by zero (the last term is dropped at s = 0 exactly). By eqs. (2)–(3),
     /// `V_t = P (v_r − v_p + v_slide)` with `P = I − n nᵀ`, so
     /// `∂f_p/∂v_r = J P`, `∂f_p/∂v_p = −J P`, `∂f_r/∂v_r = −J P`, `∂f_r/∂v_p = J P`.
+    /// On a tied gap v_r = Σ_a w_a v_a and f_a = w_a f_r (w_a = N_a(ξ*)), so the blocks become
+    /// `∂f_p/∂v_b = w_b J P`, `∂f_a/∂v_b = −w_a w_b J P`, `∂f_a/∂v_p = w_a J P`, and the
+    /// multiplier column is `−w_a ∂f_p/∂λ̇` on node a.
     /// The temperature of a gap is a parameter, not a state: ∂μ/∂T does not enter.
     ///
     /// # Errors
@@ -76,8 +79,10 @@ impl GapSet {
                 if let Some(d) = gap.pad_dofs[k] {
                     d_dlam[(d, ig)] += x;
                 }
-                if let Some(d) = gap.rotor_dofs[k] {
-                    d_dlam[(d, ig)] -= x;
+                for (w, dofs) in gap.rotor_terms() {
+                    if let Some(d) = dofs[k] {
+                        d_dlam[(d, ig)] -= w * x;
+                    }
                 }
             }
             let Some(cf) = d_dv.as_deref_mut() else {
@@ -111,19 +116,24 @@ impl GapSet {
                 for j in 0..3 {
                     let x = jp[i][j];
                     if let Some(pi) = gap.pad_dofs[i] {
-                        if let Some(rj) = gap.rotor_dofs[j] {
-                            cf[(pi, rj)] += x;
+                        for (wb, rb) in gap.rotor_terms() {
+                            if let Some(rj) = rb[j] {
+                                cf[(pi, rj)] += wb * x;
+                            }
                         }
                         if let Some(pj) = gap.pad_dofs[j] {
                             cf[(pi, pj)] -= x;
                         }
                     }
-                    if let Some(ri) = gap.rotor_dofs[i] {
-                        if let Some(rj) = gap.rotor_dofs[j] {
-                            cf[(ri, rj)] -= x;
+                    for (wa, ra) in gap.rotor_terms() {
+                        let Some(ri) = ra[i] else { continue };
+                        for (wb, rb) in gap.rotor_terms() {
+                            if let Some(rj) = rb[j] {
+                                cf[(ri, rj)] -= wa * wb * x;
+                            }
                         }
                         if let Some(pj) = gap.pad_dofs[j] {
-                            cf[(ri, pj)] += x;
+                            cf[(ri, pj)] += wa * x;
                         }
                     }
                 }

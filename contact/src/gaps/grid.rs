@@ -56,3 +56,41 @@ impl Grid {
         out
     }
 }
+
+/// Boxes bucketed in every cubic cell of side `cell` they overlap.
+pub(crate) struct BoxGrid {
+    cell: Real,
+    buckets: HashMap<[i64; 3], Vec<usize>>,
+}
+
+impl BoxGrid {
+    fn key(&self, x: &[Real; 3]) -> [i64; 3] {
+        x.map(|v| (v / self.cell).floor() as i64)
+    }
+
+    /// Indices of the boxes (lo, hi) (finite) containing `x`'s cell, in increasing order.
+    pub(crate) fn boxes_at(&self, x: &[Real; 3]) -> Vec<usize> {
+        self.buckets.get(&self.key(x)).cloned().unwrap_or_default()
+    }
+}
+
+impl Grid {
+    /// Buckets boxes `(lo, hi)` (finite) in the cells of side `cell` > 0 they overlap.
+    pub(crate) fn from_boxes(boxes: &[([Real; 3], [Real; 3])], cell: Real) -> BoxGrid {
+        let mut g = BoxGrid {
+            cell,
+            buckets: HashMap::new(),
+        };
+        for (i, (lo, hi)) in boxes.iter().enumerate() {
+            let (a, b) = (g.key(lo), g.key(hi));
+            for x in a[0]..=b[0] {
+                for y in a[1]..=b[1] {
+                    for z in a[2]..=b[2] {
+                        g.buckets.entry([x, y, z]).or_default().push(i);
+                    }
+                }
+            }
+        }
+        g
+    }
+}

@@ -100,6 +100,7 @@ pub fn match_gaps(
                     v_slide: cross(omega, r),
                     p0: opts.p0,
                     temperature: opts.temperature,
+                    tie: None,
                 });
             }
             _ => {

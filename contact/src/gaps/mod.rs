@@ -1,14 +1,18 @@
 //! Gap elements: pad/rotor node pairs with normal, area and sliding velocity (PREBSQL).
 
+mod face;
 mod grid;
 mod matching;
 mod set;
+mod tie;
 
 use crate::{ContactError, Real};
 use serde::{Deserialize, Serialize};
 
+pub use face::{FaceKind, RotorFace, SNAP as FACE_SNAP};
 pub use matching::match_gaps;
 pub use set::GapSet;
+pub use tie::{tie_gaps, TieOptions, TieOutcome, TieStats, Unmatched};
 
 /// A contact-surface node as the caller knows it (no mesh needed).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -132,4 +136,60 @@ pub struct Gap {
     pub p0: Real,
     /// Temperature of the gap (read only by temperature-dependent friction laws).
     pub temperature: Real,
+    /// Surface pairing ([`crate::tie_gaps`]): the rotor face the pad node projects on, with
+    /// the weights of its nodes. None: the coincident pair `rotor_node` (weight 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tie: Option<FaceTie>,
+}
+
+/// The rotor side of a gap tied to a rotor face: the point x(ξ*) = Σ_a N_a(ξ*) x_a.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FaceTie {
+    /// Face id given by the caller.
+    pub face: u64,
+    /// quad4 or quad8.
+    pub kind: FaceKind,
+    /// Face coordinates (ξ*, η*) of the projection.
+    pub xi: [Real; 2],
+    /// The face's node ids (in the face's order).
+    pub nodes: Vec<u64>,
+    /// Weights N_a(ξ*) of the nodes (they sum to 1; 0 for nodes the point does not see).
+    pub weights: Vec<Real>,
+    /// Distance from the pad node to the projected point.
+    pub distance: Real,
+    /// x, y, z DOF indices of each node (None = fixed or not in the model; only nodes of
+    /// non-zero weight need DOFs). Set by [`GapSet::assign_dofs`].
+    #[serde(default)]
+    pub dofs: Vec<[Option<usize>; 3]>,
+}
+
+impl Gap {
+    /// The rotor side of the gap as (weight, x/y/z DOFs) terms: the one coincident node with
+    /// weight 1, or the tied face's nodes of non-zero weight. The rotor point's velocity is
+    /// Σ w v_a, and a force f on it is w f on each node.
+    pub fn rotor_terms(&self) -> impl Iterator<Item = (Real, &[Option<usize>; 3])> + '_ {
+        let single = self.tie.is_none().then_some((1.0, &self.rotor_dofs));
+        single.into_iter().chain(self.tie.iter().flat_map(|t| {
+            t.weights
+                .iter()
+                .copied()
+                .zip(t.dofs.iter())
+                .filter(|(w, _)| *w != 0.0)
+        }))
+    }
+
+    /// The rotor node ids the gap acts on (the coincident node, or the tied face's nodes of
+    /// non-zero weight).
+    pub fn rotor_nodes(&self) -> Vec<u64> {
+        match &self.tie {
+            None => vec![self.rotor_node],
+            Some(t) => t
+                .nodes
+                .iter()
+                .zip(&t.weights)
+                .filter(|(_, &w)| w != 0.0)
+                .map(|(&n, _)| n)
+                .collect(),
+        }
+    }
 }

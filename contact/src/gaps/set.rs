@@ -70,13 +70,37 @@ impl GapSet {
         for g in &mut self.gaps {
             g.pad_dofs = dofs_of(g.pad_node);
             g.rotor_dofs = dofs_of(g.rotor_node);
+            if let Some(t) = &mut g.tie {
+                t.dofs = t.nodes.iter().map(|&n| dofs_of(n)).collect();
+            }
         }
     }
 
     /// Checks that every DOF index is < `n`.
     pub fn check_dofs(&self, n: usize) -> Result<(), ContactError> {
         for (ig, g) in self.gaps.iter().enumerate() {
-            for d in g.pad_dofs.iter().chain(g.rotor_dofs.iter()).flatten() {
+            if let Some(t) = &g.tie {
+                if t.dofs.len() != t.nodes.len() || t.weights.len() != t.nodes.len() {
+                    return Err(ContactError::Tie {
+                        gap: ig,
+                        pad_node: g.pad_node,
+                        message: format!(
+                            "{} face nodes, {} weights, {} DOF triples (DOFs not assigned?)",
+                            t.nodes.len(),
+                            t.weights.len(),
+                            t.dofs.len()
+                        ),
+                    });
+                }
+            }
+            let tied = g.tie.iter().flat_map(|t| t.dofs.iter()).flatten();
+            for d in g
+                .pad_dofs
+                .iter()
+                .chain(g.rotor_dofs.iter())
+                .flatten()
+                .chain(tied.flatten())
+            {
                 if *d >= n {
                     return Err(ContactError::DofOutOfRange {
                         gap: ig,

@@ -2,12 +2,26 @@
 
 use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
-use squeal_contact::FrictionLaw;
+use squeal_contact::{FrictionLaw, TieOptions, Unmatched};
 
 type Real = f64;
 
-/// One pad/rotor contact surface (PREBSQL's input): the pad face's nodes are matched to the
-/// coincident rotor face nodes, one gap element per pad node.
+/// How the pad nodes of a `[[contact]]` pair find their rotor points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Pairing {
+    /// PREBSQL's rule: each pad node coincides (within `tolerance`) with one rotor node of
+    /// the rotor face set (the default).
+    #[default]
+    Nodes,
+    /// Node-to-surface tie: each pad node is projected on the rotor face set's quad4/quad8
+    /// faces and tied to that point (its face nodes carry the shape-function weights);
+    /// meshes need not match.
+    Surface,
+}
+
+/// One pad/rotor contact surface (PREBSQL's input): one gap element per pad node of the pad
+/// face set, paired with the rotor face set by `pairing`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactPair {
@@ -19,9 +33,26 @@ pub struct ContactPair {
     pub rotor: String,
     /// Face set of the rotor in contact (its nodes are the candidates) (required).
     pub rotor_faces: String,
-    /// Distance within which a pad node and a rotor node coincide (default: 1e-6, model units).
+    /// Distance within which a pad node and a rotor node coincide (default: 1e-6, model
+    /// units; `pairing = "nodes"` only).
     #[serde(default = "default_tolerance")]
     pub tolerance: Real,
+    /// `"nodes"` (coincident pad and rotor nodes, PREBSQL) or `"surface"` (each pad node
+    /// projected on the rotor faces; non-matching meshes) (default: "nodes").
+    #[serde(default)]
+    pub pairing: Pairing,
+    /// Surface pairing: pad nodes projecting on no rotor face are an `"error"` naming them,
+    /// or are left out (`"exclude"`) with a warning listing them (default: "error").
+    #[serde(default)]
+    pub unmatched: Unmatched,
+    /// Surface pairing: face extension ε, a projection with |ξ|, |η| ≤ 1 + ε is on the face
+    /// (default: 0.01).
+    #[serde(default = "default_extension")]
+    pub extension: Real,
+    /// Surface pairing: largest distance from a pad node to its projection (default: 0.05 ×
+    /// the mean edge length of the rotor faces).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_distance: Option<Real>,
     /// Preload pressure P_0 of every gap of this pair, finite and >= 0 (default: 0). [Paper eq. (1)]
     #[serde(default)]
     pub p0: Real,
@@ -44,7 +75,20 @@ fn default_tolerance() -> Real {
     1e-6
 }
 
+fn default_extension() -> Real {
+    TieOptions::default().extension
+}
+
 impl ContactPair {
+    /// The surface pairing's options.
+    pub fn tie_options(&self) -> TieOptions {
+        TieOptions {
+            extension: self.extension,
+            max_distance: self.max_distance,
+            unmatched: self.unmatched,
+        }
+    }
+
     /// Checks tolerance and values; errors name `contact[i].field`.
     pub fn validate(&self, i: usize) -> Result<(), PipelineError> {
         let bad = |field: &str, message: String| PipelineError::Scene {
@@ -77,6 +121,31 @@ impl ContactPair {
                 "grid_temperatures",
                 format!("grid {g}: {t} must be finite"),
             ));
+        }
+        if !(self.extension.is_finite() && (0.0..=1.0).contains(&self.extension)) {
+            return Err(bad(
+                "extension",
+                format!("{} must be in [0, 1]", self.extension),
+            ));
+        }
+        if let Some(d) = self.max_distance {
+            if !(d.is_finite() && d > 0.0) {
+                return Err(bad("max_distance", format!("{d} must be finite and > 0")));
+            }
+        }
+        if self.pairing == Pairing::Nodes {
+            let set = [
+                ("unmatched", self.unmatched != Unmatched::default()),
+                ("extension", self.extension != default_extension()),
+                ("max_distance", self.max_distance.is_some()),
+            ];
+            if let Some((key, _)) = set.iter().find(|(_, on)| *on) {
+                return Err(bad(
+                    key,
+                    "is read only with pairing = \"surface\" (this pair matches coincident nodes)"
+                        .into(),
+                ));
+            }
         }
         if self.pad == self.rotor {
             return Err(bad("rotor", format!("`{}` is also the pad", self.rotor)));

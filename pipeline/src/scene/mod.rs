@@ -15,7 +15,7 @@ pub mod transient;
 pub use accuracy::AccuracySpec;
 pub use arrays::{ArraysRef, StoredArrays};
 pub use cea::{CeaSpec, CeaState, CeaSweepSpec, SweepVary};
-pub use contact::{ContactPair, FrictionSpec, RotorSpec};
+pub use contact::{ContactPair, FrictionSpec, Pairing, RotorSpec};
 pub use overrides::apply_override;
 pub use reduction::{ModelSource, ModelSpec, ReductionSpec};
 pub use transient::{DampingSpec, Integrator, LoadsSpec, OutputSpec, TransientSpec, VerdictCea};

@@ -9,14 +9,17 @@ use super::{symmetrise, ComponentRecovery, ComponentReport, ReducedModel};
 use crate::error::PipelineError;
 use crate::output::RunDir;
 use crate::progress::Progress;
-use crate::scene::{ModelSource, Scene};
+use crate::scene::{ModelSource, Pairing, Scene};
 use crate::stages::mesh::mesh_component;
 use crate::stages::modes::fixed_dofs;
+use crate::warning::Warning;
 use faer::Mat;
 use rayon::prelude::*;
-use squeal_contact::{match_gaps, ContactNode, FrictionLaw, GapSet, MatchOptions};
+use squeal_contact::{
+    match_gaps, tie_gaps, ContactNode, FaceKind, FrictionLaw, GapSet, MatchOptions, RotorFace,
+};
 use squeal_fe::{assemble, pressure_load, AssemblyOptions, DofMap};
-use squeal_meshes::Mesh;
+use squeal_meshes::{CellBlock, CellKind, Mesh};
 use squeal_reduction::cb::{self, CbCheck, CheckOptions};
 use squeal_reduction::superelement::{self, Component, DofKey, DofKind};
 use squeal_reduction::CbModel;
@@ -41,13 +44,39 @@ fn fe_err(component: &str) -> impl Fn(squeal_fe::FeError) -> PipelineError + '_ 
     }
 }
 
-/// Gaps of every `[[contact]]` pair (PREBSQL), DOFs unassigned, and the number of gaps of
-/// each pair.
+/// The quad4/quad8 faces of a face block as the contact crate takes them (node ids = grids,
+/// face id = index in the block).
+fn rotor_faces(block: &CellBlock, mesh: &Mesh, grid_of: &[u64]) -> Result<Vec<RotorFace>, String> {
+    let kind = match block.kind {
+        CellKind::Quad4 => FaceKind::Quad4,
+        CellKind::Quad8 => FaceKind::Quad8,
+        k => {
+            return Err(format!(
+                "has {k:?} faces; surface pairing takes quad4 or quad8 faces"
+            ))
+        }
+    };
+    Ok((0..block.len())
+        .map(|f| {
+            let nodes = block.cell(f);
+            RotorFace {
+                id: f as u64,
+                kind,
+                nodes: nodes.iter().map(|&n| grid_of[n]).collect(),
+                coords: nodes.iter().map(|&n| mesh.nodes[n]).collect(),
+            }
+        })
+        .collect())
+}
+
+/// Gaps of every `[[contact]]` pair (coincident nodes or surface pairing), DOFs unassigned,
+/// the number of gaps of each pair, and the warnings (pad nodes excluded).
 fn match_pairs(
     scene: &Scene,
     meshes: &[Mesh],
     grids: &Grids,
-) -> Result<(GapSet, Vec<usize>), PipelineError> {
+) -> Result<(GapSet, Vec<usize>, Vec<Warning>), PipelineError> {
+    let mut warnings = Vec::new();
     let pos = |name: &str| scene.components.iter().position(|c| c.name == name);
     let rotor = scene.rotor.clone().unwrap_or_default();
     let mut all: Option<GapSet> = None;
@@ -72,26 +101,21 @@ fn match_pairs(
             })
             .collect();
         let rmesh = &meshes[cr];
-        let rset = rmesh
-            .node_sets
-            .get(&pair.rotor_faces)
-            .ok_or_else(|| PipelineError::Scene {
-                field: format!("contact[{i}].rotor_faces"),
-                message: format!(
-                    "component `{}` has no face set `{}` (it has: {})",
-                    pair.rotor,
-                    pair.rotor_faces,
-                    rmesh.faces.keys().cloned().collect::<Vec<_>>().join(", ")
-                ),
-            })?;
-        let rotor_nodes: Vec<ContactNode> = rset
-            .iter()
-            .map(|&n| ContactNode {
-                id: grids.grid_of[cr][n],
-                coords: rmesh.nodes[n],
-                area: [0.0; 3],
-            })
-            .collect();
+        let what = || {
+            format!(
+                "contact[{i}]: pad `{}` faces `{}` against rotor `{}` faces `{}`",
+                pair.pad, pair.pad_faces, pair.rotor, pair.rotor_faces
+            )
+        };
+        let no_set = || PipelineError::Scene {
+            field: format!("contact[{i}].rotor_faces"),
+            message: format!(
+                "component `{}` has no face set `{}` (it has: {})",
+                pair.rotor,
+                pair.rotor_faces,
+                rmesh.faces.keys().cloned().collect::<Vec<_>>().join(", ")
+            ),
+        };
         let opts = MatchOptions {
             tolerance: pair.tolerance,
             rotor_axis_origin: rotor.origin,
@@ -100,15 +124,61 @@ fn match_pairs(
             p0: pair.p0,
             temperature: pair.temperature,
         };
-        let mut set = match_gaps(&pad_nodes, &rotor_nodes, &opts).map_err(|source| {
-            PipelineError::Contact {
-                what: format!(
-                    "contact[{i}]: pad `{}` faces `{}` against rotor `{}` faces `{}`",
-                    pair.pad, pair.pad_faces, pair.rotor, pair.rotor_faces
-                ),
-                source,
+        let mut set = match pair.pairing {
+            Pairing::Nodes => {
+                let rset = rmesh.node_sets.get(&pair.rotor_faces).ok_or_else(no_set)?;
+                let rotor_nodes: Vec<ContactNode> = rset
+                    .iter()
+                    .map(|&n| ContactNode {
+                        id: grids.grid_of[cr][n],
+                        coords: rmesh.nodes[n],
+                        area: [0.0; 3],
+                    })
+                    .collect();
+                match_gaps(&pad_nodes, &rotor_nodes, &opts).map_err(|source| {
+                    PipelineError::Contact {
+                        what: what(),
+                        source,
+                    }
+                })?
             }
-        })?;
+            Pairing::Surface => {
+                let block = rmesh.faces.get(&pair.rotor_faces).ok_or_else(no_set)?;
+                let faces = rotor_faces(block, rmesh, &grids.grid_of[cr]).map_err(|m| {
+                    PipelineError::Scene {
+                        field: format!("contact[{i}].rotor_faces"),
+                        message: format!(
+                            "face set `{}` of `{}`: {m}",
+                            pair.rotor_faces, pair.rotor
+                        ),
+                    }
+                })?;
+                let out =
+                    tie_gaps(&pad_nodes, &faces, &opts, &pair.tie_options()).map_err(|source| {
+                        PipelineError::Contact {
+                            what: what(),
+                            source,
+                        }
+                    })?;
+                if !out.unmatched.is_empty() {
+                    let list: Vec<String> = out.unmatched.iter().map(|r| r.to_string()).collect();
+                    warnings.push(Warning {
+                        input: format!("contact[{i}].unmatched"),
+                        message: format!(
+                            "{} pad node(s) of `{}` project on no face of `{}` and were \
+                             excluded (no gap): {}",
+                            out.unmatched.len(),
+                            pair.pad,
+                            pair.rotor,
+                            list.join("; ")
+                        ),
+                        value: out.unmatched.len() as Real,
+                        tolerance: 0.0,
+                    });
+                }
+                out.gaps
+            }
+        };
         let temps: HashMap<u64, Real> = pair.grid_temperatures.iter().copied().collect();
         for g in &mut set.gaps {
             if let Some(&t) = temps.get(&g.pad_node) {
@@ -133,7 +203,7 @@ fn match_pairs(
             what: "friction".into(),
             source,
         })?;
-    Ok((set, counts))
+    Ok((set, counts, warnings))
 }
 
 /// Mesh, assemble and reduce every component, assemble the superelements, match the gaps.
@@ -155,7 +225,7 @@ pub fn build_from_mesh(
         .collect::<Result<_, _>>()?;
     let meshes: Vec<Mesh> = meshed.into_iter().map(|(m, _)| m).collect();
     let grids = merge(scene, &meshes, scene.model.merge_tolerance);
-    let (mut gaps, gap_pairs) = match_pairs(scene, &meshes, &grids)?;
+    let (mut gaps, gap_pairs, warnings) = match_pairs(scene, &meshes, &grids)?;
 
     // Fixed grid DOFs of any component hold for every component sharing the grid.
     let mut global_fixed: BTreeSet<(u64, usize)> = BTreeSet::new();
@@ -164,11 +234,12 @@ pub fn build_from_mesh(
             global_fixed.insert((grids.grid_of[c][node], k));
         }
     }
-    // Contact boundary: the matched pad and rotor nodes only (not a whole rotor face).
+    // Contact boundary: the matched pad and rotor nodes only (not a whole rotor face); for a
+    // tied gap the face nodes of non-zero weight.
     let gap_grids: std::collections::HashSet<u64> = gaps
         .gaps
         .iter()
-        .flat_map(|g| [g.pad_node, g.rotor_node])
+        .flat_map(|g| std::iter::once(g.pad_node).chain(g.rotor_nodes()))
         .collect();
     let opts = scene.reduction.clone().unwrap_or_default();
     let cb_opts = opts.cb_options();
@@ -317,7 +388,7 @@ pub fn build_from_mesh(
         components,
         recovery,
         source: ModelSource::Mesh,
-        warnings: Vec::new(),
+        warnings,
     };
     model.assign_gap_dofs()?;
     Ok(model)

@@ -3,7 +3,15 @@
 //!
 //! CSV columns are read by name, in any order: `pad_grid, rotor_grid, x, y, z, nx, ny, nz,
 //! area, p0, temperature`, all required; an unknown, missing or repeated column is an error
-//! naming it. The first line must be that header: a first line of numbers is an error (read
+//! naming it. A surface-paired table (`[[contact]] pairing = "surface"`) adds the five
+//! columns of [`TIE_COLUMNS`]: `face` (the face's index in the rotor face set), `xi`, `eta`
+//! (its face coordinates), `face_grids` (the face's 4 or 8 grids, space-separated, in the
+//! face's order: corners counterclockwise, then mid-sides) and `weights` (the shape-function
+//! values N_a(ξ, η) of those grids, space-separated). All five or none: a table without them
+//! pairs coincident grids (weight 1 on `rotor_grid`); a row with an empty `face` is such a
+//! pair in a tied table. The weights must be the face's shape functions at (ξ, η) to 1e-9
+//! (they then sum to 1: G rows sum to zero), and `rotor_grid` must be the face grid of
+//! largest weight. The first line must be that header: a first line of numbers is an error (read
 //! by position it could swap pad and rotor, and read as a header it would lose a gap). The
 //! normal (nx, ny, nz) is normalised.
 //!
@@ -15,7 +23,7 @@
 //! the column and the value: `gaps.csv: line 3, column `area`: -0.5 must be > 0`.
 
 use crate::error::PipelineError;
-use squeal_contact::{Gap, GapSet};
+use squeal_contact::{FaceKind, FaceTie, Gap, GapSet};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -35,6 +43,57 @@ pub const GAP_COLUMNS: [&str; 11] = [
     "p0",
     "temperature",
 ];
+
+/// The optional columns of a surface-paired gap table (all five or none).
+pub const TIE_COLUMNS: [&str; 5] = ["face", "xi", "eta", "face_grids", "weights"];
+
+/// The gap table as CSV (the columns of [`GAP_COLUMNS`], and those of [`TIE_COLUMNS`] when a
+/// gap is tied to a face); numbers in Rust's shortest round-trip form, so reading it back
+/// gives the same gaps (sliding velocities and DOFs are not stored).
+pub fn gaps_csv(gaps: &[Gap]) -> String {
+    let tied = gaps.iter().any(|g| g.tie.is_some());
+    let mut out = GAP_COLUMNS.join(",");
+    if tied {
+        out.push(',');
+        out.push_str(&TIE_COLUMNS.join(","));
+    }
+    out.push('\n');
+    for g in gaps {
+        let row = [
+            g.pad_node.to_string(),
+            g.rotor_node.to_string(),
+            format!("{:?}", g.coords[0]),
+            format!("{:?}", g.coords[1]),
+            format!("{:?}", g.coords[2]),
+            format!("{:?}", g.normal[0]),
+            format!("{:?}", g.normal[1]),
+            format!("{:?}", g.normal[2]),
+            format!("{:?}", g.area),
+            format!("{:?}", g.p0),
+            format!("{:?}", g.temperature),
+        ];
+        out.push_str(&row.join(","));
+        if tied {
+            match &g.tie {
+                Some(t) => {
+                    let ids: Vec<String> = t.nodes.iter().map(|n| n.to_string()).collect();
+                    let ws: Vec<String> = t.weights.iter().map(|w| format!("{w:?}")).collect();
+                    out.push_str(&format!(
+                        ",{},{:?},{:?},{},{}",
+                        t.face,
+                        t.xi[0],
+                        t.xi[1],
+                        ids.join(" "),
+                        ws.join(" ")
+                    ));
+                }
+                None => out.push_str(",,,,,"),
+            }
+        }
+        out.push('\n');
+    }
+    out
+}
 
 /// Reads and checks a gap table (CSV by its `.csv` extension, else JSON).
 pub fn read_gaps(path: &Path) -> Result<Vec<Gap>, PipelineError> {
@@ -85,11 +144,13 @@ fn parse_csv(text: &str) -> Result<(Vec<Gap>, Vec<String>), String> {
     }
     let mut column: HashMap<&str, usize> = HashMap::new();
     for (i, name) in names.iter().enumerate() {
-        if !GAP_COLUMNS.contains(name) {
+        if !GAP_COLUMNS.contains(name) && !TIE_COLUMNS.contains(name) {
             return Err(format!(
-                "line {hl}, column {}: unknown column `{name}` (the columns are {})",
+                "line {hl}, column {}: unknown column `{name}` (the columns are {}; a \
+                 surface-paired table adds {})",
                 i + 1,
-                GAP_COLUMNS.join(", ")
+                GAP_COLUMNS.join(", "),
+                TIE_COLUMNS.join(", ")
             ));
         }
         if let Some(first) = column.insert(name, i) {
@@ -111,6 +172,23 @@ fn parse_csv(text: &str) -> Result<(Vec<Gap>, Vec<String>), String> {
             missing.join("`, `")
         ));
     }
+    let n_tie = TIE_COLUMNS
+        .iter()
+        .filter(|c| column.contains_key(*c))
+        .count();
+    if n_tie != 0 && n_tie != TIE_COLUMNS.len() {
+        let missing: Vec<&str> = TIE_COLUMNS
+            .iter()
+            .copied()
+            .filter(|c| !column.contains_key(c))
+            .collect();
+        return Err(format!(
+            "line {hl}: a surface-paired table has all of the columns `{}`; missing `{}`",
+            TIE_COLUMNS.join("`, `"),
+            missing.join("`, `")
+        ));
+    }
+    let tied = n_tie > 0;
     let mut gaps = Vec::new();
     let mut places = Vec::new();
     for (ln, line) in lines {
@@ -151,10 +229,126 @@ fn parse_csv(text: &str) -> Result<(Vec<Gap>, Vec<String>), String> {
             v_slide: [0.0; 3],
             p0: num("p0")?,
             temperature: num("temperature")?,
+            tie: if tied && !at("face").is_empty() {
+                Some(read_tie(ln, &f, &column)?)
+            } else {
+                None
+            },
         });
         places.push(format!("line {ln}"));
     }
     Ok((gaps, places))
+}
+
+/// The tie columns of CSV line `ln` (fields `f`, column index by name).
+fn read_tie(ln: usize, f: &[&str], column: &HashMap<&str, usize>) -> Result<FaceTie, String> {
+    let at = |c: &str| f[column[c]];
+    let num = |c: &str| -> Result<Real, String> {
+        at(c)
+            .parse()
+            .map_err(|_| format!("line {ln}, column `{c}`: `{}` is not a number", at(c)))
+    };
+    let face = at("face").parse::<u64>().map_err(|_| {
+        format!(
+            "line {ln}, column `face`: `{}` is not a face index",
+            at("face")
+        )
+    })?;
+    let nodes = at("face_grids")
+        .split_whitespace()
+        .map(|x| {
+            x.parse::<u64>()
+                .map_err(|_| format!("line {ln}, column `face_grids`: `{x}` is not a grid id"))
+        })
+        .collect::<Result<Vec<u64>, String>>()?;
+    let weights = at("weights")
+        .split_whitespace()
+        .map(|x| {
+            x.parse::<Real>()
+                .map_err(|_| format!("line {ln}, column `weights`: `{x}` is not a number"))
+        })
+        .collect::<Result<Vec<Real>, String>>()?;
+    let kind = FaceKind::from_n_nodes(nodes.len()).ok_or_else(|| {
+        format!(
+            "line {ln}, column `face_grids`: {} grids; a face has 4 (quad4) or 8 (quad8)",
+            nodes.len()
+        )
+    })?;
+    Ok(FaceTie {
+        face,
+        kind,
+        xi: [num("xi")?, num("eta")?],
+        nodes,
+        weights,
+        distance: 0.0,
+        dofs: Vec::new(),
+    })
+}
+
+/// Checks a tied gap: weights = the face's shape functions at (ξ, η) to 1e-9 (so they sum to
+/// one), `rotor_grid` the face grid of largest weight, the pad grid not on the face.
+fn check_tie(g: &Gap, t: &FaceTie, at: &str) -> Result<(), String> {
+    let nn = t.kind.n_nodes();
+    if t.nodes.len() != nn || t.weights.len() != nn {
+        return Err(format!(
+            "{at}: a {:?} face has {nn} grids and weights, found {} grids and {} weights",
+            t.kind,
+            t.nodes.len(),
+            t.weights.len()
+        ));
+    }
+    if !(t.xi[0].is_finite() && t.xi[1].is_finite()) {
+        return Err(format!(
+            "{at}, columns `xi, eta`: {:?} must be finite",
+            t.xi
+        ));
+    }
+    let (n, _) = t.kind.shape(t.xi);
+    for a in 0..nn {
+        if !((t.weights[a] - n[a]).abs() <= 1e-9) {
+            return Err(format!(
+                "{at}, column `weights`: weight {} of grid {} is {}, but the {:?} shape \
+                 function at (xi, eta) = ({}, {}) is {} (the weights must be N_a(xi, eta))",
+                a + 1,
+                t.nodes[a],
+                t.weights[a],
+                t.kind,
+                t.xi[0],
+                t.xi[1],
+                n[a]
+            ));
+        }
+    }
+    let wmax = t
+        .weights
+        .iter()
+        .copied()
+        .fold(Real::NEG_INFINITY, Real::max);
+    let main = t
+        .nodes
+        .iter()
+        .zip(&t.weights)
+        .find(|(_, &w)| w == wmax)
+        .map(|(&n, _)| n);
+    if !t
+        .nodes
+        .iter()
+        .zip(&t.weights)
+        .any(|(&n, &w)| n == g.rotor_node && w == wmax)
+    {
+        return Err(format!(
+            "{at}, column `rotor_grid`: {} must be the face grid of largest weight ({})",
+            g.rotor_node,
+            main.unwrap_or_default()
+        ));
+    }
+    if t.nodes.contains(&g.pad_node) {
+        return Err(format!(
+            "{at}: pad grid {} is also a grid of its rotor face",
+            g.pad_node
+        ));
+    }
+    Ok(())
 }
 
 /// The value checks of the module documentation; `places[i]` says where gap i was read;
@@ -204,6 +398,9 @@ pub(crate) fn check_gaps(
                 "{at}, column `temperature`: {} must be finite",
                 g.temperature
             ));
+        }
+        if let Some(t) = &g.tie {
+            check_tie(g, t, at)?;
         }
         if g.pad_node == g.rotor_node {
             return Err(format!(

@@ -139,7 +139,7 @@ impl ReducedModel {
         let index = self.grid_index();
         let mut missing = Vec::new();
         for g in &self.gaps.gaps {
-            for node in [g.pad_node, g.rotor_node] {
+            for node in std::iter::once(g.pad_node).chain(g.rotor_nodes()) {
                 if (1..=3).all(|c| {
                     !index.contains_key(&DofKey {
                         grid: node,

@@ -26,6 +26,8 @@ pub struct StoredFiles {
     pub punch: String,
     pub dofmap: String,
     pub gaps: String,
+    /// The same gap table as CSV (with the face columns when gaps are tied to faces).
+    pub gaps_csv: String,
 }
 
 fn red_err(what: String) -> impl FnOnce(squeal_reduction::ReductionError) -> PipelineError {
@@ -78,7 +80,8 @@ pub(super) fn stored_matrices(model: &ReducedModel) -> Vec<NamedMatrix> {
     mats
 }
 
-/// Writes `reduced.op4`, `reduced.pch`, `dofmap.json`, `gaps.json` into the run folder.
+/// Writes `reduced.op4`, `reduced.pch`, `dofmap.json`, `gaps.json` and `gaps.csv` into the
+/// run folder.
 pub fn write_stored(model: &ReducedModel, dir: &RunDir) -> Result<StoredFiles, PipelineError> {
     let mats = stored_matrices(model);
     let refs: Vec<&NamedMatrix> = mats.iter().collect();
@@ -108,7 +111,12 @@ pub fn write_stored(model: &ReducedModel, dir: &RunDir) -> Result<StoredFiles, P
     let pch_path = dir.write_bytes("reduced.pch", text.as_bytes())?;
     let map_path = dir.write_json("dofmap.json", &model.dofs)?;
     let gaps_path = dir.write_json("gaps.json", &model.gaps)?;
+    let csv_path = dir.write_bytes(
+        "gaps.csv",
+        super::gap_table::gaps_csv(&model.gaps.gaps).as_bytes(),
+    )?;
     Ok(StoredFiles {
+        gaps_csv: csv_path.display().to_string(),
         op4: op4_path.display().to_string(),
         punch: pch_path.display().to_string(),
         dofmap: map_path.display().to_string(),

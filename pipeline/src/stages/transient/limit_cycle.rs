@@ -82,8 +82,10 @@ impl FaceMonitor {
             .gaps
             .iter()
             .map(|g| {
-                (0..3)
-                    .filter_map(|k| g.rotor_dofs[k].map(|d| (d, g.normal[k])))
+                g.rotor_terms()
+                    .flat_map(|(w, dofs)| {
+                        (0..3).filter_map(move |k| dofs[k].map(|d| (d, w * g.normal[k])))
+                    })
                     .collect()
             })
             .collect();

@@ -57,6 +57,9 @@ struct EntryMeta {
     /// Seconds the build took.
     build_s: Real,
     files: BTreeMap<String, FileSum>,
+    /// The build's warnings (e.g. pad nodes a surface pairing excluded), repeated on reuse.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    warnings: Vec<crate::warning::Warning>,
 }
 
 /// What an entry holds before the late parameters are applied.
@@ -69,6 +72,7 @@ pub(super) struct Cached {
     gaps: Vec<Gap>,
     gaps_per_pair: Vec<usize>,
     grids: Vec<GridInfo>,
+    warnings: Vec<crate::warning::Warning>,
 }
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> PipelineError + '_ {
@@ -128,6 +132,7 @@ pub(super) fn write_entry(
         gaps_per_pair: model.gap_pairs.clone(),
         build_s,
         files: sums,
+        warnings: model.warnings.clone(),
     };
     let text = serde_json::to_string_pretty(&meta).map_err(|e| PipelineError::Output {
         path: dir.join(META),
@@ -243,6 +248,7 @@ pub(super) fn read_entry(dir: &Path, key: &ModelKey) -> Result<Cached, String> {
         gaps,
         gaps_per_pair: meta.gaps_per_pair,
         grids,
+        warnings: meta.warnings,
     })
 }
 
@@ -310,7 +316,7 @@ pub(super) fn finish(scene: &Scene, c: Cached) -> Result<ReducedModel, PipelineE
         components: Vec::new(),
         recovery: Vec::new(),
         source: ModelSource::Mesh,
-        warnings: Vec::new(),
+        warnings: c.warnings,
     };
     model.assign_gap_dofs()?;
     Ok(model)

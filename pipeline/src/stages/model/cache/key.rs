@@ -7,7 +7,8 @@
 //!   `.msh` file's bytes (not only its path);
 //! - `model.merge_tolerance`;
 //! - the Craig–Bampton options of `[reduction]` (`checks` excepted: it changes no matrix);
-//! - each `[[contact]]` pair's pad, pad faces, rotor, rotor faces and matching tolerance;
+//! - each `[[contact]]` pair's pad, pad faces, rotor, rotor faces and matching tolerance, and
+//!   with `pairing = "surface"` its `unmatched`, `extension` and `max_distance`;
 //! - the load sets `loads.pressure` and `loads.force` (the unit brake load; PMAX scales it later);
 //! - the element-damping factors GE_c/W4 per component (they scale each component's reduced
 //!   stiffness into B at superelement assembly);
@@ -81,6 +82,9 @@ struct PairKey<'a> {
     rotor: &'a str,
     rotor_faces: &'a str,
     tolerance: Real,
+    /// Surface pairing's options (absent for node pairing, so node-paired keys are unchanged).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    surface: Option<squeal_contact::TieOptions>,
 }
 
 #[derive(Serialize)]
@@ -154,6 +158,7 @@ impl ModelKey {
                     rotor: &p.rotor,
                     rotor_faces: &p.rotor_faces,
                     tolerance: p.tolerance,
+                    surface: (p.pairing == crate::scene::Pairing::Surface).then(|| p.tie_options()),
                 })
                 .collect(),
             pressure_loads: loads.map_or(&[], |l| &l.pressure),
