@@ -1,8 +1,8 @@
 //! The exact complex eigenvalue analysis: constraint elimination, standard eigenproblem,
 //! mode recovery; and the dispatch between the exact and projected methods.
 
-use super::first_order::first_order_eigen;
-use super::operator::cholesky;
+use super::first_order::{first_order_eigen, first_order_matrix_of};
+use super::operator::{check_inputs, cholesky};
 use super::{
     reduce, CeaError, CeaMatrices, CeaMethod, CeaOptions, CeaResult, CeaStats, Cplx, ModalBasis,
     Mode,
@@ -34,8 +34,12 @@ pub(crate) fn sandwich(l: MatRef<'_, f64>, x: &Mat<f64>) -> Mat<f64> {
 /// eigenvectors only when `compute_shapes`). One root of each complex-conjugate pair is kept
 /// (Im p > 0) and every real root; shapes are `u = T L⁻ᵀ w`.
 ///
-/// With `method = projection` the roots come from the subspace of the real modes of this
-/// same state ([`ModalBasis`]); in a sweep build the basis once instead ([`super::sweep`]).
+/// With `method = projection` (or `auto` above [`super::ProjectionOptions::auto_single_min_dofs`]
+/// reduced DOFs with a truncated basis) the roots come from the subspace of the real modes of
+/// this same state ([`ModalBasis`]), and every in-band unstable root is then refined exactly by
+/// shift-invert Arnoldi on the full first-order operator ([`ModalBasis::solve_refined`],
+/// statistics in [`CeaStats::refine`]); in a sweep build the basis once instead
+/// ([`super::sweep`]).
 ///
 /// # Reference
 /// $$(p^2[M_{dd}] + p[B_{dd}] + [K_{dd}])\{\psi\} = 0$$ [Paper eqs. (19)–(24)], reduced as
@@ -46,15 +50,42 @@ pub(crate) fn sandwich(l: MatRef<'_, f64>, x: &Mat<f64>) -> Mat<f64> {
 /// of the eigenvalue solver.
 pub fn complex_eigen(sys: &CeaMatrices, opts: &CeaOptions) -> Result<CeaResult, CeaError> {
     opts.validate()?;
-    match opts.method {
+    let pr = &opts.projection;
+    let method = match opts.method {
+        CeaMethod::Auto => {
+            let (n, ng) = check_inputs(sys)?;
+            if pr.is_truncated() && n - ng > pr.auto_single_min_dofs {
+                CeaMethod::Projection
+            } else {
+                CeaMethod::Exact
+            }
+        }
+        m => m,
+    };
+    match method {
         CeaMethod::Auto | CeaMethod::Exact => exact(sys, opts),
         CeaMethod::Projection => {
             let basis = ModalBasis::new(sys, opts)?;
-            let mut r = basis.solve(sys, opts)?;
+            let mut r = basis.solve_refined(sys, opts)?;
             r.stats.time_basis_s = basis.time_s();
             Ok(r)
         }
     }
+}
+
+/// The real first-order matrix whose eigenvalues the exact method computes: the constraint
+/// eliminated ([`reduce`]), `M_r = L Lᵀ`, and `A = [[0, σI], [−K̂/σ, −Ĉ]]` (size 2(n − ng),
+/// see [`complex_eigen`]); its eigenvalues are the roots p. For cross-checks with other
+/// eigensolvers (e.g. `scipy.linalg.eig` on the same matrix).
+///
+/// # Errors
+/// As [`reduce`]; a reduced mass that is not positive definite.
+pub fn first_order_matrix(sys: &CeaMatrices, opts: &CeaOptions) -> Result<Mat<f64>, CeaError> {
+    let red = reduce(sys, opts)?;
+    let llt = cholesky("T^T M T", &red.m_r)?;
+    let khat = sandwich(llt.L(), &red.k_r);
+    let chat = red.c_r.as_ref().map(|c| sandwich(llt.L(), c));
+    Ok(first_order_matrix_of(&khat, chat.as_ref()))
 }
 
 /// The exact method.
@@ -156,20 +187,27 @@ pub(crate) fn recover_shapes(
     let n = q.nrows();
     (0..k)
         .map(|c| {
-            let mut v: Vec<Cplx> = (0..n)
-                .map(|i| Cplx::new(q[(i, c)], q[(i, c + k)]))
-                .collect();
-            let norm = v.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt();
-            let imax = (0..n)
-                .max_by(|&a, &b| v[a].norm_sqr().total_cmp(&v[b].norm_sqr()))
-                .unwrap_or(0);
-            if norm > 0.0 && n > 0 {
-                let phase = v[imax].conj() / v[imax].norm();
-                for z in &mut v {
-                    *z = *z * phase / norm;
-                }
-            }
-            v
+            normalise_shape(
+                (0..n)
+                    .map(|i| Cplx::new(q[(i, c)], q[(i, c + k)]))
+                    .collect(),
+            )
         })
         .collect()
+}
+
+/// A shape scaled to unit 2-norm with its largest entry real positive (zero stays zero).
+pub(crate) fn normalise_shape(mut v: Vec<Cplx>) -> Vec<Cplx> {
+    let n = v.len();
+    let norm = v.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt();
+    let imax = (0..n)
+        .max_by(|&a, &b| v[a].norm_sqr().total_cmp(&v[b].norm_sqr()))
+        .unwrap_or(0);
+    if norm > 0.0 && n > 0 {
+        let phase = v[imax].conj() / v[imax].norm();
+        for z in &mut v {
+            *z = *z * phase / norm;
+        }
+    }
+    v
 }

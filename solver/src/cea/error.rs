@@ -82,6 +82,17 @@ pub enum CeaError {
         /// Size.
         n: usize,
     },
+    /// The bordered matrix of a shift-invert refinement is singular: the shift is a root to
+    /// machine precision.
+    #[error("shift-invert matrix at p = {re} + {im}i is singular: min/max |pivot| = {ratio:e}")]
+    SingularShift {
+        /// Real part of the shift.
+        re: f64,
+        /// Imaginary part of the shift.
+        im: f64,
+        /// Smallest/largest absolute LU pivot.
+        ratio: f64,
+    },
     /// The sweep's matrix builder failed at μ.
     #[error("building the matrices at mu = {mu} failed: {message}")]
     Build {

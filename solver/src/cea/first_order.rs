@@ -37,29 +37,8 @@ pub(crate) fn first_order_eigen(
     vectors: bool,
 ) -> Result<FirstOrder, CeaError> {
     let m = khat.nrows();
-    let mean_k = (0..m).map(|i| khat[(i, i)].abs()).sum::<f64>() / m.max(1) as f64;
-    let sigma = if mean_k > 0.0 && mean_k.is_finite() {
-        mean_k.sqrt()
-    } else {
-        1.0
-    };
     let n2 = 2 * m;
-    let mut a = Mat::<f64>::zeros(n2, n2);
-    for i in 0..m {
-        a[(i, m + i)] = sigma;
-    }
-    for j in 0..m {
-        for i in 0..m {
-            a[(m + i, j)] = -khat[(i, j)] / sigma;
-        }
-    }
-    if let Some(c) = chat {
-        for j in 0..m {
-            for i in 0..m {
-                a[(m + i, m + j)] = -c[(i, j)];
-            }
-        }
-    }
+    let a = first_order_matrix_of(khat, chat);
     // Small problems run sequentially: on the shared 2-core machine the projected sweep's
     // 200×200 solves took ~25 ms/step sequential vs ~30 ms with rayon (noisy, load ~4).
     let par = if n2 < SEQ_BELOW {
@@ -143,4 +122,32 @@ pub(crate) fn first_order_eigen(
         rho,
         w,
     })
+}
+
+/// `A = [[0, σI], [−K̂/σ, −Ĉ]]`, `σ = sqrt(mean |K̂_ii|)` (see [`first_order_eigen`]).
+pub(crate) fn first_order_matrix_of(khat: &Mat<f64>, chat: Option<&Mat<f64>>) -> Mat<f64> {
+    let m = khat.nrows();
+    let mean_k = (0..m).map(|i| khat[(i, i)].abs()).sum::<f64>() / m.max(1) as f64;
+    let sigma = if mean_k > 0.0 && mean_k.is_finite() {
+        mean_k.sqrt()
+    } else {
+        1.0
+    };
+    let mut a = Mat::<f64>::zeros(2 * m, 2 * m);
+    for i in 0..m {
+        a[(i, m + i)] = sigma;
+    }
+    for j in 0..m {
+        for i in 0..m {
+            a[(m + i, j)] = -khat[(i, j)] / sigma;
+        }
+    }
+    if let Some(c) = chat {
+        for j in 0..m {
+            for i in 0..m {
+                a[(m + i, m + j)] = -c[(i, j)];
+            }
+        }
+    }
+    a
 }

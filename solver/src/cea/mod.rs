@@ -42,15 +42,18 @@ mod operator;
 mod options;
 mod project;
 mod reduce;
+mod refine;
+mod shift_invert;
 mod sweep;
 mod track;
 
 pub use basis::ModalBasis;
 pub use check::{compare_eigenvalues, EigenvalueComparison, ExactCheck};
-pub use eigen::complex_eigen;
+pub use eigen::{complex_eigen, first_order_matrix};
 pub use error::CeaError;
 pub use options::{CeaMethod, CeaOptions, ProjectionOptions, SweepOptions};
 pub use reduce::{reduce, Reduced};
+pub use refine::{RefineOptions, RefineStats, RefinedRoot};
 pub use sweep::{sweep, Critical, Sweep, SweepStats, SweepStep, Track};
 pub use track::mac;
 
@@ -157,6 +160,9 @@ pub struct CeaStats {
     pub time_basis_s: f64,
     /// Wall time of the eigenvalue solve and shape recovery, seconds.
     pub time_eigen_s: f64,
+    /// The exact refinement of the in-band unstable projected roots (`projection` with
+    /// `projection.refine.enabled` only).
+    pub refine: Option<RefineStats>,
 }
 
 /// Result of [`complex_eigen`]: the modes sorted by frequency, and statistics.

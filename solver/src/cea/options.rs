@@ -1,21 +1,23 @@
 //! Options of the complex eigenvalue analysis and of the friction sweep.
 
-use super::CeaError;
+use super::{CeaError, RefineOptions};
 use serde::{Deserialize, Serialize};
 
 /// How the reduced quadratic problem is solved.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum CeaMethod {
-    /// Exact for a single CEA; in a sweep, `projection` when the reduced problem has more than
-    /// [`ProjectionOptions::auto_min_dofs`] DOFs and the basis is truncated (`n_basis`,
-    /// `basis_cutoff_hz` or `frequency_max_hz` given), else `exact`.
+    /// `projection` when the basis is truncated (`n_basis`, `basis_cutoff_hz` or
+    /// `frequency_max_hz` given) and the reduced problem has more than
+    /// [`ProjectionOptions::auto_min_dofs`] DOFs in a sweep, more than
+    /// [`ProjectionOptions::auto_single_min_dofs`] for a single CEA; else `exact`.
     #[default]
     Auto,
     /// Every root of the reduced problem from a dense `eigen()` of size 2(n − ng).
     Exact,
     /// Galerkin projection onto the real modes of the constrained, friction-free (symmetric)
-    /// problem up to a cutoff, then a small dense `eigen()` (Abaqus-style subspace CEA).
+    /// problem up to a cutoff, then a small dense `eigen()` (Abaqus-style subspace CEA); a
+    /// single CEA then refines every in-band unstable root exactly (`projection.refine`).
     Projection,
 }
 
@@ -42,6 +44,12 @@ pub struct ProjectionOptions {
     /// `auto` projects a sweep only above this many reduced DOFs n − ng (default: 200: below
     /// it a dense exact solve takes < ~0.1 s).
     pub auto_min_dofs: usize,
+    /// `auto` projects a single CEA only above this many reduced DOFs n − ng (default: 1000:
+    /// the exact dense solve of 2(n − ng) takes about 10 s there on 2 cores).
+    pub auto_single_min_dofs: usize,
+    /// Exact refinement of the in-band unstable projected roots of a single CEA (default:
+    /// [`RefineOptions::default`]: on).
+    pub refine: RefineOptions,
 }
 
 impl Default for ProjectionOptions {
@@ -53,6 +61,8 @@ impl Default for ProjectionOptions {
             n_basis: None,
             basis_mu: None,
             auto_min_dofs: 200,
+            auto_single_min_dofs: 1000,
+            refine: RefineOptions::default(),
         }
     }
 }
@@ -93,7 +103,7 @@ impl ProjectionOptions {
                 reason: "must be >= 1".into(),
             });
         }
-        Ok(())
+        self.refine.validate()
     }
 }
 

@@ -3,6 +3,7 @@
 use super::eigen::{finish_stats, make_modes, recover_shapes, sandwich};
 use super::first_order::first_order_eigen;
 use super::operator::{check_inputs, cholesky, mass_solve, ContactProjector};
+use super::refine::refine;
 use super::{CeaError, CeaMatrices, CeaMethod, CeaOptions, CeaResult, CeaStats, ModalBasis};
 use faer::Mat;
 use std::time::Instant;
@@ -124,5 +125,42 @@ impl ModalBasis {
         finish_stats(&mut stats, &modes, fo.rho);
         stats.time_eigen_s = t1.elapsed().as_secs_f64();
         Ok(CeaResult { modes, stats })
+    }
+
+    /// The band whose roots the projection is meant to give: `projection.frequency_max_hz`,
+    /// else the highest basis frequency / `cutoff_factor`, Hz.
+    pub fn band_hz(&self, opts: &CeaOptions) -> f64 {
+        let pr = &opts.projection;
+        let f_max = self.frequencies_hz().last().copied().unwrap_or(0.0);
+        pr.frequency_max_hz.unwrap_or(f_max / pr.cutoff_factor)
+    }
+
+    /// [`ModalBasis::solve`], then (with `projection.refine.enabled`) every unstable root with
+    /// frequency ≤ [`ModalBasis::band_hz`] refined exactly by shift-invert Arnoldi on the full
+    /// first-order operator of `sys` — no constraint elimination, no projection (statistics
+    /// in [`CeaStats::refine`]: targets, shifts, |p_exact − p_projected|, residuals).
+    ///
+    /// # Errors
+    /// As [`ModalBasis::solve`]; a refinement shift that is a root to machine precision.
+    pub fn solve_refined(
+        &self,
+        sys: &CeaMatrices,
+        opts: &CeaOptions,
+    ) -> Result<CeaResult, CeaError> {
+        let mut r = self.solve(sys, opts)?;
+        let ro = &opts.projection.refine;
+        if ro.enabled {
+            let tol = opts.unstable_tol * r.stats.spectral_radius;
+            let st = refine(sys, &mut r.modes, self.band_hz(opts), tol, ro)?;
+            r.stats.n_unstable = r.modes.iter().filter(|m| m.unstable).count();
+            r.stats.max_real_part = r
+                .modes
+                .iter()
+                .map(|m| m.real_part)
+                .fold(f64::NEG_INFINITY, f64::max);
+            r.stats.time_eigen_s += st.time_s;
+            r.stats.refine = Some(st);
+        }
+        Ok(r)
     }
 }

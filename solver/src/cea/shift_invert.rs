@@ -1,0 +1,259 @@
+//! Shift-invert Arnoldi on the full first-order operator of the constrained problem (no
+//! constraint elimination, no projection): the exact check of the projected roots.
+
+use super::{CeaError, CeaMatrices, Cplx};
+use faer::linalg::solvers::{PartialPivLu, Solve};
+use faer::{c64, Mat};
+
+/// `(F − σE)⁻¹E` for the first-order pencil of the constrained problem.
+///
+/// # Derivation
+/// With `x = [u; v]`, `A = Gᵀ − D`, `C = B − C_f`, the linearised equations of the
+/// [module docs](super) are the DAE `u̇ = v`, `M v̇ = −C v − K u − A N`, `G u = 0` (index 3:
+/// `N` is fixed by the hidden constraint `G v̇ = 0`). Its finite eigenvalues are the
+/// physical roots p; the rest are infinite. For a shift σ, `y = (F − σE)⁻¹E x` means
+/// `y_v − σ y_u = a`, `−K y_u − C y_v − A y_N − σ M y_v = M b`, `G y_u = 0` for
+/// `x = [a; b]`, i.e.
+/// ```text
+/// [σ²M + σC + K   A] [y_u]   [−M(b + σa) − C a]
+/// [G              0] [y_N] = [0               ],      y_v = a + σ y_u
+/// ```
+/// — one complex LU of the bordered matrix `Q(σ)` (size n + ng) per shift. The operator has
+/// the eigenvalues `θ = 1/(p − σ)` with eigenvectors `[u; p u]`, and 0 on the infinite
+/// eigenvectors: the roots nearest σ dominate, and the spurious ones cannot appear.
+pub(crate) struct ShiftInvert<'a> {
+    m: &'a Mat<f64>,
+    c: Option<&'a Mat<f64>>,
+    sigma: Cplx,
+    lu: PartialPivLu<c64>,
+    n: usize,
+    ng: usize,
+}
+
+/// `[Re | Im]` of a complex vector as an n × 2 real matrix.
+fn split(z: &[Cplx]) -> Mat<f64> {
+    Mat::from_fn(z.len(), 2, |i, j| if j == 0 { z[i].re } else { z[i].im })
+}
+
+impl<'a> ShiftInvert<'a> {
+    /// Factorises `Q(σ)`; `c` is `B − C_f` (None: no damping).
+    ///
+    /// # Errors
+    /// A singular (zero or non-finite pivot) `Q(σ)`: σ is a root to machine precision.
+    pub(crate) fn new(
+        sys: &'a CeaMatrices,
+        c: Option<&'a Mat<f64>>,
+        sigma: Cplx,
+    ) -> Result<Self, CeaError> {
+        let n = sys.m.nrows();
+        let ng = sys.g.as_ref().map_or(0, |g| g.nrows());
+        let s2 = sigma * sigma;
+        let (m, k) = (&sys.m, &sys.k);
+        let g = sys.g.as_ref();
+        let d = sys.d.as_ref();
+        let q = Mat::<c64>::from_fn(n + ng, n + ng, |i, j| match (i < n, j < n) {
+            (true, true) => {
+                let cij = c.map_or(0.0, |c| c[(i, j)]);
+                s2 * m[(i, j)] + sigma * cij + k[(i, j)]
+            }
+            (true, false) => {
+                let gt = g.map_or(0.0, |g| g[(j - n, i)]);
+                c64::new(gt - d.map_or(0.0, |d| d[(i, j - n)]), 0.0)
+            }
+            (false, true) => c64::new(g.map_or(0.0, |g| g[(i - n, j)]), 0.0),
+            (false, false) => c64::new(0.0, 0.0),
+        });
+        let lu = q.partial_piv_lu();
+        let u = lu.U();
+        let (mut pmin, mut pmax) = (f64::INFINITY, 0.0f64);
+        for i in 0..n + ng {
+            let a = u[(i, i)].norm();
+            pmin = pmin.min(a);
+            pmax = pmax.max(a);
+        }
+        if !(pmin > 0.0 && pmax.is_finite()) {
+            return Err(CeaError::SingularShift {
+                re: sigma.re,
+                im: sigma.im,
+                ratio: pmin / pmax,
+            });
+        }
+        Ok(ShiftInvert {
+            m,
+            c,
+            sigma,
+            lu,
+            n,
+            ng,
+        })
+    }
+
+    /// The shift σ.
+    pub(crate) fn sigma(&self) -> Cplx {
+        self.sigma
+    }
+
+    /// `y = (F − σE)⁻¹E x` (x, y of length 2n).
+    pub(crate) fn apply(&self, x: &[Cplx]) -> Vec<Cplx> {
+        let (n, s) = (self.n, self.sigma);
+        let (a, b) = x.split_at(n);
+        let t: Vec<Cplx> = (0..n).map(|i| b[i] + s * a[i]).collect();
+        let mt = self.m * split(&t);
+        let ca = self.c.map(|c| c * split(a));
+        let mut rhs = Mat::<c64>::from_fn(n + self.ng, 1, |i, _| {
+            if i < n {
+                let mut r = -c64::new(mt[(i, 0)], mt[(i, 1)]);
+                if let Some(ca) = &ca {
+                    r -= c64::new(ca[(i, 0)], ca[(i, 1)]);
+                }
+                r
+            } else {
+                c64::new(0.0, 0.0)
+            }
+        });
+        self.lu.solve_in_place(&mut rhs);
+        let mut y = Vec::with_capacity(2 * n);
+        y.extend((0..n).map(|i| rhs[(i, 0)]));
+        y.extend((0..n).map(|i| a[i] + s * rhs[(i, 0)]));
+        y
+    }
+}
+
+/// A Ritz pair of the Arnoldi factorisation.
+pub(crate) struct Ritz {
+    /// Root p = σ + 1/θ.
+    pub(crate) p: Cplx,
+    /// Residual estimate of θ relative to |θ|: ‖S x − θ x‖/(|θ| ‖x‖).
+    pub(crate) rel_residual: f64,
+    /// Coefficients of the Ritz vector in the Arnoldi basis (unit norm).
+    coeffs: Vec<Cplx>,
+}
+
+/// Arnoldi factorisation `S V_k = V_{k+1} H_k` with full (twice-repeated Gram–Schmidt)
+/// orthogonalisation, grown on demand.
+pub(crate) struct Arnoldi {
+    v: Vec<Vec<Cplx>>,
+    /// Hessenberg entries, column j has j + 2 of them.
+    h: Vec<Vec<Cplx>>,
+    /// An invariant subspace was found (the last `h` entry is 0).
+    pub(crate) exhausted: bool,
+    /// Operator applications.
+    pub(crate) applications: usize,
+}
+
+fn dot(a: &[Cplx], b: &[Cplx]) -> Cplx {
+    a.iter().zip(b).map(|(x, y)| x.conj() * y).sum()
+}
+
+fn norm(a: &[Cplx]) -> f64 {
+    a.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt()
+}
+
+impl Arnoldi {
+    /// Starts from a fixed pseudo-random vector, applied twice to the operator so that it
+    /// has no component on the infinite eigenvectors (the index-3 Jordan chains map to 0).
+    pub(crate) fn new(op: &ShiftInvert<'_>) -> Self {
+        let dim = 2 * op.n;
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut x: Vec<Cplx> = (0..dim).map(|_| Cplx::new(rnd(), rnd())).collect();
+        for _ in 0..2 {
+            x = op.apply(&x);
+            let nx = norm(&x);
+            x.iter_mut().for_each(|z| *z /= nx);
+        }
+        Arnoldi {
+            v: vec![x],
+            h: Vec::new(),
+            exhausted: false,
+            applications: 2,
+        }
+    }
+
+    /// Current dimension k (number of columns of H).
+    pub(crate) fn dim(&self) -> usize {
+        self.h.len()
+    }
+
+    /// Grows the factorisation to dimension `k` (or until an invariant subspace).
+    pub(crate) fn grow(&mut self, op: &ShiftInvert<'_>, k: usize) {
+        while self.h.len() < k && !self.exhausted {
+            let j = self.h.len();
+            let mut w = op.apply(&self.v[j]);
+            self.applications += 1;
+            let mut hj = vec![Cplx::new(0.0, 0.0); j + 2];
+            for _ in 0..2 {
+                for (i, vi) in self.v.iter().enumerate() {
+                    let c = dot(vi, &w);
+                    hj[i] += c;
+                    w.iter_mut().zip(vi).for_each(|(x, y)| *x -= c * y);
+                }
+            }
+            let beta = norm(&w);
+            hj[j + 1] = Cplx::new(beta, 0.0);
+            let scale = hj.iter().take(j + 1).map(|z| z.norm()).fold(beta, f64::max);
+            self.h.push(hj);
+            if beta <= 1e-14 * scale {
+                self.exhausted = true;
+            } else {
+                w.iter_mut().for_each(|z| *z /= beta);
+                self.v.push(w);
+            }
+        }
+    }
+
+    /// Ritz pairs of the current factorisation (σ = the operator's shift).
+    ///
+    /// # Errors
+    /// Non-convergence of the small dense eigensolver.
+    pub(crate) fn ritz(&self, sigma: Cplx) -> Result<Vec<Ritz>, CeaError> {
+        let k = self.h.len();
+        let h = Mat::<c64>::from_fn(k, k, |i, j| {
+            if i < self.h[j].len() {
+                self.h[j][i]
+            } else {
+                c64::new(0.0, 0.0)
+            }
+        });
+        let evd = h.eigen().map_err(|_| CeaError::NoConvergence {
+            what: "Arnoldi Hessenberg eigendecomposition",
+            n: k,
+        })?;
+        let beta = if self.exhausted {
+            0.0
+        } else {
+            self.h[k - 1][k].norm()
+        };
+        let (s, u) = (evd.S().column_vector(), evd.U());
+        let mut out = Vec::with_capacity(k);
+        for i in 0..k {
+            let theta = s[i];
+            let nu = (0..k).map(|r| u[(r, i)].norm_sqr()).sum::<f64>().sqrt();
+            let coeffs: Vec<Cplx> = (0..k).map(|r| u[(r, i)] / nu).collect();
+            if theta.norm() == 0.0 || !theta.norm().is_finite() {
+                continue;
+            }
+            out.push(Ritz {
+                p: sigma + theta.inv(),
+                rel_residual: beta * coeffs[k - 1].norm() / theta.norm(),
+                coeffs,
+            });
+        }
+        Ok(out)
+    }
+
+    /// The Ritz vector `V_k s` (length 2n).
+    pub(crate) fn vector(&self, r: &Ritz) -> Vec<Cplx> {
+        let dim = self.v[0].len();
+        let mut x = vec![Cplx::new(0.0, 0.0); dim];
+        for (c, v) in r.coeffs.iter().zip(&self.v) {
+            x.iter_mut().zip(v).for_each(|(a, b)| *a += c * b);
+        }
+        x
+    }
+}
