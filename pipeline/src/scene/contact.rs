@@ -69,6 +69,13 @@ pub struct ContactPair {
     /// paper's bilateral contact, tensile gaps only reported).
     #[serde(default)]
     pub separation: bool,
+    /// Normal contact compliance: the stiffness k_n per unit area of a penalty spring between
+    /// pad and rotor at every gap of this pair (force / area / length, e.g. psi/in), finite
+    /// and > 0; the gap's contact force is then k_n A (G u) and its pressure
+    /// p_n = P_0 − k_n G u (BDF transient, steady state and CEA; generalized-α refuses it)
+    /// (default: absent, the paper's rigid constraint). See `squeal_solver::bsql::compliance`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal_stiffness: Option<Real>,
 }
 
 fn default_tolerance() -> Real {
@@ -144,6 +151,17 @@ impl ContactPair {
                     key,
                     "is read only with pairing = \"surface\" (this pair matches coincident nodes)"
                         .into(),
+                ));
+            }
+        }
+        if let Some(k) = self.normal_stiffness {
+            if !(k.is_finite() && k > 0.0) {
+                return Err(bad(
+                    "normal_stiffness",
+                    format!(
+                        "{k} must be finite and > 0 (a normal contact stiffness per unit \
+                         area; leave the key out for rigid contact)"
+                    ),
                 ));
             }
         }

@@ -5,7 +5,9 @@
 //! From eq. (8) with Q = −Gᵀλ' [Paper eq. (12)] and u' = v [Paper eq. (10)], for symmetric M, K:
 //! $$\frac{d}{dt}\Big(\tfrac12 v^T M v + \tfrac12 u^T K u\Big) = P·v + F_f·v − (G^Tλ')·v − v^T B v.$$
 //! The balance residual is ΔE − ∫(P·v + F_f·v − (Gᵀλ')·v − vᵀBv) dt; it is zero up to the
-//! integration and quadrature errors.
+//! integration and quadrature errors. With normal contact compliance the contact springs'
+//! energy is part of the strain energy and their rows leave the constraint power
+//! ([`super::compliance`]).
 
 use faer::Accum;
 use serde::{Deserialize, Serialize};
@@ -21,7 +23,8 @@ pub struct PowerTerms {
     pub t: Real,
     /// Kinetic energy ½ vᵀ M v.
     pub kinetic: Real,
-    /// Strain energy ½ uᵀ K u.
+    /// Strain energy ½ uᵀ K u, plus the contact springs' energy with normal compliance
+    /// (Σ ½ c_k λ'_k², see [`super::compliance`]).
     pub strain: Real,
     /// Damping power vᵀ B v (dissipated).
     pub damping: Real,
@@ -29,7 +32,8 @@ pub struct PowerTerms {
     pub friction: Real,
     /// External power P(t) · v.
     pub external: Real,
-    /// Constraint power (Gᵀ λ') · v.
+    /// Constraint power (Gᵀ λ') · v of the rigid rows (a compliant row's power is in the
+    /// rate of `strain`).
     pub constraint: Real,
 }
 
@@ -173,7 +177,7 @@ impl EnergyBalance {
 #[allow(non_snake_case)]
 impl<F: FrictionForces> BsqlSystem<F> {
     /// Energies and powers at an accepted step (t, y, y'), and update the constraint-drift
-    /// monitor ‖G v‖∞. Call it from the integrator's per-step callback.
+    /// monitor ‖G v‖∞ (rigid rows). Call it from the integrator's per-step callback.
     pub fn observe(&mut self, t: Real, y: &[Real], yp: &[Real]) -> Result<PowerTerms, SolverError> {
         let (n, ng) = (self.n, self.ng);
         if y.len() != 2 * n + ng || yp.len() != y.len() {
@@ -194,11 +198,18 @@ impl<F: FrictionForces> BsqlSystem<F> {
         matvec(self.M.as_ref(), v, &mut self.t_n, Accum::Replace, 1.0);
         p.kinetic = 0.5 * dot(v, &self.t_n);
         matvec(self.K.as_ref(), u, &mut self.t_n, Accum::Replace, 1.0);
-        p.strain = 0.5 * dot(u, &self.t_n);
+        // The contact springs' energy is stored energy (see [`super::compliance`]).
+        p.strain = 0.5 * dot(u, &self.t_n) + self.contact_spring_energy(u, lamp);
         matvec(self.B.as_ref(), v, &mut self.t_n, Accum::Replace, 1.0);
         p.damping = dot(v, &self.t_n);
         matvec(self.G.transpose(), lamp, &mut self.t_n, Accum::Replace, 1.0);
         p.constraint = dot(v, &self.t_n);
+        for (k, &c) in self.compliance.iter().enumerate() {
+            if c > 0.0 {
+                // A compliant row's power λ'_k G_k v is the rate of its spring energy.
+                p.constraint -= lamp[k] * self.g_row_dot(k, v);
+            }
+        }
         self.f_n.fill(0.0);
         self.friction.add_forces(t, v, lamp, &mut self.f_n)?;
         p.friction = dot(v, &self.f_n);
@@ -208,6 +219,9 @@ impl<F: FrictionForces> BsqlSystem<F> {
         // Constraint drift ‖G v‖∞.
         let mut drift: Real = 0.0;
         for k in 0..ng {
+            if self.compliance_of(k) > 0.0 {
+                continue; // a compliant row has G v ≠ 0 by design
+            }
             let mut s = 0.0;
             for i in 0..n {
                 s += self.G[(k, i)] * v[i];

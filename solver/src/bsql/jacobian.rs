@@ -19,6 +19,8 @@
 //! right-hand side (r_v, s r_λ), giving δv' = δv, δλ' = s μ, δu' = r_u.
 //! An open constraint k (separation, [`super::unilateral`]) has the row F_λk = λ'_k − λ'_open:
 //! cj δλ_k = r_λk, i.e. the diagonal entry s²/cj (s² for ∂F/∂y') in place of s G_k.
+//! A compliant row (normal contact compliance c_k) keeps s G_k and gets the diagonal
+//! −s² c_k cj (see [`super::compliance`] for its right-hand side).
 //!
 //! # Where a low-rank update would go
 //! Only D = ∂F_f/∂λ' (and C_f) change between factorisations at equal cj, and they are
@@ -107,6 +109,7 @@ impl<F: FrictionForces> BsqlSystem<F> {
                 a[(n + k, n + k)] = d_open;
             }
         }
+        self.compliant_matrix_rows(cj, s);
         Ok(s)
     }
 
@@ -142,11 +145,13 @@ impl<F: FrictionForces> BsqlSystem<F> {
                 for k in 0..ng {
                     self.rhs[n + k] = s * bl[k] / c;
                 }
+                self.compliant_rhs(Some(c), s, bl, bu);
             }
             None => {
                 for k in 0..ng {
                     self.rhs[n + k] = s * bl[k];
                 }
+                self.compliant_rhs(None, s, bl, bu);
             }
         }
         self.lu.solve(&mut self.rhs)?;

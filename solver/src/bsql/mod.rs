@@ -11,7 +11,9 @@
 //! - [`steady`]: the static sliding equilibrium.
 //! - [`energy`]: energy bookkeeping per accepted step.
 //! - [`unilateral`]: separation and re-contact of constraints (events, plastic impact).
+//! - [`compliance`]: optional normal contact compliance (a penalty spring per row).
 
+pub mod compliance;
 pub mod energy;
 pub mod jacobian;
 
@@ -22,6 +24,7 @@ pub mod unilateral;
 use faer::Mat;
 use serde::{Deserialize, Serialize};
 
+pub use compliance::compliant_cea;
 pub use energy::{EnergyBalance, EnergyRestart, PowerTerms};
 pub use residual::LoadHistory;
 pub use steady::{steady_state, SteadyOptions, SteadyState};
@@ -176,6 +179,8 @@ pub struct BsqlSystem<F: FrictionForces> {
     /// The contact force an open constraint carries (its preload's share; see
     /// [`unilateral`]).
     pub(crate) lambda_dot_open: Vec<Real>,
+    /// Compliance c_k = 1/(k_n A_k) per row (empty: all rows rigid); see [`compliance`].
+    pub(crate) compliance: Vec<Real>,
 }
 
 #[allow(non_snake_case)]
@@ -218,6 +223,7 @@ impl<F: FrictionForces> BsqlSystem<F> {
             factored: Factored::None,
             open: vec![false; ng],
             lambda_dot_open: vec![0.0; ng],
+            compliance: Vec::new(),
         })
     }
 

@@ -95,7 +95,8 @@ impl<F: FrictionForces> BsqlSystem<F> {
     /// # Reference
     /// $$F_v = M v' + B v + K u + G^T λ' − P(t) − F_f(λ', v),\quad F_λ = G v',\quad F_u = u' − v$$
     /// [Paper eq. (16)] with y = {v, λ, u} (λ the contact impulse, see DESIGN.md). The row
-    /// of an open constraint k (see [`super::unilateral`]) is $F_{λ,k} = λ'_k − λ'_{open,k}$.
+    /// of an open constraint k (see [`super::unilateral`]) is $F_{λ,k} = λ'_k − λ'_{open,k}$,
+    /// that of a compliant one $F_{λ,k} = G_k u − c_k λ'_k$ (see [`super::compliance`]).
     pub(crate) fn eval_residual(
         &mut self,
         t: Real,
@@ -145,6 +146,8 @@ impl<F: FrictionForces> BsqlSystem<F> {
                 rl[k] = lamp[k] - self.lambda_dot_open[k];
             }
         }
+        // A compliant row: F_λ = G u − c λ' (see [`super::compliance`]).
+        self.compliant_residual(u, lamp, rl);
         // F_u = u' − v  [Paper eq. (10)]
         for i in 0..n {
             ru[i] = up[i] - v[i];

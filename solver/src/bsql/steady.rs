@@ -82,6 +82,8 @@ impl SteadyState {
 /// Eq. (8) with v = v' = 0, Q from [Paper eq. (12)] and the position form of the constraint
 /// [Paper eq. (9)]:
 /// $$K u + G^T λ' = P(t) + F_f(λ', 0),\qquad G u = 0,$$
+/// (a compliant row k: $G_k u − c_k λ'_k = 0$, see [`super::compliance`]; the Newton matrix
+/// then has −c_k on its diagonal),
 /// Newton matrix $\begin{bmatrix} K & G^T − ∂F_f/∂λ' \\ G & 0\end{bmatrix}$ (the v-, λ-
 /// columns of eq. (18) at α = 0 with K in place of αM + B), scaled as in the transient.
 #[allow(non_snake_case)]
@@ -112,6 +114,9 @@ pub fn steady_state<F: FrictionForces>(
             ru[i] -= p[i] + sys.f_n[i];
         }
         matvec(sys.G.as_ref(), &u, rg, Accum::Replace, 1.0);
+        for (k, &c) in sys.compliance.iter().enumerate() {
+            rg[k] -= c * lamp[k]; // a compliant row: G u − c λ' = 0
+        }
         let mut rn: Real = 0.0;
         for (i, x) in r.iter().enumerate() {
             if !x.is_finite() {
@@ -167,6 +172,7 @@ pub fn steady_state<F: FrictionForces>(
             for l in 0..ng {
                 a[(n + k, n + l)] = 0.0;
             }
+            a[(n + k, n + k)] = -s * s * sys.compliance.get(k).copied().unwrap_or(0.0);
         }
         sys.lu.factor("steady-state Newton", t)?;
         sys.stats.factorisations += 1;

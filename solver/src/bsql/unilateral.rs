@@ -479,7 +479,10 @@ impl Unilateral {
         t: Real,
     ) -> Result<(), SolverError> {
         let n = sys.n;
-        let active: Vec<usize> = (0..sys.ng).filter(|&k| !self.st.open[k]).collect();
+        // A compliant row transmits no impulse (its force is continuous at closing).
+        let active: Vec<usize> = (0..sys.ng)
+            .filter(|&k| !self.st.open[k] && sys.compliance_of(k) == 0.0)
+            .collect();
         let c: Vec<Real> = active
             .iter()
             .map(|&k| {

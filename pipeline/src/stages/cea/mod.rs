@@ -78,6 +78,9 @@ pub struct OutsideBand {
     pub n_unstable: usize,
     /// Highest frequency among them.
     pub max_frequency_hz: Option<Real>,
+    /// Highest frequency among the unstable ones (the top of the interface flutter of rigid
+    /// contact with friction, docs/interface-flutter.md).
+    pub max_unstable_frequency_hz: Option<Real>,
     /// The most unstable of them (at most [`OutsideBand::LISTED`]); `index` is not used.
     pub unstable: Vec<ModeOut>,
 }
@@ -251,7 +254,7 @@ pub fn compute(
     let lin = tangents::linearise(scene, &spec, &problem, gaps)?;
     step.done("tangents at the state");
     let contact = tangents::contact_summary(gaps, &lin)?;
-    let sys = tangents::cea_matrices(&problem, &lin, spec.friction_damping);
+    let sys = tangents::cea_matrices(&problem, &lin, spec.friction_damping)?;
     progress.check("cea")?;
     let step = progress.step(format!("complex eigenvalues ({n} DOFs, {ng} constraints)"));
     let res = complex_eigen(&sys, &spec.solver).map_err(cea_err("complex eigenvalues"))?;
@@ -285,6 +288,10 @@ pub fn compute(
         count: above.len(),
         n_unstable: above_unstable.len(),
         max_frequency_hz: above.iter().map(|m| m.frequency_hz).reduce(Real::max),
+        max_unstable_frequency_hz: above_unstable
+            .iter()
+            .map(|m| m.frequency_hz)
+            .reduce(Real::max),
         unstable: above_unstable
             .into_iter()
             .take(OutsideBand::LISTED)

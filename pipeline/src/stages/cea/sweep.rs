@@ -68,7 +68,7 @@ pub fn matrices_at(
             ..base.clone()
         }
     };
-    Ok(cea_matrices(problem, &lin, spec.friction_damping))
+    cea_matrices(problem, &lin, spec.friction_damping)
 }
 
 /// One point of a tracked mode.

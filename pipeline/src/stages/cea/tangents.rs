@@ -8,7 +8,7 @@ use crate::stages::transient::system::{GapFriction, Problem};
 use faer::Mat;
 use serde::Serialize;
 use squeal_contact::GapSet;
-use squeal_solver::bsql::{steady_state, BsqlSystem, SteadyOptions};
+use squeal_solver::bsql::{compliant_cea, steady_state, BsqlSystem, SteadyOptions};
 use squeal_solver::cea::CeaMatrices;
 
 type Real = f64;
@@ -175,17 +175,32 @@ pub fn linearise(
 ///
 /// # Reference
 /// [Paper eqs. (19)–(24)] with `Hᵀ = Gᵀ − D`, `B + C_f` of the paper = `B − C_f` here (the
-/// paper's derivatives are those of the residual, which carries −F_f).
-pub fn cea_matrices(problem: &Problem, lin: &Linearisation, friction_damping: bool) -> CeaMatrices {
+/// paper's derivatives are those of the residual, which carries −F_f). With normal contact
+/// compliance the compliant rows are folded into the stiffness,
+/// `K_c = K + Σ_k (Gᵀ − D)_{:,k} G_{k,:}/c_k`, and G, D keep the rigid rows
+/// (`squeal_solver::bsql::compliant_cea`).
+pub fn cea_matrices(
+    problem: &Problem,
+    lin: &Linearisation,
+    friction_damping: bool,
+) -> Result<CeaMatrices, PipelineError> {
     let has_g = problem.g.nrows() > 0;
-    CeaMatrices {
+    let rigid = CeaMatrices {
         m: problem.m.clone(),
         k: problem.k.clone(),
         b: Some(problem.b.clone()),
         g: has_g.then(|| problem.g.clone()),
         d: has_g.then(|| lin.d.clone()), // [Paper eq. (22)]
         c_f: friction_damping.then(|| lin.c_f.clone()), // [Paper eq. (23)]
+    };
+    if problem.compliance.is_empty() {
+        return Ok(rigid);
     }
+    // Normal compliance: the compliant rows fold into K (squeal_solver::bsql::compliance).
+    compliant_cea(&rigid, &problem.compliance).map_err(|source| PipelineError::Solver {
+        what: "CEA with normal contact compliance".into(),
+        source,
+    })
 }
 
 /// Contact state of the linearisation (for `cea.json`).

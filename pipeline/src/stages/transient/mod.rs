@@ -291,6 +291,20 @@ pub fn prepare<'a>(
         });
     }
     let problem = system::problem(scene, model)?;
+    if spec.integrator == Integrator::GeneralizedAlpha && !problem.compliance.is_empty() {
+        let i = scene
+            .contact
+            .iter()
+            .position(|c| c.normal_stiffness.is_some())
+            .unwrap_or(0);
+        return Err(PipelineError::Scene {
+            field: format!("contact[{i}].normal_stiffness"),
+            message: "normal contact compliance needs the BDF integrator \
+                      (transient.integrator = \"bdf\"); generalized_alpha carries the rigid \
+                      constraint only"
+                .into(),
+        });
+    }
     let model_hash = problem.model_hash();
     let bound = step_bound(&spec, scene.band_hz());
     let mut spec = spec;

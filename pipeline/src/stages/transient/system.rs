@@ -56,6 +56,9 @@ pub struct Problem {
     pub g: Mat<Real>,
     pub load: LoadHistory,
     pub bsql: BsqlOptions,
+    /// Normal contact compliance c_g = 1/(k_n A_g) per gap (`[[contact]] normal_stiffness`);
+    /// empty when every gap is rigid (the paper's constraint).
+    pub compliance: Vec<Real>,
 }
 
 /// B = B_element (stored/reduced) + (G/W3)·K + M Φ diag(2ζω) Φᵀ M.
@@ -119,6 +122,7 @@ pub fn problem(scene: &Scene, model: &ReducedModel) -> Result<Problem, PipelineE
         t_load: loads.tload,
         step: loads.tload == 0.0,
     };
+    let compliance = compliance(scene, model)?;
     Ok(Problem {
         m: model.m.clone(),
         b: damping_matrix(scene, model)?,
@@ -129,13 +133,57 @@ pub fn problem(scene: &Scene, model: &ReducedModel) -> Result<Problem, PipelineE
             include_friction_damping: t.friction_damping_in_jacobian,
             friction_damping_near_stick: t.friction_damping_near_stick,
         },
+        compliance,
     })
+}
+
+/// Per gap, the compliance c_g = 1/(k_n A_g) of its pair's `normal_stiffness` (0 for a rigid
+/// gap); empty when no pair has one. A stored model has no pairs to attach it to: an error.
+pub fn compliance(scene: &Scene, model: &ReducedModel) -> Result<Vec<Real>, PipelineError> {
+    let Some(first) = scene
+        .contact
+        .iter()
+        .position(|c| c.normal_stiffness.is_some())
+    else {
+        return Ok(Vec::new());
+    };
+    if model.gap_pairs.iter().sum::<usize>() != model.gaps.len() {
+        return Err(PipelineError::Scene {
+            field: format!("contact[{first}].normal_stiffness"),
+            message: format!(
+                "the model's {} gaps are not grouped by `[[contact]]` pair (a stored model's \
+                 gap table): normal compliance needs a model built from meshes",
+                model.gaps.len()
+            ),
+        });
+    }
+    let mut c = Vec::with_capacity(model.gaps.len());
+    for (pair, &count) in model.gap_pairs.iter().enumerate() {
+        let kn = scene.contact.get(pair).and_then(|p| p.normal_stiffness);
+        for g in &model.gaps.gaps[c.len()..c.len() + count] {
+            c.push(match kn {
+                Some(kn) if g.area > 0.0 => 1.0 / (kn * g.area),
+                Some(kn) => {
+                    return Err(PipelineError::Scene {
+                        field: format!("contact[{pair}].normal_stiffness"),
+                        message: format!(
+                            "{kn}: gap of pad grid {} has area {} (a compliant gap needs \
+                             a positive area)",
+                            g.pad_node, g.area
+                        ),
+                    })
+                }
+                None => 0.0,
+            });
+        }
+    }
+    Ok(c)
 }
 
 impl Problem {
     /// The solver's system (matrices copied).
     pub fn system(&self, gaps: GapSet) -> Result<BsqlSystem<GapFriction>, PipelineError> {
-        BsqlSystem::new(
+        let mut sys = BsqlSystem::new(
             self.m.clone(),
             self.b.clone(),
             self.k.clone(),
@@ -147,7 +195,15 @@ impl Problem {
         .map_err(|source| PipelineError::Solver {
             what: "building the BSQL system".into(),
             source,
-        })
+        })?;
+        if !self.compliance.is_empty() {
+            sys.set_compliance(self.compliance.clone())
+                .map_err(|source| PipelineError::Solver {
+                    what: "normal contact compliance".into(),
+                    source,
+                })?;
+        }
+        Ok(sys)
     }
 
     /// FNV-1a hash of n, ng and M, K, G (values rounded to 12 significant digits): a restart
@@ -170,6 +226,12 @@ impl Problem {
                         eat(format!("{i},{j}:{v:.11e};").as_bytes());
                     }
                 }
+            }
+        }
+        // Compliance changes the model (only hashed when present: rigid hashes are unchanged).
+        for (k, c) in self.compliance.iter().enumerate() {
+            if *c != 0.0 {
+                eat(format!("c{k}:{c:.11e};").as_bytes());
             }
         }
         format!("{h:016x}")
