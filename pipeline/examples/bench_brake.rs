@@ -1,0 +1,192 @@
+//! Brake-sized benchmark: mesh → assembly → Craig–Bampton of every component of a scene
+//! (default `examples/cad-brake/brake.toml`: a ~280k-DOF hex20 hat rotor and two pads),
+//! with the wall time and peak resident memory (VmHWM, as getrusage's maxrss) of each stage.
+//!
+//! ```text
+//! cargo build --release -p squeal-pipeline --example bench_brake
+//! target/release/examples/bench_brake [SCENE.toml] [--set key=value ...] [--out FILE.json]
+//! ```
+//!
+//! The Craig–Bampton boundary is what a pad/rotor contact pairing makes it: every node of each
+//! pad's `friction` face, and the nodes of the rotor's friction faces that lie under a pad
+//! (a rotor quad whose centroid is within one rotor element of a pad friction-face node, on
+//! the same side of the ring) — the rotor faces a projection of the pad nodes would hit, with
+//! a margin of one element. Components run one after the other (the pipeline runs them in
+//! parallel), so each stage's time is its own. Writes the JSON document to `--out` (default:
+//! `docs/bench/brake_sized.json` under the workspace) and prints it.
+
+use serde_json::json;
+use squeal_fe::{assemble, AssemblyOptions, DofMap};
+use squeal_meshes::Mesh;
+use squeal_pipeline::output::RunDir;
+use squeal_pipeline::progress::Progress;
+use squeal_pipeline::scene::Scene;
+use squeal_pipeline::stages::mesh::mesh_component;
+use squeal_pipeline::stages::modes::fixed_dofs;
+use squeal_reduction::cb::{self, peak_rss_kib};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+fn face_nodes(mesh: &Mesh, name: &str) -> Vec<usize> {
+    let mut v: Vec<usize> = mesh
+        .faces
+        .get(name)
+        .map(|b| b.conn.clone())
+        .unwrap_or_default();
+    v.sort_unstable();
+    v.dedup();
+    v
+}
+
+fn dist2(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3).map(|k| (a[k] - b[k]).powi(2)).sum()
+}
+
+/// Rotor nodes of the quads of `faces` under any of `pad_points`: a quad whose centroid is
+/// within its own diameter (corner to opposite corner) of a pad point.
+fn rotor_nodes_under(mesh: &Mesh, faces: &[&str], pad_points: &[[f64; 3]]) -> Vec<usize> {
+    let mut out = Vec::new();
+    for name in faces {
+        let Some(block) = mesh.faces.get(*name) else {
+            continue;
+        };
+        for i in 0..block.len() {
+            let cell = block.cell(i);
+            let corners: Vec<[f64; 3]> = cell[..4].iter().map(|&n| mesh.nodes[n]).collect();
+            let mut c = [0.0; 3];
+            for p in &corners {
+                for k in 0..3 {
+                    c[k] += 0.25 * p[k];
+                }
+            }
+            let diam2 = dist2(corners[0], corners[2]).max(dist2(corners[1], corners[3]));
+            if pad_points.iter().any(|&p| dist2(p, c) <= diam2) {
+                out.extend_from_slice(cell);
+            }
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut args = std::env::args().skip(1);
+    let mut scene_path = root.join("examples/cad-brake/brake.toml");
+    let mut out_path = root.join("docs/bench/brake_sized.json");
+    let mut sets = Vec::new();
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "--set" => sets.push(args.next().ok_or("--set needs key=value")?),
+            "--out" => out_path = PathBuf::from(args.next().ok_or("--out needs a file")?),
+            _ => scene_path = PathBuf::from(a),
+        }
+    }
+    let start = Instant::now();
+    let scene = Scene::load(&scene_path, &sets)?;
+    let work = std::env::temp_dir().join(format!("squeal-bench-brake-{}", std::process::id()));
+    let dir = RunDir::create(&work)?;
+    let progress = Progress::quiet();
+
+    // Mesh every component first (the rotor's boundary depends on the pads' faces).
+    let mut meshes = Vec::new();
+    let mut mesh_rows = Vec::new();
+    for c in &scene.components {
+        let t0 = Instant::now();
+        let (mesh, report) = mesh_component(&scene, c, &dir, &progress)?;
+        let wall = t0.elapsed().as_secs_f64();
+        mesh_rows.push(json!({
+            "component": c.name, "n_nodes": report.n_nodes, "n_cells": report.n_cells,
+            "gmsh_s": report.gmsh_s, "mesh_total_s": wall,
+            "read_s": wall - report.gmsh_s.unwrap_or(0.0),
+            "peak_rss_kib": peak_rss_kib(),
+        }));
+        meshes.push(mesh);
+    }
+    let mut pad_points = Vec::new();
+    for m in &meshes {
+        for n in face_nodes(m, "friction") {
+            pad_points.push(m.nodes[n]);
+        }
+    }
+
+    let red = scene.reduction.clone().unwrap_or_default();
+    let cb_opts = red.cb_options();
+    let mut rows = Vec::new();
+    let (mut n_full, mut n_reduced, mut n_gap_nodes) = (0usize, 0usize, 0usize);
+    for (c, mesh) in scene.components.iter().zip(&meshes) {
+        let bnodes = if mesh.faces.contains_key("friction") {
+            let v = face_nodes(mesh, "friction");
+            n_gap_nodes += v.len();
+            v
+        } else {
+            rotor_nodes_under(mesh, &["friction_in", "friction_out"], &pad_points)
+        };
+        let t0 = Instant::now();
+        let fixed = fixed_dofs(c, mesh)?;
+        let dofs = DofMap::new(mesh.nodes.len(), &fixed)?;
+        let materials = c.block_materials(mesh)?;
+        let asm = assemble(mesh, &materials, &dofs, &AssemblyOptions { hex8: c.hex8 })?;
+        let assembly_s = t0.elapsed().as_secs_f64();
+        let rss_assembly = peak_rss_kib();
+        let boundary: Vec<usize> = bnodes
+            .iter()
+            .flat_map(|&n| (0..3).map(move |k| (n, k)))
+            .filter_map(|(n, k)| dofs.free(n, k))
+            .collect();
+        let t0 = Instant::now();
+        let model = cb::reduce(&asm.k, &asm.m, &boundary, &cb_opts)?;
+        let cb_s = t0.elapsed().as_secs_f64();
+        n_full += dofs.n_free();
+        n_reduced += model.n_reduced();
+        eprintln!(
+            "{}: {} DOFs, nnz(K) {}, {} boundary DOFs, {} modes to {:.0} Hz: assembly {:.1} s, CB {:.1} s",
+            c.name,
+            dofs.n_free(),
+            asm.k.val().len(),
+            boundary.len(),
+            model.n_modes,
+            model.fixed_frequencies_hz.last().copied().unwrap_or(0.0),
+            assembly_s,
+            cb_s
+        );
+        rows.push(json!({
+            "component": c.name,
+            "n_dofs": dofs.n_free(),
+            "nnz_k": asm.k.val().len(),
+            "n_boundary_dofs": boundary.len(),
+            "n_modes": model.n_modes,
+            "highest_fixed_interface_hz": model.fixed_frequencies_hz.last(),
+            "assembly_s": assembly_s,
+            "peak_rss_kib_after_assembly": rss_assembly,
+            "craig_bampton_s": cb_s,
+            "cb_stats": serde_json::to_value(&model.stats)?,
+        }));
+    }
+    let total_s = start.elapsed().as_secs_f64();
+    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
+    let out = json!({
+        "what": "mesh (gmsh on each .geo) -> assembly -> Craig-Bampton of every component, one after the other",
+        "scene": scene_path.strip_prefix(&root).unwrap_or(&scene_path).display().to_string(),
+        "overrides": sets,
+        "frequency_of_interest_hz": red.frequency_of_interest_hz,
+        "n_full_dofs": n_full,
+        "n_pad_friction_nodes": n_gap_nodes,
+        "n_reduced_dofs": n_reduced,
+        "mesh": mesh_rows,
+        "components": rows,
+        "total_s": total_s,
+        "peak_rss_kib": peak_rss_kib(),
+        "threads": rayon::current_num_threads(),
+        "loadavg_at_end": load.trim(),
+    });
+    let text = serde_json::to_string_pretty(&out)?;
+    if let Some(d) = out_path.parent() {
+        std::fs::create_dir_all(d)?;
+    }
+    std::fs::write(&out_path, &text)?;
+    println!("{text}");
+    let _ = std::fs::remove_dir_all(&work);
+    Ok(())
+}
