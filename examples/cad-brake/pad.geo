@@ -19,7 +19,7 @@ DefineConstant[
   z_face = {0.0, Name "Parameters/z_face (z of the friction face)"},
   r0 = {0.101, Name "Parameters/r0 (inner edge radius)"},
   r1 = {0.114, Name "Parameters/r1"},
-  r2 = {0.139, Name "Parameters/r2"},
+  r2 = {0.1385, Name "Parameters/r2"},
   r3 = {0.153, Name "Parameters/r3 (outer edge radius)"},
   th_f = {27 * Pi / 180, Name "Parameters/th_f (half angle of the friction face)"},
   th_b = {29 * Pi / 180, Name "Parameters/th_b (half angle above the chamfer)"},

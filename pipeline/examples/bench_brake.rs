@@ -111,6 +111,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
 
+    // Closest pair of pad and rotor friction-face nodes (0 would be a coincident node).
+    let mut rotor_face_points = Vec::new();
+    for m in &meshes {
+        for f in ["friction_in", "friction_out"] {
+            rotor_face_points.extend(face_nodes(m, f).iter().map(|&n| m.nodes[n]));
+        }
+    }
+    let min_pad_rotor_distance = pad_points
+        .iter()
+        .flat_map(|&p| rotor_face_points.iter().map(move |&q| dist2(p, q)))
+        .fold(f64::INFINITY, f64::min)
+        .sqrt();
+
     let red = scene.reduction.clone().unwrap_or_default();
     let cb_opts = red.cb_options();
     let mut rows = Vec::new();
@@ -173,6 +186,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "frequency_of_interest_hz": red.frequency_of_interest_hz,
         "n_full_dofs": n_full,
         "n_pad_friction_nodes": n_gap_nodes,
+        "min_pad_rotor_friction_node_distance": min_pad_rotor_distance,
         "n_reduced_dofs": n_reduced,
         "mesh": mesh_rows,
         "components": rows,

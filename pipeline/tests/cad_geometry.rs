@@ -296,3 +296,67 @@ fn rotate_deg_turns_the_mesh_rigidly_about_the_rotor_axis() {
         .to_string();
     assert!(e.contains("rotate_deg"), "{e}");
 }
+
+/// `examples/cad-brake/brake.toml` (its rotor coarsened through `set_numbers` to keep the test
+/// fast): every part meshes from its `.geo` with positive Jacobians at every node (the
+/// reader's check) and the scene's groups; each pad's friction face lies on its rotor face
+/// (z = 0 below the ring, z = t_ring = 26 mm above it) inside the ring, and no pad
+/// friction-face node coincides with a rotor friction-face node (the meshes are independent).
+#[test]
+fn cad_brake_example_parts_mesh_independently() {
+    if gmsh_missing() {
+        return;
+    }
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/cad-brake/brake.toml");
+    let coarse: Vec<String> = ["n_quarter=9", "n_ring=5", "n_hat=2", "n_flange=3"]
+        .iter()
+        .map(|s| format!("components.0.geometry.set_numbers.{s}"))
+        .collect();
+    let scene = Scene::load(&path, &coarse).unwrap();
+    let dir = work("cad-brake");
+    let mesh = |name: &str| {
+        let c = scene.component(Some(name)).unwrap();
+        squeal_pipeline::stages::mesh::mesh_component(&scene, c, &dir, &Progress::quiet())
+            .unwrap()
+            .0
+    };
+    let rotor = mesh("rotor");
+    let face_nodes = |m: &squeal_meshes::Mesh, set: &str| -> Vec<[f64; 3]> {
+        let mut v = m.faces[set].conn.clone();
+        v.sort_unstable();
+        v.dedup();
+        v.iter().map(|&n| m.nodes[n]).collect()
+    };
+    for (pad, rotor_face, z) in [
+        ("inboard_pad", "friction_in", 0.0),
+        ("outboard_pad", "friction_out", 0.026),
+    ] {
+        let m = mesh(pad);
+        assert_eq!(m.volumes.len(), 2, "{pad}: lining and backplate");
+        let cells: usize = m.volumes.iter().map(|b| b.len()).sum();
+        assert_eq!(cells, 724, "{pad}");
+        let pf = face_nodes(&m, "friction");
+        let rf = face_nodes(&rotor, rotor_face);
+        assert_eq!(pf.len(), 383, "{pad}: 17·8 + 16·8 + 17·7 hex20 face nodes");
+        let mut min_d = f64::INFINITY;
+        for p in &pf {
+            assert!(
+                (p[2] - z).abs() < 1e-12,
+                "{pad}: friction node {p:?} off z = {z}"
+            );
+            let r = p[0].hypot(p[1]);
+            assert!((0.094..=0.160).contains(&r), "{pad}: r = {r} off the ring");
+            for q in &rf {
+                min_d = min_d.min(((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt());
+            }
+        }
+        eprintln!(
+            "{pad}: closest rotor friction node {:.3} mm away",
+            1e3 * min_d
+        );
+        assert!(
+            min_d > 1e-5,
+            "{pad}: a friction node coincides with the rotor's"
+        );
+    }
+}
