@@ -157,16 +157,47 @@ pub fn find_gmsh() -> Result<GmshProgram, MeshError> {
 /// fails the run too.
 pub fn mesh_geo(geo_text: &str, out_msh: &Path, opts: &GmshOptions) -> Result<GmshRun, MeshError> {
     opts.validate()?;
-    let gmsh = find_gmsh()?;
     let geo_path = out_msh.with_extension("geo");
-    let io = |path: &Path| {
-        let path = path.to_path_buf();
-        move |source| MeshError::Io { path, source }
-    };
     if let Some(dir) = out_msh.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(io(dir))?;
+        std::fs::create_dir_all(dir).map_err(io_err(dir))?;
     }
-    std::fs::write(&geo_path, geo_text).map_err(io(&geo_path))?;
+    std::fs::write(&geo_path, geo_text).map_err(io_err(&geo_path))?;
+    run_gmsh(&geo_path, out_msh, opts)
+}
+
+/// Meshes the user's `.geo` file `geo_path` in place (gmsh resolves its `Include` and `Merge`
+/// paths against the file's folder) and writes msh 4.1 to `out_msh` (through a `.msh.tmp`
+/// file renamed on success). The element order is `opts.order`, whatever the file sets
+/// (`-order` on gmsh's command line wins over `Mesh.ElementOrder`). A missing file is an error
+/// naming it; gmsh's `Error` lines fail the run as in [`mesh_geo`].
+pub fn mesh_geo_file(
+    geo_path: &Path,
+    out_msh: &Path,
+    opts: &GmshOptions,
+) -> Result<GmshRun, MeshError> {
+    opts.validate()?;
+    if !geo_path.is_file() {
+        return Err(MeshError::Io {
+            path: geo_path.to_path_buf(),
+            source: std::io::Error::new(std::io::ErrorKind::NotFound, "no such .geo file"),
+        });
+    }
+    if let Some(dir) = out_msh.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+    }
+    run_gmsh(geo_path, out_msh, opts)
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> MeshError {
+    let path = path.to_path_buf();
+    move |source| MeshError::Io { path, source }
+}
+
+/// Runs gmsh on the `.geo` file `geo_path`, writing `out_msh`.
+fn run_gmsh(geo_path: &Path, out_msh: &Path, opts: &GmshOptions) -> Result<GmshRun, MeshError> {
+    let gmsh = find_gmsh()?;
+    let io = io_err;
+    let geo_path = geo_path.to_path_buf();
     let mut tmp = out_msh.as_os_str().to_owned();
     tmp.push(".tmp");
     let tmp = PathBuf::from(tmp);

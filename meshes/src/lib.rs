@@ -15,7 +15,7 @@ pub mod structured;
 pub mod vtu;
 
 pub use error::MeshError;
-pub use gmsh::{mesh_geo, GmshOptions, GmshRun};
+pub use gmsh::{mesh_geo, mesh_geo_file, GmshOptions, GmshRun};
 pub use mesh::{CellBlock, CellKind, Mesh, Real};
 pub use msh::{parse_msh, read_msh};
 pub use query::hex_centroid_jacobian;

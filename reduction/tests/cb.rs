@@ -682,3 +682,76 @@ fn check_full_frequencies_dense_and_lanczos_agree() {
         assert!((fa - fb).abs() < 1e-8 * fa, "mode {}: {fa} vs {fb}", a.mode);
     }
 }
+
+/// With DOF coordinates, K_ii of ≥ 20 000 DOFs is factorised in nested-dissection order: the
+/// reduced model equals the AMD one to round-off. Its boundary (100 nodes, 300 DOFs) spans two
+/// column blocks of W = M_iiΨ + M_ib, and the blocked mass products are checked against
+/// Tᵀ M T formed here from the sparse M and the model's own Ψ and Φ.
+#[test]
+fn nested_dissection_ordering_gives_the_amd_model() {
+    let t = 0.02;
+    let h = fem::annulus_mesh(0.08, 0.16, t, 8, 256, 2);
+    let (k, m) = fem::assemble(&h, STEEL.0, STEEL.1, STEEL.2);
+    let n = k.nrows();
+    let face: Vec<usize> = (0..h.nodes.len())
+        .filter(|&i| (h.nodes[i][2] - t).abs() < 1e-12)
+        .take(100)
+        .collect();
+    let boundary = fem::dofs_of(&face);
+    assert!(n - boundary.len() >= 20_000, "{n} DOFs");
+    let coords: Vec<[f64; 3]> = (0..n).map(|i| h.nodes[i / 3]).collect();
+    let opts = CbOptions::with_n_modes(6);
+    let amd = cb::reduce(&k, &m, &boundary, &opts).unwrap();
+    let nd = cb::reduce_ordered(&k, &m, None, &boundary, &opts, Some(&coords)).unwrap();
+    assert_eq!(amd.stats.ordering, cb::KiiOrdering::Amd);
+    assert_eq!(nd.stats.ordering, cb::KiiOrdering::NestedDissection);
+    let rel = |a: &Mat<f64>, b: &Mat<f64>| {
+        let mut scale = 0.0_f64;
+        let mut diff = 0.0_f64;
+        for j in 0..a.ncols() {
+            for i in 0..a.nrows() {
+                scale = scale.max(a[(i, j)].abs());
+                diff = diff.max((a[(i, j)] - b[(i, j)]).abs());
+            }
+        }
+        diff / scale
+    };
+    // The boundary block is exact algebra: equal to round-off.
+    let nb = boundary.len();
+    let bb = |a: &Mat<f64>| a.submatrix(0, 0, nb, nb).to_owned();
+    assert!(
+        rel(&bb(&amd.k), &bb(&nd.k)) < 1e-9,
+        "{}",
+        rel(&bb(&amd.k), &bb(&nd.k))
+    );
+    assert!(
+        rel(&bb(&amd.m), &bb(&nd.m)) < 1e-9,
+        "{}",
+        rel(&bb(&amd.m), &bb(&nd.m))
+    );
+    for (a, b) in amd
+        .fixed_frequencies_hz
+        .iter()
+        .zip(&nd.fixed_frequencies_hz)
+    {
+        assert!((a - b).abs() < 1e-8 * a, "{a} vs {b} Hz");
+    }
+    // Tᵀ M T by hand: T = [[I, 0], [Ψ, Φ]] in full DOF numbering.
+    let nq = nd.n_modes;
+    let mut tm = Mat::<f64>::zeros(n, nb + nq);
+    for (j, &d) in nd.boundary.iter().enumerate() {
+        tm[(d, j)] = 1.0;
+    }
+    for (r, &d) in nd.interior.iter().enumerate() {
+        for j in 0..nb {
+            tm[(d, j)] = nd.psi[(r, j)];
+        }
+        for q in 0..nq {
+            tm[(d, nb + q)] = nd.phi[(r, q)];
+        }
+    }
+    let mt = fem::dense_times(&m, &tm);
+    let want = tm.transpose() * &mt;
+    let e = rel(&want, &nd.m);
+    assert!(e < 1e-10, "T'MT vs the reduced mass: {e}");
+}

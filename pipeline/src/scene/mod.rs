@@ -112,7 +112,19 @@ pub struct ComponentSpec {
     /// Fixed (SPC) node sets (default: none, a free-free component).
     #[serde(default)]
     pub fixed: Vec<FixedSpec>,
+    /// Rigid rotation of the component's mesh, degrees, about the `[rotor]` axis through its
+    /// origin (right hand; default axis z through 0), applied to the nodes as they are read,
+    /// before anything pairs or loads them: its node and face sets (fixed, load, friction
+    /// faces) turn with it, and no other component is remeshed. Any finite angle (default: 0).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub rotate_deg: Real,
 }
+
+fn is_zero(x: &Real) -> bool {
+    *x == 0.0
+}
+
+type Real = f64;
 
 /// Element kind of a meshed geometry.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -141,8 +153,20 @@ pub enum GeometrySpec {
     Rotor(RotorGeometry),
     /// Rectangular block (plates, beams, pads).
     Block(BlockGeometry),
-    /// A gmsh `.msh` file (2.2 or 4.1), path relative to the scene file.
+    /// A gmsh `.msh` file (2.2 or 4.1), path relative to the scene file. The element order
+    /// is the file's (`element` is not read).
     Msh { path: PathBuf },
+    /// A gmsh `.geo` file the user writes, path relative to the scene file, meshed by the
+    /// gmsh program in 3D at the component's `element` order (hex20: incomplete second
+    /// order). Its physical groups name the volumes (materials), the fixed sets, the load
+    /// faces and the friction faces the scene refers to.
+    Geo {
+        path: PathBuf,
+        /// `.geo` parameters (`DefineNumber`) to override, passed as `-setnumber NAME VALUE`
+        /// (default: none).
+        #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+        set_numbers: BTreeMap<String, Real>,
+    },
     /// Brake pad on a friction face of the rotor component `rotor` (default: "rotor"), placed
     /// in rotor elements so its friction-face nodes are the rotor's ([`PadPlacement`]).
     Pad {
@@ -314,12 +338,23 @@ impl Scene {
                 GeometrySpec::Rotor(g) => g.validate(),
                 GeometrySpec::Block(g) => g.validate(),
                 GeometrySpec::Msh { .. } => Ok(()),
+                GeometrySpec::Geo { set_numbers, .. } => squeal_meshes::GmshOptions {
+                    set_numbers: set_numbers.clone(),
+                    ..Default::default()
+                }
+                .validate(),
                 GeometrySpec::Pad { .. } | GeometrySpec::Caliper { .. } => Ok(()),
             }
             .map_err(|e| PipelineError::Scene {
                 field: format!("components[{i}].geometry"),
                 message: e.to_string(),
             })?;
+            if !c.rotate_deg.is_finite() {
+                return Err(PipelineError::Scene {
+                    field: format!("components[{i}].rotate_deg"),
+                    message: format!("{} must be finite", c.rotate_deg),
+                });
+            }
             self.validate_brake_component(i, c)?;
             for f in &c.fixed {
                 f.components()?;

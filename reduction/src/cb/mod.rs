@@ -12,6 +12,7 @@
 
 mod check;
 mod eigen;
+mod factor;
 mod model;
 mod options;
 mod partition;
@@ -20,8 +21,9 @@ mod rigid;
 
 pub use check::{check, CbCheck, CheckOptions, FrequencyRow, RigidCheck};
 pub use eigen::dense_generalized_eigen;
+pub use factor::KiiOrdering;
 pub use model::{peak_rss_kib, CbModel, CbStats, EigenMethod, PhaseMemory};
 pub use options::CbOptions;
 pub use partition::Sparse;
-pub use reduce::{reduce, reduce_damped};
+pub use reduce::{reduce, reduce_damped, reduce_ordered};
 pub use rigid::{dof_points, rigid_body_mass, DofPoint, RigidBodyMass};

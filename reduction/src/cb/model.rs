@@ -36,6 +36,13 @@ pub struct CbStats {
     /// Right-hand sides solved with the K_ii factor (constraint modes + Lanczos).
     pub n_solves: usize,
     pub partition_s: Real,
+    /// Fill-reducing ordering of the K_ii factor (nested dissection with DOF coordinates on
+    /// at least 20 000 interior DOFs, else AMD).
+    pub ordering: super::factor::KiiOrdering,
+    /// Seconds computing the nested-dissection ordering (part of `factor_s`; 0 for AMD).
+    pub ordering_s: Real,
+    /// Stored entries of the nested-dissection factor (0 when faer's AMD path does not say).
+    pub factor_nnz: usize,
     pub factor_s: Real,
     pub constraint_modes_s: Real,
     pub eigen_s: Real,

@@ -1,13 +1,12 @@
 //! Craig–Bampton reduction of one component.
 
 use super::eigen::{self, LanczosParams, Want};
+use super::factor::KiiFactor;
 use super::model::{peak_rss_kib, CbModel, CbStats, EigenMethod, PhaseMemory};
 use super::options::CbOptions;
 use super::partition::{at_b, check_square, split, sym_spmm, to_dense, Blocks, Partition, Sparse};
 use crate::error::ReductionError;
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::{Mat, MatRef, Side};
+use faer::{Mat, MatRef};
 use rayon::prelude::*;
 use squeal_meshes::Real;
 use std::f64::consts::PI;
@@ -40,7 +39,6 @@ pub fn reduce(
 /// M_r = TᵀMT = [[M_bb + ΨᵀM_ib + M_biΨ + ΨᵀM_iiΨ, (M_bi + ΨᵀM_ii)Φ], [·ᵀ, I]].
 ///
 /// Computed as W = M_ii Ψ + M_ib (sparse × dense), M̂_bb = M_bb + M_ibᵀΨ + ΨᵀW, M_bq = WᵀΦ.
-#[allow(non_snake_case)]
 pub fn reduce_damped(
     k: &Sparse,
     m: &Sparse,
@@ -48,7 +46,33 @@ pub fn reduce_damped(
     boundary: &[usize],
     opts: &CbOptions,
 ) -> Result<CbModel, ReductionError> {
+    reduce_ordered(k, m, b, boundary, opts, None)
+}
+
+/// [`reduce_damped`] with the coordinates of every free DOF (`dof_coords[i]`: the point of
+/// DOF i, e.g. `squeal_fe::dof_coordinates`): K_ii is then factorised in a geometric
+/// nested-dissection ordering when it has at least 20 000 DOFs (AMD otherwise, and without
+/// coordinates). Same matrices to round-off; on solid meshes the factor is smaller and every
+/// solve (constraint modes, Lanczos) faster.
+#[allow(non_snake_case)]
+pub fn reduce_ordered(
+    k: &Sparse,
+    m: &Sparse,
+    b: Option<&Sparse>,
+    boundary: &[usize],
+    opts: &CbOptions,
+    dof_coords: Option<&[[Real; 3]]>,
+) -> Result<CbModel, ReductionError> {
     opts.validate()?;
+    if let Some(c) = dof_coords {
+        if c.len() != k.nrows() {
+            return Err(ReductionError::InvalidOption {
+                field: "dof_coords",
+                value: c.len().to_string(),
+                reason: format!("one point per DOF: K has {} rows", k.nrows()),
+            });
+        }
+    }
     let t_start = Instant::now();
     let n = k.nrows();
     check_square(k, n, "stiffness K")?;
@@ -69,22 +93,15 @@ pub fn reduce_damped(
 
     // One sparse Cholesky of K_ii.
     let t = Instant::now();
-    let fact_err = |detail: String| ReductionError::Factorization {
-        what: "interior stiffness K_ii (the boundary DOFs must restrain every rigid-body motion)"
-            .into(),
-        n: ni,
-        detail,
-    };
-    let llt = if ni > 0 {
-        let sym = SymbolicLlt::try_new(Kp.ii.symbolic(), Side::Lower)
-            .map_err(|e| fact_err(format!("{e:?}")))?;
-        Some(
-            Llt::try_new_with_symbolic(sym, Kp.ii.as_ref(), Side::Lower)
-                .map_err(|e| fact_err(format!("{e:?}")))?,
-        )
+    let interior_coords: Option<Vec<[Real; 3]>> =
+        dof_coords.map(|c| part.interior.iter().map(|&i| c[i]).collect());
+    let (llt, factor_info) = if ni > 0 {
+        let (f, info) = KiiFactor::new(&Kp.ii, interior_coords.as_deref())?;
+        (Some(f), Some(info))
     } else {
-        None
+        (None, None)
     };
+    drop(interior_coords);
     mem.factor = peak_rss_kib();
     let factor_s = t.elapsed().as_secs_f64();
 
@@ -188,6 +205,9 @@ pub fn reduce_damped(
         krylov_dim,
         n_solves: if ni > 0 { nb + eig_solves } else { 0 },
         partition_s,
+        ordering: factor_info.as_ref().map(|f| f.ordering).unwrap_or_default(),
+        ordering_s: factor_info.as_ref().map_or(0.0, |f| f.ordering_s),
+        factor_nnz: factor_info.as_ref().map_or(0, |f| f.factor_nnz),
         factor_s,
         constraint_modes_s,
         eigen_s,
@@ -263,6 +283,9 @@ fn condensed(a: &Blocks, psi: MatRef<'_, Real>, with_ii: bool) -> Mat<Real> {
     sym(out)
 }
 
+/// Boundary columns per block of W = A_iiΨ + A_ib in [`reduced_mass_like`].
+const W_BLOCK: usize = 256;
+
 /// TᵀAT for a mass-like matrix A (M or B). The modal block is I when `unit_modal` (M, with
 /// M_ii-orthonormal Φ), else ΦᵀA_iiΦ.
 fn reduced_mass_like(
@@ -273,12 +296,34 @@ fn reduced_mass_like(
 ) -> Mat<Real> {
     let (nb, nq) = (psi.ncols(), phi.ncols());
     let mut out = Mat::<Real>::zeros(nb + nq, nb + nq);
-    let mut w = sym_spmm(&a.ii, psi);
-    add_sparse(w.as_mut(), &a.ib, 1.0);
-    let bb = sym(a.bb.clone() + sparse_t_dense(&a.ib, psi) + at_b(psi, w.as_ref()));
+    // W = A_ii Ψ + A_ib in column blocks, never whole: on a brake rotor Ψ is gigabytes, and
+    // a second matrix of its size would double the peak memory.
+    let mut psi_t_w = Mat::<Real>::zeros(nb, nb);
+    let mut bq = Mat::<Real>::zeros(nb, nq);
+    let (ib_cp, ib_ri, ib_v) = (
+        a.ib.symbolic().col_ptr(),
+        a.ib.symbolic().row_idx(),
+        a.ib.val(),
+    );
+    for c0 in (0..nb).step_by(W_BLOCK) {
+        let c = W_BLOCK.min(nb - c0);
+        let mut w = sym_spmm(&a.ii, psi.subcols(c0, c));
+        for j in 0..c {
+            for p in ib_cp[c0 + j]..ib_cp[c0 + j + 1] {
+                w[(ib_ri[p], j)] += ib_v[p];
+            }
+        }
+        psi_t_w
+            .subcols_mut(c0, c)
+            .copy_from(at_b(psi, w.as_ref()).as_ref());
+        if nq > 0 {
+            bq.subrows_mut(c0, c)
+                .copy_from(at_b(w.as_ref(), phi).as_ref());
+        }
+    }
+    let bb = sym(a.bb.clone() + sparse_t_dense(&a.ib, psi) + psi_t_w);
     out.submatrix_mut(0, 0, nb, nb).copy_from(&bb);
     if nq > 0 {
-        let bq = at_b(w.as_ref(), phi);
         out.submatrix_mut(0, nb, nb, nq).copy_from(&bq);
         out.submatrix_mut(nb, 0, nq, nb).copy_from(bq.transpose());
         if unit_modal {

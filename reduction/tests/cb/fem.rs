@@ -234,3 +234,23 @@ pub fn restrict(a: &Sparse, keep: &[usize]) -> Mat<f64> {
     let d = a.to_dense();
     Mat::from_fn(keep.len(), keep.len(), |i, j| d[(keep[i], keep[j])])
 }
+
+/// Sparse `a` times dense `x`.
+pub fn dense_times(a: &Sparse, x: &Mat<f64>) -> Mat<f64> {
+    let mut out = Mat::<f64>::zeros(a.nrows(), x.ncols());
+    let cp = a.symbolic().col_ptr();
+    let ri = a.symbolic().row_idx();
+    let v = a.val();
+    for c in 0..x.ncols() {
+        for j in 0..a.ncols() {
+            let xj = x[(j, c)];
+            if xj == 0.0 {
+                continue;
+            }
+            for p in cp[j]..cp[j + 1] {
+                out[(ri[p], c)] += v[p] * xj;
+            }
+        }
+    }
+    out
+}

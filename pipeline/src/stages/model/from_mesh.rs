@@ -448,7 +448,11 @@ fn reduce_component(
         let what = format!("component `{name}`: {what}");
         move |source| PipelineError::Reduction { what, source }
     };
-    let model = cb::reduce(&asm.k, &asm.m, &boundary, cb_opts).map_err(red_err("Craig–Bampton"))?;
+    // DOF coordinates: K_ii of a large component is factorised in nested-dissection order.
+    let coords = squeal_fe::dof_coordinates(mesh, &dofs);
+    let model = cb::reduce_ordered(&asm.k, &asm.m, None, &boundary, cb_opts, Some(&coords))
+        .map_err(red_err("Craig–Bampton"))?;
+    drop(coords);
     let check = if run_checks {
         let points = cb::dof_points(&mesh.nodes, dofs.n_free(), |i| dofs.dof_of(i));
         Some(

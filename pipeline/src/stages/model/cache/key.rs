@@ -3,8 +3,9 @@
 //!
 //! **In the key** (what the builder reads before any late parameter):
 //! - every `[[components]]` table whole (name, geometry, element, hex8 formulation, material,
-//!   per-volume materials, fixed sets), and for a `kind = "msh"` geometry the hash of the
-//!   `.msh` file's bytes (not only its path);
+//!   per-volume materials, fixed sets, `rotate_deg`), for a `kind = "msh"` or `"geo"` geometry
+//!   the hash of the file's bytes (not only its path; a `.geo` file's `Include`d files are not
+//!   read), and for a rotated component the `[rotor]` axis and origin it turns about;
 //! - `model.merge_tolerance`;
 //! - the Craig–Bampton options of `[reduction]` (`checks` excepted: it changes no matrix);
 //! - each `[[contact]]` pair's pad, pad faces, rotor, rotor faces and matching tolerance, and
@@ -70,9 +71,13 @@ fn build_id() -> &'static str {
 #[derive(Serialize)]
 struct ComponentKey<'a> {
     spec: &'a ComponentSpec,
-    /// Hash of the `.msh` file's bytes (`kind = "msh"` only).
+    /// Hash of the `.msh` or `.geo` file's bytes (`kind = "msh"` or `"geo"` only; a `.geo`
+    /// file's `Include`d files are not hashed).
     #[serde(skip_serializing_if = "Option::is_none")]
     msh_hash: Option<String>,
+    /// The `[rotor]` axis and origin a rotated component (`rotate_deg` ≠ 0) turns about.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rotation_axis: Option<([Real; 3], [Real; 3])>,
 }
 
 #[derive(Serialize)]
@@ -124,7 +129,7 @@ impl ModelKey {
         let mut components = Vec::with_capacity(scene.components.len());
         for c in &scene.components {
             let msh_hash = match &c.geometry {
-                GeometrySpec::Msh { path } => {
+                GeometrySpec::Msh { path } | GeometrySpec::Geo { path, .. } => {
                     let p = scene.resolve(path);
                     let bytes = std::fs::read(&p)
                         .map_err(|source| PipelineError::Io { path: p, source })?;
@@ -132,7 +137,15 @@ impl ModelKey {
                 }
                 _ => None,
             };
-            components.push(ComponentKey { spec: c, msh_hash });
+            let rotation_axis = (c.rotate_deg != 0.0).then(|| {
+                let r = scene.rotor.clone().unwrap_or_default();
+                (r.axis, r.origin)
+            });
+            components.push(ComponentKey {
+                spec: c,
+                msh_hash,
+                rotation_axis,
+            });
         }
         let red = scene.reduction.clone().unwrap_or_default();
         let damping = scene.damping.clone().unwrap_or_default();

@@ -7,6 +7,8 @@ use crate::scene::{ComponentSpec, GeometrySpec, Scene};
 use serde::Serialize;
 use squeal_meshes::{geo, gmsh, msh, vtu, Mesh};
 
+pub mod groups;
+
 /// What meshing one component produced.
 #[derive(Debug, Clone, Serialize)]
 pub struct MeshReport {
@@ -28,32 +30,67 @@ pub fn mesh_component(
         component: c.name.clone(),
         source,
     };
-    let (msh_path, gmsh_s) = match &c.geometry {
-        GeometrySpec::Msh { path } => (scene.resolve(path), None),
+    let opts = gmsh::GmshOptions {
+        order: c.element.gmsh_order(),
+        ..Default::default()
+    };
+    // The user's file (for errors naming a missing physical group), the mesh read, gmsh's time.
+    let (source, msh_path, gmsh_s) = match &c.geometry {
+        GeometrySpec::Msh { path } => {
+            let p = scene.resolve(path);
+            (p.clone(), p, None)
+        }
+        GeometrySpec::Geo { path, set_numbers } => {
+            let geo_path = scene.resolve(path);
+            let out = dir.subdir("mesh")?.join(format!("{}.msh", c.name));
+            let step = progress.step(format!(
+                "gmsh: meshing `{}` from {}",
+                c.name,
+                geo_path.display()
+            ));
+            let opts = gmsh::GmshOptions {
+                set_numbers: set_numbers.clone(),
+                ..opts
+            };
+            let run = gmsh::mesh_geo_file(&geo_path, &out, &opts).map_err(err)?;
+            step.done(format!(
+                "gmsh: meshed `{}` in {:.2} s",
+                c.name, run.elapsed_s
+            ));
+            (geo_path, out, Some(run.elapsed_s))
+        }
         g => {
             let text = match g {
                 GeometrySpec::Rotor(r) => geo::rotor(r),
                 GeometrySpec::Block(b) => geo::block(b),
                 GeometrySpec::Pad { .. } => geo::pad(&scene.pad_geometry(&c.name)?),
                 GeometrySpec::Caliper { .. } => geo::caliper(&scene.caliper_geometry(&c.name)?),
-                GeometrySpec::Msh { .. } => unreachable!("handled above"),
+                GeometrySpec::Msh { .. } | GeometrySpec::Geo { .. } => {
+                    unreachable!("handled above")
+                }
             };
             let mesh_dir = dir.subdir("mesh")?;
             let out = mesh_dir.join(format!("{}.msh", c.name));
             let step = progress.step(format!("gmsh: meshing `{}`", c.name));
-            let opts = gmsh::GmshOptions {
-                order: c.element.gmsh_order(),
-                ..Default::default()
-            };
             let run = gmsh::mesh_geo(&text, &out, &opts).map_err(err)?;
             step.done(format!(
                 "gmsh: meshed `{}` in {:.2} s",
                 c.name, run.elapsed_s
             ));
-            (out, Some(run.elapsed_s))
+            (out.clone(), out, Some(run.elapsed_s))
         }
     };
-    let mesh = msh::read_msh(&msh_path).map_err(err)?;
+    let mut mesh = msh::read_msh(&msh_path).map_err(err)?;
+    if matches!(
+        c.geometry,
+        GeometrySpec::Msh { .. } | GeometrySpec::Geo { .. }
+    ) {
+        groups::check_groups(scene, c, &mesh, &source)?;
+    }
+    if c.rotate_deg != 0.0 {
+        let axis = scene.rotor.clone().unwrap_or_default();
+        groups::rotate_nodes(&mut mesh, c.rotate_deg, axis.axis, axis.origin);
+    }
     let report = MeshReport {
         component: c.name.clone(),
         n_nodes: mesh.nodes.len(),
