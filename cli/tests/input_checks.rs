@@ -433,6 +433,7 @@ fn example_scenes() -> Vec<PathBuf> {
         "examples/transient",
         "examples/verification",
         "examples/sample-brake",
+        "examples/interface-flutter",
     ] {
         for e in std::fs::read_dir(root().join(dir)).unwrap() {
             let p = e.unwrap().path();
