@@ -462,3 +462,106 @@ fn transient_growth_and_frequency_match_the_unstable_eigenvalue() {
     let fs = s["dominant_frequency_hz"].as_f64().unwrap();
     assert!((fs - f).abs() < 0.005 * f, "summary frequency {fs} vs {f}");
 }
+
+/// `[[contact]] normal_stiffness` on the tiny brake: the CEA's in-band roots tend to the rigid
+/// contact's as k_n grows, the error falling like 1/k_n (squeal_solver::bsql::compliance: the
+/// compliant rows fold into K with the compliance c = 1/(k_n A)); the transient with the same
+/// compliance closes its energy balance (the contact springs' energy stored); generalized-α
+/// refuses it naming the key.
+#[test]
+fn normal_compliance_tends_to_rigid_contact_and_keeps_the_energy_balance() {
+    let d = tmp("cea-compliance");
+    let scene = tiny_brake_with(&d, "[cea]\nmax_frequency_hz = 100.0\n");
+    let roots = |name: &str, kn: Option<f64>| -> Vec<(f64, f64)> {
+        let out = d.join(name);
+        let mut cmd = squeal();
+        cmd.args(["-q", "cea"]).arg(&scene).arg("--out").arg(&out);
+        if let Some(k) = kn {
+            cmd.args(["--set", &format!("contact.0.normal_stiffness={k:e}")]);
+        }
+        let (ok, _, stderr) = run(&mut cmd);
+        assert!(ok, "{stderr}");
+        json(&out.join("cea.json"))["modes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|m| {
+                (
+                    m["real_part"].as_f64().unwrap(),
+                    2.0 * std::f64::consts::PI * m["frequency_hz"].as_f64().unwrap(),
+                )
+            })
+            .collect()
+    };
+    let rigid = roots("rigid", None);
+    assert!(!rigid.is_empty());
+    // The error of each rigid root against the nearest compliant one, relative to |p|.
+    let err = |c: &[(f64, f64)]| {
+        rigid
+            .iter()
+            .map(|&(re, im)| {
+                c.iter()
+                    .map(|&(r, i)| ((r - re).powi(2) + (i - im).powi(2)).sqrt())
+                    .fold(f64::INFINITY, f64::min)
+                    / (re * re + im * im).sqrt()
+            })
+            .fold(0.0, f64::max)
+    };
+    // The lining's own stiffness per area is E/t = 5e3/0.2 = 2.5e4: k_n = 1e7, 1e8 are 400
+    // and 4000 times stiffer.
+    let e7 = err(&roots("kn1e7", Some(1e7)));
+    let e8 = err(&roots("kn1e8", Some(1e8)));
+    println!(
+        "tiny brake, {} in-band roots: max relative error k_n = 1e7: {e7:e}, 1e8: {e8:e}",
+        rigid.len()
+    );
+    assert!(e8 < 1e-3, "{e8:e}");
+    assert!((e7 / e8 - 10.0).abs() < 2.0, "{e7:e} / {e8:e}");
+
+    // The transient with a soft contact (the contact springs matter): energy balance.
+    let out = d.join("transient");
+    let mut cmd = squeal();
+    cmd.args(["-q", "transient"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out);
+    for s in ["contact.0.normal_stiffness=2.5e4", "transient.tfinal=0.03"] {
+        cmd.args(["--set", s]);
+    }
+    let (ok, _, stderr) = run(&mut cmd);
+    assert!(ok, "{stderr}");
+    let s = json(&out.join("summary.json"));
+    let e = &s["energy"];
+    let scale = [
+        "friction_work",
+        "external_work",
+        "initial_energy",
+        "damping_dissipated",
+    ]
+    .iter()
+    .map(|k| e[k].as_f64().unwrap().abs())
+    .fold(0.0, f64::max);
+    let res = s["energy_residual"].as_f64().unwrap();
+    println!("compliant transient: energy {e}, residual {res:e} of {scale:e}");
+    assert!(
+        res.abs() < 1e-3 * scale,
+        "energy residual {res:e} vs {scale:e}"
+    );
+    assert_eq!(e["constraint_work"].as_f64().unwrap(), 0.0, "{e}");
+
+    // Generalized-α carries the rigid constraint only.
+    let mut cmd = squeal();
+    cmd.args(["-q", "transient"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(d.join("ga"));
+    for s in [
+        "contact.0.normal_stiffness=2.5e4",
+        "transient.integrator=generalized_alpha",
+    ] {
+        cmd.args(["--set", s]);
+    }
+    let (ok, _, stderr) = run(&mut cmd);
+    assert!(!ok);
+    assert!(stderr.contains("contact[0].normal_stiffness"), "{stderr}");
+}

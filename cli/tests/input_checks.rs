@@ -316,6 +316,26 @@ fn model_p0_temperature_and_rotor_origin_must_be_finite() {
     assert!(Scene::load(&scene, &["model.p0=0.0".to_string()]).is_ok());
 }
 
+#[test]
+fn normal_stiffness_must_be_finite_and_positive() {
+    let scene = root().join("examples/transient/tiny-brake.toml");
+    for (set, shown) in [
+        ("contact.0.normal_stiffness=0.0", "0 must"),
+        ("contact.0.normal_stiffness=-1e6", "-1000000 must"),
+        ("contact.0.normal_stiffness=nan", "NaN must"),
+        ("contact.0.normal_stiffness=inf", "inf must"),
+    ] {
+        let e = Scene::load(&scene, &[set.to_string()])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("`contact[0].normal_stiffness`") && e.contains(shown),
+            "{set}: {e}"
+        );
+    }
+    assert!(Scene::load(&scene, &["contact.0.normal_stiffness=1e6".to_string()]).is_ok());
+}
+
 /// Every float leaf of a resolved scene, as a `--set` key and the assignments that put NaN,
 /// +inf and −inf there (a float in an array is set by writing the whole array).
 fn non_finite_assignments(doc: &toml::Value) -> Vec<(String, Vec<String>)> {
@@ -413,6 +433,7 @@ fn example_scenes() -> Vec<PathBuf> {
         "examples/transient",
         "examples/verification",
         "examples/sample-brake",
+        "examples/interface-flutter",
     ] {
         for e in std::fs::read_dir(root().join(dir)).unwrap() {
             let p = e.unwrap().path();

@@ -10,7 +10,7 @@ use faer::Mat;
 use squeal_solver::bdf::{consistent_initial_conditions, Bdf, BdfOptions, InitialConditionOptions};
 use squeal_solver::bsql::{
     compliant_cea, steady_state, BsqlOptions, BsqlSystem, EnergyBalance, LoadHistory, NoFriction,
-    SteadyOptions,
+    SteadyOptions, Unilateral, UnilateralOptions,
 };
 use squeal_solver::cea::{complex_eigen, CeaMatrices, CeaOptions};
 use squeal_solver::Real;
@@ -409,4 +409,91 @@ fn iteration_matrix_with_compliance_inverts_finite_difference_jacobian() {
             );
         }
     }
+}
+
+#[test]
+fn compliant_contact_separates_and_closes_without_impact() {
+    // The one-DOF pad pushed onto the rotor by a constant force F (P0 = 0), started pressed
+    // three times its static compression u_s = F/(kA) deeper, at rest: it springs back on the
+    // contact spring, u(t) = u_s + 2 u_s cos ωt, until the spring force vanishes at u = 0
+    // (p_n = 0: cos ωt = −1/2, t1 = 2π/(3ω)) with speed √3 u_s ω; it flies off and F brings
+    // it back to u = 0 after 2·√3 u_s ω m/F = 2√3/ω (t2 = t1 + 2√3/ω), where the gap closes
+    // with a continuous force: no impact, no energy lost, an elastic bounce.
+    let p = &PAD;
+    let ka = p.kn * p.area;
+    let f = 5.0;
+    let u_s = f / ka;
+    let mut sys = BsqlSystem::new(
+        Mat::from_fn(1, 1, |_, _| p.m),
+        Mat::zeros(1, 1),
+        Mat::zeros(1, 1),
+        Mat::from_fn(1, 1, |_, _| -1.0),
+        LoadHistory {
+            p_pre: vec![f],
+            ..Default::default()
+        },
+        NoFriction,
+        BsqlOptions::default(),
+    )
+    .unwrap();
+    sys.set_compliance(vec![p.compliance()]).unwrap();
+    let (mut y0, mut yp0) = (vec![0.0, 0.0, 3.0 * u_s], vec![0.0; 3]);
+    consistent_initial_conditions(
+        &mut sys,
+        0.0,
+        &mut y0,
+        &mut yp0,
+        None,
+        &InitialConditionOptions::default(),
+    )
+    .unwrap();
+    let rtol = 1e-9;
+    let opts = BdfOptions {
+        tolerances: sys.tolerances(rtol, rtol * u_s, rtol, 1e20),
+        ..Default::default()
+    };
+    let mut bdf = Bdf::new(opts, 0.0, &y0, &yp0).unwrap();
+    let mut uni = Unilateral::new(
+        &mut sys,
+        vec![0.0],
+        None,
+        &y0,
+        &yp0,
+        UnilateralOptions::default(),
+    )
+    .unwrap();
+    let w = p.omega();
+    let t1 = 2.0 * std::f64::consts::PI / (3.0 * w);
+    let t2 = t1 + 2.0 * 3f64.sqrt() / w;
+    let mut bal = EnergyBalance::new();
+    bal.push(&sys.observe(0.0, &y0, &yp0).unwrap());
+    let mut events = Vec::new();
+    let mut last_t = -1.0;
+    let st = uni
+        .step_to(&mut bdf, &mut sys, t2 + 0.5 * t1, |s, t, y, yp| {
+            if t == last_t {
+                events.push((t, y[0]));
+            }
+            last_t = t;
+            bal.push(&s.observe(t, y, yp)?);
+            Ok(true)
+        })
+        .unwrap();
+    assert!(st.is_success(), "{st:?}");
+    let stats = uni.stats().clone();
+    println!("analytic t1 {t1:.10}, t2 {t2:.10}; events {events:?}; {stats:?}");
+    assert_eq!((stats.openings, stats.closings), (1, 1), "{stats:?}");
+    assert_eq!(events.len(), 2, "{events:?}");
+    assert!((events[0].0 - t1).abs() < 1e-6 * t1, "{events:?}");
+    assert!((events[1].0 - t2).abs() < 1e-6 * t2, "{events:?}");
+    // Speeds at opening and closing: √3 u_s ω away, then towards the rotor.
+    let v1 = 3f64.sqrt() * u_s * w;
+    assert!((events[0].1 + v1).abs() < 1e-5 * v1, "{events:?} vs {v1}");
+    assert!((events[1].1 - v1).abs() < 1e-5 * v1, "{events:?} vs {v1}");
+    assert_eq!(stats.impact_dissipated, 0.0);
+    // The spring's energy (closed) and the open gap's potential join at the events: the
+    // balance (kinetic + spring = F's work) closes.
+    let scale = bal.scale();
+    println!("energy residual {:e} of {scale:e}", bal.residual());
+    assert!(bal.residual().abs() < 1e-6 * scale, "{bal:?}");
 }

@@ -202,13 +202,16 @@ impl<F: FrictionForces> BsqlSystem<F> {
         p.strain = 0.5 * dot(u, &self.t_n) + self.contact_spring_energy(u, lamp);
         matvec(self.B.as_ref(), v, &mut self.t_n, Accum::Replace, 1.0);
         p.damping = dot(v, &self.t_n);
-        matvec(self.G.transpose(), lamp, &mut self.t_n, Accum::Replace, 1.0);
-        p.constraint = dot(v, &self.t_n);
-        for (k, &c) in self.compliance.iter().enumerate() {
-            if c > 0.0 {
-                // A compliant row's power λ'_k G_k v is the rate of its spring energy.
-                p.constraint -= lamp[k] * self.g_row_dot(k, v);
-            }
+        if self.compliance.is_empty() {
+            matvec(self.G.transpose(), lamp, &mut self.t_n, Accum::Replace, 1.0);
+            p.constraint = dot(v, &self.t_n);
+        } else {
+            // The rigid rows only: a compliant row's power λ'_k G_k v is the rate of its
+            // spring energy, counted in `strain`.
+            p.constraint = (0..ng)
+                .filter(|&k| self.compliance[k] == 0.0)
+                .map(|k| lamp[k] * self.g_row_dot(k, v))
+                .sum();
         }
         self.f_n.fill(0.0);
         self.friction.add_forces(t, v, lamp, &mut self.f_n)?;

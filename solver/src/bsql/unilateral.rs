@@ -30,6 +30,10 @@
 //! gap whose gap would close) flip once each, and the BDF restarts at order 1
 //! ([`Bdf::reinit`]) with a step `restart_step_fraction` × the last step.
 //!
+//! A compliant row ([`super::compliance`]) opens and closes at the same events; its force
+//! λ' = G u/c is continuous at a closing (G u returns to c λ'_open), so it takes no part in
+//! the impact (neither as a closing row nor as a closed one).
+//!
 //! The per-step callback sees the event time twice: the state before the event
 //! (interpolated) and after it. Steps past an event are discarded; the callback never saw them.
 
