@@ -386,3 +386,124 @@ fn finer_non_matching_rotor_converges_with_refinement() {
     assert!(errors.windows(2).all(|w| w[1] < w[0]), "{errors:?}");
     assert!(errors[2] < 3e-3 && errors[0] < 0.1, "{errors:?}");
 }
+
+/// The short transient of the tiny brake (0.03 s: the brake load ramps to 2 in 0.01 s, then
+/// the pad rings): the displacements of three pad grids averaged over the loaded phase,
+/// coincident (pad n×n on rotor n×n) against the finer non-matching rotor (1.5n × 1.5n,
+/// surface pairing). The relative difference falls with refinement, as the CEA roots do.
+#[test]
+fn short_transient_converges_with_refinement() {
+    use squeal_pipeline::stages::transient::{self, TransientOptions};
+    let d = tmp("transient");
+    let extra = "\n[transient]\ntfinal = 0.03\natol1 = 1e-9\nrtol1 = 1e-4\nnoutpt = 2\n";
+    let last = |text: &str| {
+        let (s, m) = build(text, &d);
+        let r = transient::compute(
+            &s,
+            &m,
+            &Progress::quiet(),
+            &TransientOptions {
+                keep_history: true,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let h = r.history.expect("history kept");
+        let t = h.column("t").unwrap();
+        assert!((t[t.len() - 1] - 0.03).abs() < 1e-12);
+        // Time average over the loaded phase [0.01, 0.03] (trapezoids on the recorded steps):
+        // less sensitive to the phase of the ringing than the end value.
+        let mut u = Vec::new();
+        for c in &h.columns {
+            if c.name.starts_with("u_") {
+                let x = h.column(&c.name).unwrap();
+                let mut acc = 0.0;
+                for i in 1..t.len() {
+                    if t[i - 1] >= 0.01 {
+                        acc += 0.5 * (x[i] + x[i - 1]) * (t[i] - t[i - 1]);
+                    }
+                }
+                u.push((c.name.clone(), acc / 0.02));
+            }
+        }
+        u
+    };
+    let mut errors = Vec::new();
+    for (n, m) in [(2, 3), (4, 6)] {
+        let a = last(&format!("{}{extra}", tiny_brake(n, n, "nodes")));
+        let b = last(&format!("{}{extra}", tiny_brake(n, m, "surface")));
+        assert_eq!(
+            a.iter().map(|x| &x.0).collect::<Vec<_>>(),
+            b.iter().map(|x| &x.0).collect::<Vec<_>>()
+        );
+        let scale = a.iter().fold(0.0f64, |s, x| s.max(x.1.abs()));
+        let e = a
+            .iter()
+            .zip(&b)
+            .fold(0.0f64, |s, (x, y)| s.max((x.1 - y.1).abs()))
+            / scale;
+        eprintln!("transient, pad {n}x{n}: rotor {n}x{n} vs {m}x{m}: mean pad displacements over [0.01, 0.03] s differ by {e:.3e} (largest {scale:.3e})");
+        errors.push(e);
+    }
+    assert!(errors[1] < errors[0], "{errors:?}");
+}
+
+/// `squeal reduce`'s files of a surface-paired model read back as a stored model (`[model]
+/// from = "op4"`, `gaps = "gaps.csv"` with the face columns): the same ties and the same CEA
+/// roots as the meshed model (reference: the meshed model itself; the CSV keeps every digit).
+#[test]
+fn surface_paired_gap_table_round_trips_through_a_stored_model() {
+    let d = tmp("stored");
+    let (s, m) = build(&tiny_brake(2, 3, "surface"), &d);
+    let run = RunDir::create(&d.join("reduced")).unwrap();
+    model::write_stored(&m, &run).unwrap();
+    let csv = std::fs::read_to_string(d.join("reduced/gaps.csv")).unwrap();
+    assert!(
+        csv.lines()
+            .next()
+            .unwrap()
+            .ends_with(",face,xi,eta,face_grids,weights"),
+        "{csv}"
+    );
+    let stored = r#"title = "stored tiny brake, surface paired"
+units = "consistent"
+
+[model]
+from = "op4"
+matrices = "reduced/reduced.op4"
+dofmap = "reduced/dofmap.json"
+gaps = "reduced/gaps.csv"
+
+[friction]
+law = { kind = "linear_speed", mu0 = 0.6, slope = -0.05 }
+vtol = 1e-3
+
+[rotor]
+rpm = 10.0
+
+[loads]
+pmax = 2.0
+tload = 0.01
+
+[damping]
+modal_ratio = 0.01
+
+[cea]
+at = "steady_state"
+friction_damping = true
+"#;
+    let (s2, m2) = build(stored, &d);
+    assert_eq!(m.gaps.len(), m2.gaps.len());
+    for (a, b) in m.gaps.gaps.iter().zip(&m2.gaps.gaps) {
+        let (ta, tb) = (a.tie.as_ref().unwrap(), b.tie.as_ref().unwrap());
+        assert_eq!(
+            (ta.face, ta.xi, &ta.nodes, &ta.weights),
+            (tb.face, tb.xi, &tb.nodes, &tb.weights)
+        );
+        assert_eq!(a.rotor_terms().count(), b.rotor_terms().count());
+        assert_eq!(a.v_slide, b.v_slide);
+    }
+    let e = root_error(&roots(&s, &m), &roots(&s2, &m2), 12);
+    eprintln!("stored surface-paired model: lowest 12 CEA roots differ by {e:.2e}");
+    assert!(e < 1e-10, "{e}");
+}
