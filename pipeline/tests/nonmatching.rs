@@ -507,3 +507,36 @@ friction_damping = true
     eprintln!("stored surface-paired model: lowest 12 CEA roots differ by {e:.2e}");
     assert!(e < 1e-10, "{e}");
 }
+
+/// A pad overhanging the rotor by 0.3 (pad nodes at x = 3.3, the rotor ends at 3): with
+/// `unmatched = "error"` (the default) the build stops naming the pair and every overhanging
+/// node with its coordinates; with `"exclude"` those nodes get no gap and a warning lists them.
+/// Setting a surface key on a node-paired pair is an error naming it.
+#[test]
+fn overhanging_pad_nodes_are_an_error_or_excluded_with_a_warning() {
+    let d = tmp("overhang");
+    let text = tiny_brake(2, 3, "surface")
+        .replace("origin = [2.0, -0.5, 0.0]", "origin = [2.3, -0.5, 0.0]");
+    let scene = Scene::from_toml_str(&text, d.clone(), &[]).unwrap();
+    let run = RunDir::create(&d.join("err")).unwrap();
+    let msg = model::build(&scene, &run, &Progress::quiet())
+        .unwrap_err()
+        .to_string();
+    assert!(msg.contains("contact[0]"), "{msg}");
+    assert_eq!(msg.matches("projects on no rotor face").count(), 3, "{msg}");
+    assert!(msg.contains("at (3.300000e0, "), "{msg}");
+    let text = text.replace(
+        "pairing = \"surface\"",
+        "pairing = \"surface\"\nunmatched = \"exclude\"",
+    );
+    let (_, m) = build(&text, &d);
+    assert_eq!(m.gaps.len(), 6);
+    assert_eq!(m.warnings.len(), 1);
+    assert_eq!(m.warnings[0].input, "contact[0].unmatched");
+    assert_eq!(m.warnings[0].value, 3.0);
+    let bad = tiny_brake(2, 2, "nodes").replace("p0 = 1.0\n", "p0 = 1.0\nextension = 0.5\n");
+    let e = Scene::from_toml_str(&bad, d.clone(), &[])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("contact[0].extension"), "{e}");
+}
