@@ -118,7 +118,8 @@ fn weights_and_rigid_motions() {
     set.assign_dofs(dof_map(&ids));
     let n = 3 * ids.len();
     let g = set.constraint_matrix(n).unwrap();
-    let rigid: Vec<Box<dyn Fn([f64; 3]) -> [f64; 3]>> = vec![
+    type Motion = Box<dyn Fn([f64; 3]) -> [f64; 3]>;
+    let rigid: Vec<Motion> = vec![
         Box::new(|_| [1.0, 0.0, 0.0]),
         Box::new(|_| [0.0, 1.0, 0.0]),
         Box::new(|_| [0.0, 0.0, 1.0]),

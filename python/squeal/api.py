@@ -82,7 +82,8 @@ class ReducedModel:
     """DOF map records: ``component, kind ("grid"|"modal"), grid, comp, index, shared_with``."""
     gaps: List[Dict[str, Any]]
     """Gap records: ``pad_grid, rotor_grid, x, y, z, nx, ny, nz, area, p0, temperature`` and
-    the sliding velocity ``vx_slide, vy_slide, vz_slide``."""
+    the sliding velocity ``vx_slide, vy_slide, vz_slide``; a gap tied to a rotor face
+    (``pairing = "surface"``) also has ``face, xi, eta, face_grids, weights``."""
     gap_pairs: List[int]
     """Gaps of each ``[[contact]]`` pair, in scene order."""
     friction_law: Any

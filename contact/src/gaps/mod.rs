@@ -155,7 +155,8 @@ pub struct FaceTie {
     pub nodes: Vec<u64>,
     /// Weights N_a(ξ*) of the nodes (they sum to 1; 0 for nodes the point does not see).
     pub weights: Vec<Real>,
-    /// Distance from the pad node to the projected point.
+    /// Distance from the pad node to the projected point (0 when read from a gap table).
+    #[serde(default)]
     pub distance: Real,
     /// x, y, z DOF indices of each node (None = fixed or not in the model; only nodes of
     /// non-zero weight need DOFs). Set by [`GapSet::assign_dofs`].

@@ -305,7 +305,8 @@ fn check_tie(g: &Gap, t: &FaceTie, at: &str) -> Result<(), String> {
     }
     let (n, _) = t.kind.shape(t.xi);
     for a in 0..nn {
-        if !((t.weights[a] - n[a]).abs() <= 1e-9) {
+        let diff = (t.weights[a] - n[a]).abs();
+        if diff.is_nan() || diff > 1e-9 {
             return Err(format!(
                 "{at}, column `weights`: weight {} of grid {} is {}, but the {:?} shape \
                  function at (xi, eta) = ({}, {}) is {} (the weights must be N_a(xi, eta))",

@@ -49,12 +49,13 @@ Files (all `.npy` are float64, C order, readable with `numpy.load`):
 | `G.npy` | ng x n | contact constraint: row g = +n on the rotor DOFs, -n on the pad DOFs (eq. 9) |
 | `p_pre.npy` | n x 1 | constant load (zero unless stated) |
 | `p_brake.npy` | n x 1 | brake load at the end of the ramp (already multiplied by PMAX) |
-| `gaps.json` | | gap table: per gap pad/rotor node ids, pad_dofs/rotor_dofs (0-based indices into v, null = fixed), unit normal n (out of the pad), area A, sliding velocity v_slide (omega x r), P0, temperature; plus the friction law and VTOL |
+| `gaps.json` | | gap table: per gap pad/rotor node ids, pad_dofs/rotor_dofs (0-based indices into v, null = fixed), unit normal n (out of the pad), area A, sliding velocity v_slide (omega x r), P0, temperature; a gap tied to a rotor face (pairing = surface) has `tie`: face, kind, xi, face node ids, weights N_a, their dofs (the rotor point is sum_a N_a u_a); plus the friction law and VTOL |
 | `solver_options.json` | | BDF options (tolerances per partition, MAXORD, h0, ...), TOLINT, TFINAL, TLOAD |
 
 P(t) = p_pre + r(t) p_brake with r(t) = min(t / t_load, 1) (a step at t = 0 when `step_load`).
 
-Friction forces per gap (paper eqs. 1-7): p_n = -lambda'_g / A + P0; dv = v_r - v_p + v_slide;
+Friction forces per gap (paper eqs. 1-7): p_n = -lambda'_g / A + P0; dv = v_r - v_p + v_slide
+(v_r = sum_a N_a v_a on a tied gap, whose rotor force goes to the face nodes times N_a);
 V_t = dv - (dv . n) n; F_t = mu(p_n, |V_t|, T) A p_n, times (2/pi) atan(|V_t| / VTOL) below
 10 VTOL (regularisation, see squeal-contact); the pad gets +F_t V_t/|V_t|, the rotor the opposite.
 
