@@ -111,6 +111,7 @@ impl ModalBasis {
             n_reduced: self.n_reduced,
             method: CeaMethod::Projection,
             n_basis: self.len(),
+            basis_max_frequency_hz: self.frequencies_hz().last().copied(),
             constraint_rank_ratio: self.rank_ratio,
             time_reduce_s: t0.elapsed().as_secs_f64(),
             ..CeaStats::default()
