@@ -283,7 +283,11 @@ fn check_phase_animation(out: &Path, stem: &str, n_modes: usize) {
         let frame = std::fs::read_to_string(out.join(attr(set, "file"))).unwrap();
         let full = std::fs::read_to_string(out.join(format!("cea_modes_{comp}.vtu"))).unwrap();
         assert_eq!(n_points(&frame), n_points(&full));
-        assert_eq!(frame.matches("NumberOfComponents=\"3\"").count(), n_modes);
+        // One 3-vector array per mode, and the points.
+        assert_eq!(
+            frame.matches("NumberOfComponents=\"3\"").count(),
+            n_modes + 1
+        );
         let re = binary_f64(&full, &format!("{stem}_re"));
         let im = binary_f64(&full, &format!("{stem}_im"));
         let u = binary_f64(&frame, stem);
