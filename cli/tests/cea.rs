@@ -104,6 +104,9 @@ fn cea_on_the_tiny_brake_writes_every_output() {
         "root_locus.svg",
         "root_locus_mu.png",
         "root_locus_mu.svg",
+        "cea_modes.pvd",
+        "mode_shape_rotor.png",
+        "mode_shape_rotor.svg",
     ] {
         let p = out.join(f);
         assert!(
@@ -225,10 +228,19 @@ fn cea_on_the_tiny_brake_writes_every_output() {
             .unwrap_or_else(|| panic!("{name}"));
         assert_eq!((m.nrows, m.ncols), (r, c), "{name}");
     }
+    check_phase_animation(&out, &stem, unstable.len().min(20));
     let sweep = json(&out.join("cea.sweep.json"));
     assert_eq!(sweep["mu"].as_array().unwrap().len(), 5);
     let summary = json(&out.join("summary.json"));
     assert_eq!(summary["verb"], "cea");
+    assert!(summary["mode_animation"]
+        .as_str()
+        .unwrap()
+        .ends_with("cea_modes.pvd"));
+    assert!(summary["rotor_face_figure"]
+        .as_str()
+        .unwrap()
+        .ends_with("mode_shape_rotor.png"));
     assert_eq!(
         summary["n_unstable"].as_u64().unwrap() as usize,
         unstable.len()
@@ -245,6 +257,66 @@ fn cea_on_the_tiny_brake_writes_every_output() {
         !ok && stderr.contains("[cea]") && stderr.contains("--mu"),
         "{stderr}"
     );
+}
+
+/// `cea_modes.pvd` groups, per phase θ_j = 2πj/24 (its `timestep`), one frame per component
+/// (`part`), and each frame's array `stem` is Re(u e^{iθ}) = Re u cos θ − Im u sin θ of the
+/// full-mesh shape in `cea_modes_<component>.vtu`, node by node; `n_modes` mode arrays per frame.
+/// So θ = 0 shows Re u, θ = π/2 shows −Im u, and the amplitude over the cycle at each node is
+/// |u| (max over the frames of |Re(u e^{iθ})| within the 15° sampling: ≥ cos(7.5°)·|u|).
+fn check_phase_animation(out: &Path, stem: &str, n_modes: usize) {
+    let pvd = std::fs::read_to_string(out.join("cea_modes.pvd")).unwrap();
+    assert!(pvd.contains("type=\"Collection\""));
+    let sets: Vec<&str> = pvd.split("<DataSet ").skip(1).collect();
+    assert_eq!(sets.len(), 24 * 2, "24 phases x 2 components");
+    let attr = |s: &str, key: &str| -> String {
+        let at = s.find(&format!("{key}=\"")).unwrap() + key.len() + 2;
+        s[at..at + s[at..].find('"').unwrap()].to_string()
+    };
+    let mut amp_seen: std::collections::HashMap<String, Vec<f64>> = Default::default();
+    for (i, set) in sets.iter().enumerate() {
+        let (j, part) = (i / 2, i % 2);
+        let theta: f64 = attr(set, "timestep").parse().unwrap();
+        assert!((theta - 2.0 * std::f64::consts::PI * j as f64 / 24.0).abs() < 1e-12);
+        assert_eq!(attr(set, "part"), part.to_string());
+        let comp = attr(set, "name");
+        let frame = std::fs::read_to_string(out.join(attr(set, "file"))).unwrap();
+        let full = std::fs::read_to_string(out.join(format!("cea_modes_{comp}.vtu"))).unwrap();
+        assert_eq!(n_points(&frame), n_points(&full));
+        // One 3-vector array per mode, and the points.
+        assert_eq!(
+            frame.matches("NumberOfComponents=\"3\"").count(),
+            n_modes + 1
+        );
+        let re = binary_f64(&full, &format!("{stem}_re"));
+        let im = binary_f64(&full, &format!("{stem}_im"));
+        let u = binary_f64(&frame, stem);
+        let scale = re.iter().chain(&im).fold(0.0f64, |m, v| m.max(v.abs()));
+        for k in 0..u.len() {
+            let want = re[k] * theta.cos() - im[k] * theta.sin();
+            assert!(
+                (u[k] - want).abs() <= 1e-12 * scale,
+                "{comp} frame {j} entry {k}"
+            );
+        }
+        let amp = amp_seen.entry(comp).or_insert_with(|| vec![0.0; u.len()]);
+        for k in 0..u.len() {
+            amp[k] = amp[k].max(u[k].abs());
+        }
+    }
+    for (comp, amp) in amp_seen {
+        let full = std::fs::read_to_string(out.join(format!("cea_modes_{comp}.vtu"))).unwrap();
+        let re = binary_f64(&full, &format!("{stem}_re"));
+        let im = binary_f64(&full, &format!("{stem}_im"));
+        for k in 0..amp.len() {
+            let m = re[k].hypot(im[k]);
+            assert!(amp[k] <= m * (1.0 + 1e-12) + 1e-300, "{comp} {k}");
+            assert!(
+                amp[k] >= m * (7.5f64.to_radians().cos()) - 1e-300,
+                "{comp} {k}"
+            );
+        }
+    }
 }
 
 /// Hoffmann-type 2-DOF mode-coupling model written as a stored reduced model: a pad point

@@ -204,6 +204,8 @@ pub struct CeaSpec {
     pub steady: SteadyOptions,
     /// Most unstable modes written as VTU shapes (default: 20).
     pub max_shapes: usize,
+    /// Frames of the phase animation `cea_modes.pvd` over θ ∈ [0, 2π) (default: 24; 0: none).
+    pub phase_frames: usize,
 }
 
 impl Default for CeaSpec {
@@ -216,6 +218,7 @@ impl Default for CeaSpec {
             solver: CeaOptions::default(),
             steady: SteadyOptions::default(),
             max_shapes: 20,
+            phase_frames: 24,
         }
     }
 }

@@ -58,6 +58,19 @@ pub fn compare_eigenvalues(
     c
 }
 
+/// How an exact check of a projected sweep ran.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum CheckKind {
+    /// The dense exact CEA: every root of the band compared.
+    #[default]
+    Dense,
+    /// The shift-invert refinement of the in-band unstable projected roots (above
+    /// `projection.auto_single_min_dofs` reduced DOFs, where the dense CEA takes minutes):
+    /// those roots (and the projected roots near the shifts) compared with their exact values.
+    Refine,
+}
+
 /// One exact check of a projected sweep.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ExactCheck {
@@ -65,7 +78,10 @@ pub struct ExactCheck {
     pub step: usize,
     /// Friction coefficient.
     pub mu: f64,
-    /// The comparison.
+    /// How the exact values were computed.
+    pub kind: CheckKind,
+    /// The comparison (with `refine`: `n_exact_in_band` = exact roots found, refined targets
+    /// plus missed ones; `n_projected_in_band` = targets; the errors over the refined roots).
     pub comparison: EigenvalueComparison,
     /// Wall time of the exact solve (eigenvalues only), seconds.
     pub time_s: f64,

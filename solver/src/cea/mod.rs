@@ -48,7 +48,7 @@ mod sweep;
 mod track;
 
 pub use basis::ModalBasis;
-pub use check::{compare_eigenvalues, EigenvalueComparison, ExactCheck};
+pub use check::{compare_eigenvalues, CheckKind, EigenvalueComparison, ExactCheck};
 pub use eigen::{complex_eigen, first_order_matrix};
 pub use error::CeaError;
 pub use options::{CeaMethod, CeaOptions, ProjectionOptions, SweepOptions};
@@ -141,6 +141,9 @@ pub struct CeaStats {
     pub method: CeaMethod,
     /// Number of basis modes nb with `projection` (0 with `exact`).
     pub n_basis: usize,
+    /// Highest undamped frequency of the basis, Hz (`projection` only): roots well above it
+    /// are not computed.
+    pub basis_max_frequency_hz: Option<f64>,
     /// Number of modes returned (complex pairs counted once, real roots each).
     pub n_modes: usize,
     /// Number of real roots (Im p = 0).

@@ -111,6 +111,7 @@ impl ModalBasis {
             n_reduced: self.n_reduced,
             method: CeaMethod::Projection,
             n_basis: self.len(),
+            basis_max_frequency_hz: self.frequencies_hz().last().copied(),
             constraint_rank_ratio: self.rank_ratio,
             time_reduce_s: t0.elapsed().as_secs_f64(),
             ..CeaStats::default()
@@ -152,12 +153,8 @@ impl ModalBasis {
         if ro.enabled {
             let tol = opts.unstable_tol * r.stats.spectral_radius;
             let st = refine(sys, &mut r.modes, self.band_hz(opts), tol, ro)?;
-            r.stats.n_unstable = r.modes.iter().filter(|m| m.unstable).count();
-            r.stats.max_real_part = r
-                .modes
-                .iter()
-                .map(|m| m.real_part)
-                .fold(f64::NEG_INFINITY, f64::max);
+            let rho = r.stats.spectral_radius;
+            finish_stats(&mut r.stats, &r.modes, rho);
             r.stats.time_eigen_s += st.time_s;
             r.stats.refine = Some(st);
         }

@@ -28,6 +28,10 @@ pub struct RefineOptions {
     pub tol: f64,
     /// Most shifts (complex LU factorisations of size n + ng) per CEA (default: 40).
     pub max_shifts: usize,
+    /// A projected root p̃ and an exact root p pair only when |p − p̃| ≤ `match_tol`·|p̃|
+    /// (default: 0.1). A target whose disc of that radius is converged and holds no exact root
+    /// is spurious (a root of the projection only) and is removed.
+    pub match_tol: f64,
 }
 
 impl Default for RefineOptions {
@@ -39,6 +43,7 @@ impl Default for RefineOptions {
             max_krylov_dim: 150,
             tol: 1e-10,
             max_shifts: 40,
+            match_tol: 0.1,
         }
     }
 }
@@ -69,6 +74,13 @@ impl RefineOptions {
         }
         if self.krylov_step == 0 {
             return bad("refine.krylov_step", "0".into(), "must be >= 1");
+        }
+        if !(self.match_tol > 0.0 && self.match_tol.is_finite()) {
+            return bad(
+                "refine.match_tol",
+                self.match_tol.to_string(),
+                "must be > 0",
+            );
         }
         if !(self.tol > 0.0 && self.tol < 1.0) {
             return bad("refine.tol", self.tol.to_string(), "must be in (0, 1)");
@@ -131,6 +143,11 @@ pub struct RefineStats {
     pub n_missed: usize,
     /// Those roots `[re, im]`.
     pub missed: Vec<[f64; 2]>,
+    /// Targets with no exact root within `match_tol`·|p̃| although that disc converged: roots
+    /// of the projection only, removed from the modes and listed in `spurious`.
+    pub n_spurious: usize,
+    /// Those projected roots `[re, im]`.
+    pub spurious: Vec<[f64; 2]>,
     /// Largest |p_exact − p_projected|, 1/s.
     pub max_abs_change: f64,
     /// Largest |p_exact − p_projected| / |p_exact|.
@@ -239,9 +256,11 @@ impl<'a> Residual<'a> {
 /// pending target lies inside the converged disc around σ (every Ritz value nearer σ has
 /// converged) or `max_krylov_dim`. Inside the disc the projected roots (targets or not) and
 /// the exact ones (Im p ≥ 0) are paired one to one, nearest first, and each projected root
-/// takes its exact value; an exact unstable in-band root left without a projected partner is
-/// added as a new mode (`missed`). So inside the discs the result is the exact spectrum. One
-/// complex LU per shift; targets near each other share it.
+/// takes its exact value (pairs closer than `match_tol`·|p̃| only); an exact unstable in-band
+/// root left without a projected partner is added as a new mode (`missed`); a target whose
+/// match disc converged without an exact root in it is removed (`spurious`: a root of the
+/// projection only). So inside the discs the result is the exact spectrum. One complex LU per
+/// shift; targets near each other share it.
 ///
 /// # Errors
 /// Bad options, a singular shift (an exact root to machine precision), non-convergence of the
@@ -271,6 +290,7 @@ pub(crate) fn refine(
     let mut done = vec![false; modes.len()];
     let mut found: Vec<Cplx> = Vec::new();
     let mut added: Vec<Mode> = Vec::new();
+    let mut removed: Vec<usize> = Vec::new();
     while let Some(&first) = pending.first() {
         if st.n_shifts >= opts.max_shifts {
             break;
@@ -281,7 +301,7 @@ pub(crate) fn refine(
         st.n_shifts += 1;
         let mut arn = Arnoldi::new(&op);
         let mut k = opts.krylov_dim;
-        let (ritz, pairs, exact) = loop {
+        let (ritz, pairs, exact, spurious) = loop {
             arn.grow(&op, k);
             let ritz = arn.ritz(op.sigma())?;
             let r_c = converged_radius(&ritz, sigma, opts.tol);
@@ -300,11 +320,25 @@ pub(crate) fn refine(
             let proj: Vec<usize> = (0..modes.len())
                 .filter(|&i| !done[i] && (modes[i].eigenvalue - sigma).norm() < r_c)
                 .collect();
-            let pairs = pair_nearest(&ritz, &exact, &proj, modes);
-            let first_done = pairs.iter().any(|m| m.0 == first);
-            let all = pending.iter().all(|t| pairs.iter().any(|m| m.0 == *t));
-            if (first_done && all) || arn.exhausted || arn.dim() >= opts.max_krylov_dim {
-                break (ritz, pairs, exact);
+            let pairs = pair_nearest(&ritz, &exact, &proj, modes, opts.match_tol);
+            // A target is settled when paired, or when its match disc lies inside the
+            // converged disc (then it has no exact root: spurious).
+            let settled = |t: usize| {
+                pairs.iter().any(|m| m.0 == t)
+                    || (modes[t].eigenvalue - sigma).norm()
+                        + opts.match_tol * modes[t].eigenvalue.norm()
+                        < r_c
+            };
+            if (settled(first) && pending.iter().all(|&t| settled(t)))
+                || arn.exhausted
+                || arn.dim() >= opts.max_krylov_dim
+            {
+                let spurious: Vec<usize> = pending
+                    .iter()
+                    .copied()
+                    .filter(|&t| !pairs.iter().any(|m| m.0 == t) && settled(t))
+                    .collect();
+                break (ritz, pairs, exact, spurious);
             }
             k = (k + opts.krylov_step).min(opts.max_krylov_dim);
         };
@@ -346,6 +380,12 @@ pub(crate) fn refine(
                 added.push(md);
             }
         }
+        for &t in &spurious {
+            st.spurious
+                .push([modes[t].eigenvalue.re, modes[t].eigenvalue.im]);
+            done[t] = true;
+            removed.push(t);
+        }
         if !done[first] {
             st.n_failed += 1;
         }
@@ -366,6 +406,11 @@ pub(crate) fn refine(
         if r.target && r.exact.re <= unstable_tol_abs {
             st.n_stability_changed += 1;
         }
+    }
+    st.n_spurious = st.spurious.len();
+    removed.sort_unstable();
+    for &t in removed.iter().rev() {
+        modes.remove(t);
     }
     modes.extend(added);
     modes.sort_by(|x, y| {
@@ -407,17 +452,22 @@ fn converged_radius(ritz: &[Ritz], sigma: Cplx, tol: f64) -> f64 {
 }
 
 /// One-to-one pairs (mode index, Ritz index) of the projected roots `proj` and the exact ones
-/// `exact`, nearest first.
+/// `exact` within `match_tol`·|p̃| of each other, nearest first.
 fn pair_nearest(
     ritz: &[Ritz],
     exact: &[usize],
     proj: &[usize],
     modes: &[Mode],
+    match_tol: f64,
 ) -> Vec<(usize, usize)> {
     let mut all: Vec<(f64, usize, usize)> = Vec::with_capacity(exact.len() * proj.len());
     for &t in proj {
+        let pt = modes[t].eigenvalue;
         for &r in exact {
-            all.push(((ritz[r].p - modes[t].eigenvalue).norm(), t, r));
+            let d = (ritz[r].p - pt).norm();
+            if d <= match_tol * pt.norm() {
+                all.push((d, t, r));
+            }
         }
     }
     all.sort_by(|a, b| a.0.total_cmp(&b.0));

@@ -2,10 +2,11 @@
 
 use super::eigen::exact;
 use super::operator::check_inputs;
+use super::refine::{refine, RefineStats};
 use super::track::{assign, mac_matrix};
 use super::{
-    compare_eigenvalues, CeaError, CeaMatrices, CeaMethod, CeaOptions, CeaResult, CeaStats, Cplx,
-    ExactCheck, ModalBasis, Mode, SweepOptions,
+    compare_eigenvalues, CeaError, CeaMatrices, CeaMethod, CeaOptions, CeaResult, CeaStats,
+    CheckKind, Cplx, EigenvalueComparison, ExactCheck, ModalBasis, Mode, SweepOptions,
 };
 use serde::Serialize;
 use std::fmt::Display;
@@ -94,7 +95,8 @@ pub struct SweepStats {
     /// frequency / `cutoff_factor` (`projection` only).
     pub check_band_hz: Option<f64>,
     /// The exact checks of a projected sweep (first and last μ, and every
-    /// `exact_check_every`-th step).
+    /// `exact_check_every`-th step): dense, or by refinement above
+    /// `projection.auto_single_min_dofs` reduced DOFs ([`CheckKind`]).
     pub exact_checks: Vec<ExactCheck>,
     /// Largest relative eigenvalue difference projected vs exact over the checks and the
     /// modes in `check_band_hz` (`None` without checks).
@@ -183,12 +185,24 @@ where
         self.stats.time_eigen_s += t.elapsed().as_secs_f64();
         if let (Some(step), Some(band)) = (check, self.stats.check_band_hz) {
             let t = Instant::now();
-            let opts = CeaOptions {
-                compute_shapes: false,
-                ..self.cea.clone()
-            };
-            let e = exact(&sys, &opts)?;
-            let comparison = compare_eigenvalues(&r.modes, &e.modes, band);
+            let pr = &self.cea.projection;
+            let (kind, comparison) =
+                if pr.refine.enabled && self.stats.n_reduced > pr.auto_single_min_dofs {
+                    let mut modes = r.modes.clone();
+                    let tol = self.cea.unstable_tol * r.stats.spectral_radius;
+                    let st = refine(&sys, &mut modes, band, tol, &pr.refine)?;
+                    (CheckKind::Refine, refine_comparison(&st))
+                } else {
+                    let opts = CeaOptions {
+                        compute_shapes: false,
+                        ..self.cea.clone()
+                    };
+                    let e = exact(&sys, &opts)?;
+                    (
+                        CheckKind::Dense,
+                        compare_eigenvalues(&r.modes, &e.modes, band),
+                    )
+                };
             let worst = self.stats.max_rel_eigenvalue_error.unwrap_or(0.0);
             self.stats.max_rel_eigenvalue_error = Some(worst.max(comparison.max_rel_error));
             let time_s = t.elapsed().as_secs_f64();
@@ -196,6 +210,7 @@ where
             self.stats.exact_checks.push(ExactCheck {
                 step,
                 mu,
+                kind,
                 comparison,
                 time_s,
             });
@@ -476,4 +491,25 @@ where
     solver.stats.time_basis_s = t.elapsed().as_secs_f64();
     solver.basis = Some(basis);
     Ok(())
+}
+
+/// The comparison of an exact check by refinement: the targets' projected roots against their
+/// exact values.
+fn refine_comparison(st: &RefineStats) -> EigenvalueComparison {
+    let mut c = EigenvalueComparison {
+        band_hz: st.band_hz,
+        n_exact_in_band: st.n_targets_refined + st.n_missed,
+        n_projected_in_band: st.n_targets,
+        ..EigenvalueComparison::default()
+    };
+    for r in st.roots.iter().filter(|r| r.target) {
+        if r.rel_change > c.max_rel_error {
+            c.max_rel_error = r.rel_change;
+            c.worst_frequency_hz = r.exact.im.abs() / (2.0 * std::f64::consts::PI);
+        }
+        c.max_real_part_error = c
+            .max_real_part_error
+            .max((r.exact.re - r.projected.re).abs());
+    }
+    c
 }

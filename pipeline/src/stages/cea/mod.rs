@@ -15,6 +15,7 @@
 //! `cea_modes_<component>.vtu` holds the shapes expanded to the full mesh ([`shapes`]);
 //! stored reduced matrices (OP4/punch) have no mesh, so only the grid-point file is written.
 
+pub mod animation;
 pub mod outputs;
 pub mod shapes;
 pub mod sweep;
@@ -27,7 +28,7 @@ use crate::scene::{CeaSpec, Scene};
 use crate::stages::model;
 use crate::stages::transient::system;
 use serde::Serialize;
-use squeal_solver::cea::{complex_eigen, CeaStats, Mode};
+use squeal_solver::cea::{complex_eigen, CeaOptions, CeaStats, Mode};
 use std::time::Instant;
 use tangents::{ContactSummary, StateSource};
 
@@ -76,6 +77,9 @@ pub struct OutsideBand {
     /// Roots above it.
     pub count: usize,
     pub n_unstable: usize,
+    /// Roots were computed up to about this frequency (the projection basis' highest
+    /// undamped frequency); None: every root was computed (the exact method).
+    pub computed_up_to_hz: Option<Real>,
     /// Highest frequency among them.
     pub max_frequency_hz: Option<Real>,
     /// Highest frequency among the unstable ones (the top of the interface flutter of rigid
@@ -135,6 +139,12 @@ pub struct CeaReport {
     pub vtu_points: usize,
     /// Full-mesh mode-shape files `cea_modes_<component>.vtu` (empty: stored matrices).
     pub full_mesh_shapes: Vec<String>,
+    /// `cea_modes.pvd`: the unstable shapes of every component animated over the phase
+    /// (`cea.phase_frames` frames in `cea_modes_phase/`; None: no shapes or no mesh).
+    pub mode_animation: Option<String>,
+    /// `mode_shape_rotor.png`: the most unstable mode on the rotor's friction face (None: no
+    /// shape, no mesh, or built without the `figures` feature).
+    pub rotor_face_figure: Option<String>,
     pub mode_shapes_note: &'static str,
     pub files: Vec<String>,
     pub model_hash: String,
@@ -157,7 +167,23 @@ fn cea_err(what: &str) -> impl FnOnce(squeal_solver::cea::CeaError) -> PipelineE
 
 const SHAPES_NOTE: &str = "cea_modes.vtu: mode shapes at the grid points of the reduced model \
 (contact and interface grids); cea_modes_<component>.vtu: the shapes recovered with each \
-component's Craig-Bampton transformation on its full mesh (models built from meshes only)";
+component's Craig-Bampton transformation on its full mesh (models built from meshes only); \
+cea_modes.pvd: those shapes animated over the phase, Re(u e^(i theta)) for theta in [0, 2 pi) \
+(ParaView: open the .pvd, Warp By Vector on a mode array, play); mode_shape_rotor.png: the \
+most unstable mode's out-of-plane displacement on the rotor friction face";
+
+/// The solver options with the validity band as the projection's band of interest
+/// (`projection.frequency_max_hz`) when the scene gives neither it nor a basis cutoff: `auto`
+/// then projects models above `projection.auto_single_min_dofs` reduced DOFs on the real modes
+/// up to `cutoff_factor` × the band, and refines the in-band unstable roots exactly.
+pub fn banded(solver: &CeaOptions, band_hz: Option<Real>) -> CeaOptions {
+    let mut o = solver.clone();
+    let pr = &mut o.projection;
+    if pr.frequency_max_hz.is_none() && pr.basis_cutoff_hz.is_none() {
+        pr.frequency_max_hz = band_hz;
+    }
+    o
+}
 
 /// Runs `squeal cea`: builds the reduced model (through `args.cache` when given) and
 /// [`run_on_model`].
@@ -215,6 +241,9 @@ pub struct CeaComputed {
     pub out: CeaOut,
     /// The friction sweep (when asked for).
     pub sweep: Option<sweep::SweepReport>,
+    /// (component, face set) of the first contact pair's rotor friction face: where
+    /// `mode_shape_rotor.png` draws the most unstable mode.
+    pub rotor_face: Option<(String, String)>,
 }
 
 impl CeaComputed {
@@ -256,18 +285,24 @@ pub fn compute(
     let contact = tangents::contact_summary(gaps, &lin)?;
     let sys = tangents::cea_matrices(&problem, &lin, spec.friction_damping)?;
     progress.check("cea")?;
-    let step = progress.step(format!("complex eigenvalues ({n} DOFs, {ng} constraints)"));
-    let res = complex_eigen(&sys, &spec.solver).map_err(cea_err("complex eigenvalues"))?;
-    step.done(format!(
-        "{} modes, {} unstable",
-        res.stats.n_modes, res.stats.n_unstable
-    ));
     // The validity band: what the model was reduced for, or `max_frequency_hz` if lower.
     // Roots above it are listed apart and never count as squeal.
     let band_hz = match (scene.band_hz(), spec.max_frequency_hz) {
         (Some(a), Some(b)) => Some(a.min(b)),
         (a, b) => a.or(b),
     };
+    let solver = banded(&spec.solver, band_hz);
+    let step = progress.step(format!("complex eigenvalues ({n} DOFs, {ng} constraints)"));
+    let res = complex_eigen(&sys, &solver).map_err(cea_err("complex eigenvalues"))?;
+    step.done(format!(
+        "{} modes, {} unstable{}",
+        res.stats.n_modes,
+        res.stats.n_unstable,
+        res.stats.refine.as_ref().map_or(String::new(), |r| format!(
+            " ({} refined exactly, max |dp| {:.3e} /s)",
+            r.n_refined, r.max_abs_change
+        ))
+    ));
     let fmax = band_hz.unwrap_or(Real::INFINITY);
     let (kept, above): (Vec<Mode>, Vec<Mode>) =
         res.modes.into_iter().partition(|m| m.frequency_hz <= fmax);
@@ -285,6 +320,7 @@ pub fn compute(
     above_unstable.sort_by(|a, b| b.real_part.total_cmp(&a.real_part));
     let outside_band = OutsideBand {
         band_hz,
+        computed_up_to_hz: res.stats.basis_max_frequency_hz,
         count: above.len(),
         n_unstable: above_unstable.len(),
         max_frequency_hz: above.iter().map(|m| m.frequency_hz).reduce(Real::max),
@@ -337,7 +373,17 @@ pub fn compute(
         progress.check("cea sweep")?;
         let values = sw.values()?;
         let step = progress.step(format!("friction sweep over {} values", values.len()));
-        let (_, rep) = sweep::run_sweep(&problem, gaps, &lin, &spec, sw, &values)?;
+        // Large models sweep on the band-limited basis (small ones stay exact, as before).
+        let big = n.saturating_sub(ng) > spec.solver.projection.auto_single_min_dofs;
+        let swept = CeaSpec {
+            solver: if big {
+                solver.clone()
+            } else {
+                spec.solver.clone()
+            },
+            ..spec.clone()
+        };
+        let (_, rep) = sweep::run_sweep(&problem, gaps, &lin, &swept, sw, &values)?;
         step.done(format!(
             "{} tracks, lowest critical mu {:?}",
             rep.tracks.len(),
@@ -352,6 +398,10 @@ pub fn compute(
         modes: kept,
         out,
         sweep: sweep_rep,
+        rotor_face: scene
+            .contact
+            .first()
+            .map(|p| (p.rotor.clone(), p.rotor_faces.clone())),
     })
 }
 
@@ -405,8 +455,31 @@ pub fn write(
     if vtu_points > 0 {
         files.push(dir.path("cea_modes.vtu").display().to_string());
     }
-    let full_mesh_shapes = shapes::write_full_mode_shapes(dir, model, &shown)?;
+    let comp_shapes = shapes::recover(model, &shown)?;
+    let full_mesh_shapes = shapes::write_full_mode_shapes(dir, model, &comp_shapes)?;
     files.extend(full_mesh_shapes.iter().cloned());
+    let mode_animation =
+        animation::write_phase_animation(dir, model, &comp_shapes, c.spec.phase_frames)?;
+    files.extend(mode_animation.iter().cloned());
+    let rotor_face_figure = match shown.first() {
+        Some((k, m)) => animation::write_face_figure(
+            dir,
+            model,
+            &comp_shapes,
+            c.rotor_face.as_ref().map(|(a, b)| (a.as_str(), b.as_str())),
+            &format!(
+                "Most unstable mode {k}: {:.1} Hz, Re p = {:+.1} /s (rotor face {})",
+                m.frequency_hz,
+                m.real_part,
+                c.rotor_face.as_ref().map_or("", |f| f.1.as_str())
+            ),
+        )?,
+        None => None,
+    };
+    if let Some(stem) = &rotor_face_figure {
+        files.push(format!("{stem}.png"));
+        files.push(format!("{stem}.svg"));
+    }
     if args.export_tangents {
         files.extend(outputs::export_tangents(dir, model, &c.problem, &c.lin)?);
     }
@@ -441,6 +514,8 @@ pub fn write(
         lowest_critical_mu: c.sweep.as_ref().and_then(|r| r.lowest_critical_mu),
         vtu_points,
         full_mesh_shapes,
+        mode_animation,
+        rotor_face_figure: rotor_face_figure.map(|s| format!("{s}.png")),
         mode_shapes_note: SHAPES_NOTE,
         files,
         model_hash: c.problem.model_hash(),

@@ -76,21 +76,21 @@ pub fn recover(
     Ok(out)
 }
 
-/// Writes `cea_modes_<component>.vtu` for every component the model can recover (meshed
+/// Writes `cea_modes_<component>.vtu` for every component of `shapes` ([`recover`]; meshed
 /// models; none for stored matrices): the component's mesh with the point array `grid` (merged
-/// grid id of each node, as a real) and, for each mode `k` in `modes`, the 3-vector point
+/// grid id of each node, as a real) and, for each mode `k` of the shapes, the 3-vector point
 /// arrays `mode{k}_{f}Hz_re` and `mode{k}_{f}Hz_im` (the real and imaginary parts of the shape;
 /// animate with `cos(ωt)·re − sin(ωt)·im`). Returns the paths written.
 pub fn write_full_mode_shapes(
     dir: &RunDir,
     model: &ReducedModel,
-    modes: &[(usize, &Mode)],
+    shapes: &[ComponentShapes],
 ) -> Result<Vec<String>, PipelineError> {
     let mut written = Vec::new();
-    for (comp, shapes) in model.recovery.iter().zip(recover(model, modes)?) {
+    for (comp, shapes) in model.recovery.iter().zip(shapes) {
         let grid: Vec<Real> = shapes.grid_of.iter().map(|&g| g as Real).collect();
         let mut names = vec!["grid".to_string()];
-        let mut fields: Vec<Vec<Real>> = Vec::with_capacity(2 * modes.len());
+        let mut fields: Vec<Vec<Real>> = Vec::with_capacity(2 * shapes.modes.len());
         for m in &shapes.modes {
             let stem = array_stem(m.mode, m.frequency_hz);
             for (part, nodal) in [("re", &m.re), ("im", &m.im)] {
