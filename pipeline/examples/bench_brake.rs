@@ -6,6 +6,7 @@
 //! cargo build --release -p squeal-pipeline --example bench_brake
 //! target/release/examples/bench_brake [SCENE.toml] [--set key=value ...] [--out FILE.json]
 //!                                     [--rotor-boundary nearest|faces] [--ordering nd|amd]
+//!                                     [--lanczos-max-dim N]
 //! ```
 //!
 //! The Craig–Bampton boundary is what a pad/rotor contact pairing makes it: every node of each
@@ -101,10 +102,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut sets = Vec::new();
     let mut rotor_boundary = "nearest".to_string();
     let mut ordering = "nd".to_string();
+    let mut lanczos_max_dim: Option<usize> = None;
     while let Some(a) = args.next() {
         match a.as_str() {
             "--set" => sets.push(args.next().ok_or("--set needs key=value")?),
             "--out" => out_path = PathBuf::from(args.next().ok_or("--out needs a file")?),
+            "--lanczos-max-dim" => {
+                lanczos_max_dim = Some(args.next().ok_or("--lanczos-max-dim needs N")?.parse()?)
+            }
             "--ordering" => ordering = args.next().ok_or("--ordering needs amd or nd")?,
             "--rotor-boundary" => {
                 rotor_boundary = args
@@ -156,7 +161,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .sqrt();
 
     let red = scene.reduction.clone().unwrap_or_default();
-    let cb_opts = red.cb_options();
+    let mut cb_opts = red.cb_options();
+    if let Some(d) = lanczos_max_dim {
+        cb_opts.lanczos_max_dim = d;
+    }
     let mut rows = Vec::new();
     let mut rotor_boundary_counts = None;
     let (mut n_full, mut n_reduced, mut n_gap_nodes) = (0usize, 0usize, 0usize);

@@ -31,7 +31,7 @@ pub enum KiiOrdering {
 /// A Cholesky factor of K_ii.
 pub(crate) enum KiiFactor {
     Amd(Llt<usize, Real>),
-    Custom(SymbolicCholesky<usize>, Vec<Real>),
+    Custom(Box<SymbolicCholesky<usize>>, Vec<Real>),
 }
 
 /// What factorising gave besides the factor.
@@ -104,7 +104,7 @@ impl KiiFactor {
                 .map_err(|e| fail(format!("{e:?}")))?;
                 let factor_nnz = vals.len();
                 Ok((
-                    KiiFactor::Custom(sym, vals),
+                    KiiFactor::Custom(Box::new(sym), vals),
                     FactorInfo {
                         ordering: KiiOrdering::NestedDissection,
                         ordering_s,

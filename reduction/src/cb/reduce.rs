@@ -82,7 +82,7 @@ pub fn reduce_ordered(
     }
     let part = Partition::new(n, boundary)?;
     let (ni, nb) = (part.interior.len(), part.n_boundary);
-    let Kp = split(k, &part);
+    let mut Kp = split(k, &part);
     let Mp = split(m, &part);
     let Bp = b.map(|b| split(b, &part));
     let mut mem = PhaseMemory {
@@ -102,6 +102,18 @@ pub fn reduce_ordered(
         (None, None)
     };
     drop(interior_coords);
+    // K_ii is in the factor now; above the dense eigen path nothing else reads it (the
+    // products read K_ib and K_bb only).
+    let nnz_kii = Kp.ii.val().len();
+    if ni > opts.dense_max {
+        Kp.ii = Sparse::try_new_from_triplets(0, 0, &[]).map_err(|e| {
+            ReductionError::Factorization {
+                what: "freeing K_ii".into(),
+                n: 0,
+                detail: format!("{e:?}"),
+            }
+        })?;
+    }
     mem.factor = peak_rss_kib();
     let factor_s = t.elapsed().as_secs_f64();
 
@@ -110,8 +122,12 @@ pub fn reduce_ordered(
     let mut psi = Mat::<Real>::zeros(ni, nb);
     add_sparse(psi.as_mut(), &Kp.ib, -1.0);
     if let Some(llt) = &llt {
+        // Each solve works on a permuted copy of its columns (faer's workspace: n_i × block),
+        // so the blocks are capped: whole halves of Ψ would double its memory.
         let chunk = match opts.constraint_block {
-            0 => nb.div_ceil(rayon::current_num_threads()).max(1),
+            0 => nb
+                .div_ceil(rayon::current_num_threads())
+                .clamp(1, CONSTRAINT_BLOCK_MAX),
             c => c,
         };
         psi.par_col_chunks_mut(chunk)
@@ -198,7 +214,7 @@ pub fn reduce_ordered(
         n_boundary: nb,
         n_interior: ni,
         n_modes: nq,
-        nnz_kii: Kp.ii.val().len(),
+        nnz_kii,
         frequency_of_interest_hz: opts.frequency_of_interest_hz,
         cutoff_hz,
         eigen_method: method,
@@ -282,6 +298,9 @@ fn condensed(a: &Blocks, psi: MatRef<'_, Real>, with_ii: bool) -> Mat<Real> {
     }
     sym(out)
 }
+
+/// Most right-hand sides per solve with the K_ii factor when computing Ψ by default.
+const CONSTRAINT_BLOCK_MAX: usize = 128;
 
 /// Boundary columns per block of W = A_iiΨ + A_ib in [`reduced_mass_like`].
 const W_BLOCK: usize = 256;
