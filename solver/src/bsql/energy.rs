@@ -7,10 +7,8 @@
 //! The balance residual is ΔE − ∫(P·v + F_f·v − (Gᵀλ')·v − vᵀBv) dt; it is zero up to the
 //! integration and quadrature errors.
 
-use faer::Accum;
 use serde::{Deserialize, Serialize};
 
-use super::residual::matvec;
 use super::{BsqlSystem, FrictionForces};
 use crate::{Real, SolverError};
 
@@ -191,29 +189,20 @@ impl<F: FrictionForces> BsqlSystem<F> {
             t,
             ..Default::default()
         };
-        matvec(self.M.as_ref(), v, &mut self.t_n, Accum::Replace, 1.0);
-        p.kinetic = 0.5 * dot(v, &self.t_n);
-        matvec(self.K.as_ref(), u, &mut self.t_n, Accum::Replace, 1.0);
-        p.strain = 0.5 * dot(u, &self.t_n);
-        matvec(self.B.as_ref(), v, &mut self.t_n, Accum::Replace, 1.0);
-        p.damping = dot(v, &self.t_n);
-        matvec(self.G.transpose(), lamp, &mut self.t_n, Accum::Replace, 1.0);
-        p.constraint = dot(v, &self.t_n);
+        // vᵀMv, vᵀBv, uᵀKu in one pass over the union pattern of M, B, K.
+        let [qm, qb, qk] = self.mbk.quadratic_forms3(v, u);
+        p.kinetic = 0.5 * qm;
+        p.strain = 0.5 * qk;
+        p.damping = qb;
+        // (Gᵀλ')·v = λ'·(G v); G v is also the drift monitor's.
+        self.g_rows.apply(0, v, &mut self.gv, false, 1.0);
+        p.constraint = dot(lamp, &self.gv);
         self.f_n.fill(0.0);
         self.friction.add_forces(t, v, lamp, &mut self.f_n)?;
         p.friction = dot(v, &self.f_n);
-        self.t_n.fill(0.0);
-        self.load.add_to(t, 1.0, &mut self.t_n);
-        p.external = dot(v, &self.t_n);
+        p.external = self.load.dot(t, v);
         // Constraint drift ‖G v‖∞.
-        let mut drift: Real = 0.0;
-        for k in 0..ng {
-            let mut s = 0.0;
-            for i in 0..n {
-                s += self.G[(k, i)] * v[i];
-            }
-            drift = drift.max(s.abs());
-        }
+        let drift = self.gv.iter().fold(0.0, |m: Real, x| m.max(x.abs()));
         self.stats.constraint_drift = drift;
         self.stats.max_constraint_drift = self.stats.max_constraint_drift.max(drift);
         Ok(p)
