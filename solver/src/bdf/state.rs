@@ -30,7 +30,8 @@ pub struct BdfStats {
     pub last_h: Real,
     /// Order of the last accepted step.
     pub last_order: usize,
-    /// Wall-clock seconds spent inside `step_to` (named cpu_s as in BSQL's table).
+    /// Wall-clock seconds spent inside `step_to`, the per-step callback (the caller's
+    /// bookkeeping) excluded (named cpu_s as in BSQL's table).
     pub cpu_s: Real,
 }
 

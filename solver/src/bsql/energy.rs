@@ -9,10 +9,8 @@
 //! energy is part of the strain energy and their rows leave the constraint power
 //! ([`super::compliance`]).
 
-use faer::Accum;
 use serde::{Deserialize, Serialize};
 
-use super::residual::matvec;
 use super::{BsqlSystem, FrictionForces};
 use crate::{Real, SolverError};
 
@@ -195,42 +193,33 @@ impl<F: FrictionForces> BsqlSystem<F> {
             t,
             ..Default::default()
         };
-        matvec(self.M.as_ref(), v, &mut self.t_n, Accum::Replace, 1.0);
-        p.kinetic = 0.5 * dot(v, &self.t_n);
-        matvec(self.K.as_ref(), u, &mut self.t_n, Accum::Replace, 1.0);
+        // vᵀMv, vᵀBv, uᵀKu in one pass over the union pattern of M, B, K.
+        let [qm, qb, qk] = self.mbk.quadratic_forms3(v, u);
+        p.kinetic = 0.5 * qm;
         // The contact springs' energy is stored energy (see [`super::compliance`]).
-        p.strain = 0.5 * dot(u, &self.t_n) + self.contact_spring_energy(u, lamp);
-        matvec(self.B.as_ref(), v, &mut self.t_n, Accum::Replace, 1.0);
-        p.damping = dot(v, &self.t_n);
-        if self.compliance.is_empty() {
-            matvec(self.G.transpose(), lamp, &mut self.t_n, Accum::Replace, 1.0);
-            p.constraint = dot(v, &self.t_n);
+        p.strain = 0.5 * qk + self.contact_spring_energy(u, lamp);
+        p.damping = qb;
+        // (Gᵀλ')·v = λ'·(G v); G v is also the drift monitor's.
+        self.g_rows.apply(0, v, &mut self.gv, false, 1.0);
+        p.constraint = if self.compliance.is_empty() {
+            dot(lamp, &self.gv)
         } else {
             // The rigid rows only: a compliant row's power λ'_k G_k v is the rate of its
             // spring energy, counted in `strain`.
-            p.constraint = (0..ng)
+            (0..ng)
                 .filter(|&k| self.compliance[k] == 0.0)
-                .map(|k| lamp[k] * self.g_row_dot(k, v))
-                .sum();
-        }
+                .map(|k| lamp[k] * self.gv[k])
+                .sum()
+        };
         self.f_n.fill(0.0);
         self.friction.add_forces(t, v, lamp, &mut self.f_n)?;
         p.friction = dot(v, &self.f_n);
-        self.t_n.fill(0.0);
-        self.load.add_to(t, 1.0, &mut self.t_n);
-        p.external = dot(v, &self.t_n);
+        p.external = self.load.dot(t, v);
         // Constraint drift ‖G v‖∞.
-        let mut drift: Real = 0.0;
-        for k in 0..ng {
-            if self.compliance_of(k) > 0.0 {
-                continue; // a compliant row has G v ≠ 0 by design
-            }
-            let mut s = 0.0;
-            for i in 0..n {
-                s += self.G[(k, i)] * v[i];
-            }
-            drift = drift.max(s.abs());
-        }
+        // A compliant row has G v ≠ 0 by design: the drift is the rigid rows'.
+        let drift = (0..ng)
+            .filter(|&k| self.compliance_of(k) <= 0.0)
+            .fold(0.0, |m: Real, k| m.max(self.gv[k].abs()));
         self.stats.constraint_drift = drift;
         self.stats.max_constraint_drift = self.stats.max_constraint_drift.max(drift);
         Ok(p)

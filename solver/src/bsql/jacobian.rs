@@ -30,8 +30,53 @@
 //! refactorisation by O((n+ng)²·r) work; with cj changing every few steps the gain also needs
 //! a cj-independent splitting (e.g. modal coordinates), which is future work.
 
+use faer::Mat;
+
 use super::{BsqlSystem, FrictionForces};
 use crate::{Real, SolverError};
+
+/// A = cj M + B − C_f + K/cj (or M for `cj` = None) into the leading n × n block of `a`;
+/// returns max |A_jj|.
+struct FillA<'a> {
+    a: &'a mut Mat<Real>,
+    m: &'a Mat<Real>,
+    b: &'a Mat<Real>,
+    k: &'a Mat<Real>,
+    cf: Option<&'a Mat<Real>>,
+    cj: Option<Real>,
+    n: usize,
+}
+
+impl pulp::WithSimd for FillA<'_> {
+    type Output = Real;
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Real {
+        let n = self.n;
+        let mut a_scale: Real = 0.0;
+        for j in 0..n {
+            let col = &mut self.a.col_as_slice_mut(j)[..n];
+            let m = self.m.col_as_slice(j);
+            match self.cj {
+                Some(c) => {
+                    let inv = 1.0 / c;
+                    let (b, k) = (self.b.col_as_slice(j), self.k.col_as_slice(j));
+                    for i in 0..n {
+                        col[i] = c * m[i] + b[i] + k[i] * inv;
+                    }
+                    if let Some(cf) = self.cf {
+                        let cf = cf.col_as_slice(j);
+                        for i in 0..n {
+                            col[i] -= cf[i];
+                        }
+                    }
+                }
+                None => col.copy_from_slice(&m[..n]),
+            }
+            a_scale = a_scale.max(col[j].abs());
+        }
+        a_scale
+    }
+}
 
 #[allow(non_snake_case)]
 impl<F: FrictionForces> BsqlSystem<F> {
@@ -64,24 +109,16 @@ impl<F: FrictionForces> BsqlSystem<F> {
         self.friction
             .add_tangents(t, v, lamp, &mut self.d_dlam, d_dv)?;
         let a = &mut self.lu.a;
-        // A block.
-        let mut a_scale: Real = 0.0;
-        for j in 0..n {
-            for i in 0..n {
-                let val = match cj {
-                    Some(c) => {
-                        let mut x = c * self.M[(i, j)] + self.B[(i, j)] + self.K[(i, j)] / c;
-                        if with_cf {
-                            x -= self.d_dv[(i, j)];
-                        }
-                        x
-                    }
-                    None => self.M[(i, j)],
-                };
-                a[(i, j)] = val;
-            }
-            a_scale = a_scale.max(a[(j, j)].abs());
-        }
+        // A block, column by column on contiguous slices (vectorised).
+        let a_scale = crate::linalg::sparse::dispatch(FillA {
+            a,
+            m: &self.M,
+            b: &self.B,
+            k: &self.K,
+            cf: with_cf.then_some(&self.d_dv),
+            cj,
+            n,
+        });
         let s = if a_scale > 0.0 {
             a_scale / self.g_scale
         } else {
@@ -135,13 +172,7 @@ impl<F: FrictionForces> BsqlSystem<F> {
         match cj {
             Some(c) => {
                 // r_v − K r_u / cj
-                super::residual::matvec(
-                    self.K.as_ref(),
-                    bu,
-                    &mut self.rhs[..n],
-                    faer::Accum::Add,
-                    -1.0 / c,
-                );
+                self.k_rows.apply(0, bu, &mut self.rhs[..n], true, -1.0 / c);
                 for k in 0..ng {
                     self.rhs[n + k] = s * bl[k] / c;
                 }

@@ -3,8 +3,11 @@
 //! Unknowns y = {v, λ, u} (lengths n, ng, n): velocities, contact *impulses* and
 //! displacements, so that λ' is the contact force of [Paper eq. (12)] (see DESIGN.md: with
 //! this reading ∂F/∂y' is nonsingular when G has full row rank and the iteration matrix is
-//! exactly eq. (18)). Constant matrices M, B, K (n × n) and G (ng × n) are dense (reduced
-//! models); friction enters through the [`FrictionForces`] callback.
+//! exactly eq. (18)). Constant matrices M, B, K (n × n) and G (ng × n) are given dense (reduced
+//! models); the products of every Newton iteration and every step's energy terms use their
+//! non-zero entries only (compressed rows built once in [`BsqlSystem::new`]: M, B, K on their
+//! union pattern, K alone, G and Gᵀ), the iteration matrix is assembled from the dense copies.
+//! Friction enters through the [`FrictionForces`] callback.
 //!
 //! - [`residual`]: F(t, y, y'), eq. (16), and the load history P(t).
 //! - [`jacobian`]: the iteration matrix, eq. (18), with the u-row eliminated.
@@ -31,6 +34,7 @@ pub use steady::{steady_state, SteadyOptions, SteadyState};
 pub use unilateral::{Unilateral, UnilateralOptions, UnilateralState, UnilateralStats};
 
 use crate::bdf::{DaeSystem, TolerancePartition, Tolerances};
+use crate::linalg::sparse::RunRows;
 use crate::{Real, SolverError};
 
 /// Friction forces F_f(λ', v) of [Paper eq. (8)] and their tangents, supplied by the caller
@@ -168,11 +172,19 @@ pub struct BsqlSystem<F: FrictionForces> {
     pub(crate) stats: BsqlStats,
     // Workspace.
     pub(crate) f_n: Vec<Real>,
-    pub(crate) t_n: Vec<Real>,
     pub(crate) d_dlam: Mat<Real>,
     pub(crate) d_dv: Mat<Real>,
     pub(crate) rhs: Vec<Real>,
     pub(crate) lu: crate::linalg::lu::DenseLu,
+    /// M, B, K on their union pattern (the residual's M v' + B v + K u, the energy forms).
+    pub(crate) mbk: RunRows,
+    /// K alone (the Newton solve's K r_u / cj).
+    pub(crate) k_rows: RunRows,
+    /// G and Gᵀ in compressed rows.
+    pub(crate) g_rows: RunRows,
+    pub(crate) gt_rows: RunRows,
+    /// G v (length ng).
+    pub(crate) gv: Vec<Real>,
     factored: Factored,
     /// Open (separated) constraints: their row is λ' = `lambda_dot_open` instead of G v' = 0.
     pub(crate) open: Vec<bool>,
@@ -202,6 +214,10 @@ impl<F: FrictionForces> BsqlSystem<F> {
         } else {
             Mat::zeros(0, 0)
         };
+        let mbk = RunRows::from_dense(&[&M, &B, &K], "M, B, K union pattern")?;
+        let k_rows = RunRows::from_dense(&[&K], "K")?;
+        let g_rows = RunRows::from_dense(&[&G], "G")?;
+        let gt_rows = RunRows::transpose_of_dense(&G, "G")?;
         Ok(Self {
             M,
             B,
@@ -215,11 +231,15 @@ impl<F: FrictionForces> BsqlSystem<F> {
             g_scale: if g_scale > 0.0 { g_scale } else { 1.0 },
             stats: BsqlStats::default(),
             f_n: vec![0.0; n],
-            t_n: vec![0.0; n],
             d_dlam: Mat::zeros(n, ng),
             d_dv,
             rhs: vec![0.0; n + ng],
             lu: crate::linalg::lu::DenseLu::new(n + ng),
+            mbk,
+            k_rows,
+            g_rows,
+            gt_rows,
+            gv: vec![0.0; ng],
             factored: Factored::None,
             open: vec![false; ng],
             lambda_dot_open: vec![0.0; ng],
@@ -235,6 +255,11 @@ impl<F: FrictionForces> BsqlSystem<F> {
     /// Number of constraints ng.
     pub fn n_constraints(&self) -> usize {
         self.ng
+    }
+
+    /// Stored entries of the sparse products: (M, B, K union pattern, K, G).
+    pub fn product_nnz(&self) -> (usize, usize, usize) {
+        (self.mbk.nnz(), self.k_rows.nnz(), self.g_rows.nnz())
     }
 
     /// Counters and the constraint-drift monitor.

@@ -68,6 +68,13 @@ impl LoadHistory {
         }
     }
 
+    /// P(t) · v.
+    pub fn dot(&self, t: Real, v: &[Real]) -> Real {
+        let pre: Real = self.p_pre.iter().zip(v).map(|(p, x)| p * x).sum();
+        let brake: Real = self.p_brake.iter().zip(v).map(|(p, x)| p * x).sum();
+        pre + self.ramp(t) * brake
+    }
+
     /// f ← f + α·P(t).
     pub fn add_to(&self, t: Real, alpha: Real, f: &mut [Real]) {
         for (fi, p) in f.iter_mut().zip(&self.p_pre) {
@@ -120,11 +127,9 @@ impl<F: FrictionForces> BsqlSystem<F> {
         let (vp, lamp, up) = (&yp[..n], &yp[n..n + ng], &yp[n + ng..]);
         let (rv, rest) = res.split_at_mut(n);
         let (rl, ru) = rest.split_at_mut(ng);
-        // F_v  [Paper eq. (16)]
-        matvec(self.M.as_ref(), vp, rv, Accum::Replace, 1.0);
-        matvec(self.B.as_ref(), v, rv, Accum::Add, 1.0);
-        matvec(self.K.as_ref(), u, rv, Accum::Add, 1.0);
-        matvec(self.G.transpose(), lamp, rv, Accum::Add, 1.0);
+        // F_v  [Paper eq. (16)] (M v' + B v + K u in one pass over their union pattern)
+        self.mbk.apply3(vp, v, u, rv);
+        self.gt_rows.apply(0, lamp, rv, true, 1.0);
         self.load.add_to(t, -1.0, rv);
         self.f_n.fill(0.0);
         self.friction.add_forces(t, v, lamp, &mut self.f_n)?;
@@ -140,7 +145,7 @@ impl<F: FrictionForces> BsqlSystem<F> {
             *r -= f;
         }
         // F_λ = G v'  [Paper eq. (11)]; an open constraint's row is λ' − λ'_open.
-        matvec(self.G.as_ref(), vp, rl, Accum::Replace, 1.0);
+        self.g_rows.apply(0, vp, rl, false, 1.0);
         for k in 0..ng {
             if self.open[k] {
                 rl[k] = lamp[k] - self.lambda_dot_open[k];

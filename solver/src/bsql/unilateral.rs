@@ -139,11 +139,11 @@ pub struct Unilateral {
 
 fn gap_value<F: FrictionForces>(sys: &BsqlSystem<F>, k: usize, y: &[Real]) -> Real {
     let off = sys.n + sys.ng;
-    (0..sys.n).map(|i| sys.G[(k, i)] * y[off + i]).sum()
+    sys.g_rows.row_dot(0, k, &y[off..off + sys.n])
 }
 
 fn gap_rate<F: FrictionForces>(sys: &BsqlSystem<F>, k: usize, v: &[Real]) -> Real {
-    (0..sys.n).map(|i| sys.G[(k, i)] * v[i]).sum()
+    sys.g_rows.row_dot(0, k, &v[..sys.n])
 }
 
 /// Root function of constraint k at (y, y').
