@@ -54,7 +54,8 @@ def main() -> None:
     ap.add_argument("--out", default=str(ROOT / "docs/bench/cea_scipy.json"))
     ap.add_argument("--work", default=str(Path(tempfile.gettempdir()) / "squeal-cea-scipy"))
     ap.add_argument("--bench", default=str(ROOT / "target/release/examples/bench_cea_brake"))
-    ap.add_argument("--scene", default=str(ROOT / "examples/transient/sample-brake-case2.toml"))
+    ap.add_argument("--scene", default="examples/transient/sample-brake-case2.toml",
+                    help="relative to the repository root (the benchmark runs there)")
     ap.add_argument("--sweep", type=int, default=50)
     ap.add_argument("--reuse", action="store_true")
     a = ap.parse_args()

@@ -48,7 +48,7 @@ fn random_constrained(n: usize, ng: usize, mu: f64, seed: u64) -> CeaMatrices {
     s
 }
 
-fn nearest<'a>(modes: &'a [Mode], p: squeal_solver::cea::Cplx) -> &'a Mode {
+fn nearest(modes: &[Mode], p: squeal_solver::cea::Cplx) -> &Mode {
     modes
         .iter()
         .min_by(|a, b| {
