@@ -70,5 +70,5 @@ def test_a_negative_or_nan_tolerance_is_an_error_naming_it(cli, tmp_path):
     for kw, flag, value in [("tol_freq", "--tol-freq", -0.1), ("pair_mac", "--pair-mac", math.nan)]:
         with pytest.raises(squeal.SceneError, match=f"compare.{kw}"):
             squeal.compare(TINY, TINY, cea=False, **{kw: value})
-        d, p = cli("compare", str(TINY), str(TINY), flag, str(value), check=False)
+        d, p = cli("compare", str(TINY), str(TINY), f"{flag}={value}", check=False)
         assert p.returncode != 0 and f"compare.{kw}" in p.stderr, p.stderr
