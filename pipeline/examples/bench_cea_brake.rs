@@ -150,7 +150,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     if let Some(dir) = &npy {
         std::fs::create_dir_all(dir)?;
-        let sys = tangents::cea_matrices(&p.problem, &p.lin, p.spec.friction_damping);
+        let sys = tangents::cea_matrices(&p.problem, &p.lin, p.spec.friction_damping)?;
         let t = Instant::now();
         let a = first_order_matrix(&sys, &p.spec.solver)?;
         let form_s = t.elapsed().as_secs_f64();
