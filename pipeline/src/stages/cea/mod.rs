@@ -514,8 +514,10 @@ pub fn write(
         lowest_critical_mu: c.sweep.as_ref().and_then(|r| r.lowest_critical_mu),
         vtu_points,
         full_mesh_shapes,
-        mode_animation,
-        rotor_face_figure: rotor_face_figure.map(|s| format!("{s}.png")),
+        // File names relative to the run folder (`files` has the paths): two runs of the same
+        // scene in two folders have equal summaries (`squeal compare`).
+        mode_animation: mode_animation.as_deref().map(run_relative),
+        rotor_face_figure: rotor_face_figure.map(|s| run_relative(&format!("{s}.png"))),
         mode_shapes_note: SHAPES_NOTE,
         files,
         model_hash: c.problem.model_hash(),
@@ -525,4 +527,11 @@ pub fn write(
     };
     dir.write_json("summary.json", &report)?;
     Ok(report)
+}
+
+/// The file name of an output path (the run folder's files are named in `files`).
+fn run_relative(path: &str) -> String {
+    std::path::Path::new(path)
+        .file_name()
+        .map_or_else(|| path.to_string(), |f| f.to_string_lossy().into_owned())
 }
