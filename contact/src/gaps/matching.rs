@@ -4,14 +4,6 @@ use super::grid::Grid;
 use super::{ContactNode, Gap, GapSet, MatchOptions};
 use crate::{ContactError, FrictionLaw, NodeReport, Real};
 
-fn cross(a: [Real; 3], b: [Real; 3]) -> [Real; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
 /// Matches every pad node to the rotor node that coincides with it within
 /// `opts.tolerance`, and builds one gap per pad node.
 ///
@@ -62,21 +54,16 @@ pub fn match_gaps(
     }
     let rotor_pts: Vec<[Real; 3]> = rotor.iter().map(|n| n.coords).collect();
     let grid = Grid::new(&rotor_pts, tol);
-    let omega = opts.omega();
     let mut used_by: Vec<Vec<usize>> = vec![Vec::new(); rotor.len()];
     let mut gaps = Vec::with_capacity(pad.len());
     for (ip, pn) in pad.iter().enumerate() {
-        let s = pn.area;
-        let a = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
-        if !(a.is_finite() && a > 0.0) {
-            bad.push(report(
-                pn,
-                format!(
-                    "pad node has area vector {s:?} (|S_p| = {a}); it must be non-zero and finite"
-                ),
-            ));
-            continue;
-        }
+        let a = match pn.pad_area() {
+            Ok(a) => a,
+            Err(reason) => {
+                bad.push(report(pn, reason));
+                continue;
+            }
+        };
         let cand = grid.within(&rotor_pts, &pn.coords, tol);
         match cand.len() {
             0 => bad.push(report(
@@ -86,22 +73,7 @@ pub fn match_gaps(
             1 => {
                 let ir = cand[0];
                 used_by[ir].push(ip);
-                let x = pn.coords;
-                let o = opts.rotor_axis_origin;
-                let r = [x[0] - o[0], x[1] - o[1], x[2] - o[2]];
-                gaps.push(Gap {
-                    pad_node: pn.id,
-                    rotor_node: rotor[ir].id,
-                    coords: x,
-                    pad_dofs: [None; 3],
-                    rotor_dofs: [None; 3],
-                    normal: [s[0] / a, s[1] / a, s[2] / a],
-                    area: a,
-                    v_slide: cross(omega, r),
-                    p0: opts.p0,
-                    temperature: opts.temperature,
-                    tie: None,
-                });
+                gaps.push(Gap::at_pad_node(pn, a, rotor[ir].id, opts, None));
             }
             _ => {
                 let ids: Vec<String> = cand

@@ -164,7 +164,53 @@ pub struct FaceTie {
     pub dofs: Vec<[Option<usize>; 3]>,
 }
 
+impl ContactNode {
+    /// |S_p| of a pad node, or why its area vector cannot make a gap (zero or non-finite).
+    pub(crate) fn pad_area(&self) -> Result<Real, String> {
+        let s = self.area;
+        let a = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
+        if a.is_finite() && a > 0.0 {
+            Ok(a)
+        } else {
+            Err(format!(
+                "pad node has area vector {s:?} (|S_p| = {a}); it must be non-zero and finite"
+            ))
+        }
+    }
+}
+
 impl Gap {
+    /// The gap of pad node `pn` (area `a` = |S_p|) on `rotor_node`, as both pairings make it:
+    /// normal n = S_p/a, sliding velocity ω × (x − origin) [Paper eq. (2)], P0 and temperature
+    /// from the options, DOF indices unassigned.
+    pub(crate) fn at_pad_node(
+        pn: &ContactNode,
+        a: Real,
+        rotor_node: u64,
+        opts: &MatchOptions,
+        tie: Option<FaceTie>,
+    ) -> Gap {
+        let (s, x, o, w) = (pn.area, pn.coords, opts.rotor_axis_origin, opts.omega());
+        let r = [x[0] - o[0], x[1] - o[1], x[2] - o[2]];
+        Gap {
+            pad_node: pn.id,
+            rotor_node,
+            coords: x,
+            pad_dofs: [None; 3],
+            rotor_dofs: [None; 3],
+            normal: [s[0] / a, s[1] / a, s[2] / a],
+            area: a,
+            v_slide: [
+                w[1] * r[2] - w[2] * r[1],
+                w[2] * r[0] - w[0] * r[2],
+                w[0] * r[1] - w[1] * r[0],
+            ],
+            p0: opts.p0,
+            temperature: opts.temperature,
+            tie,
+        }
+    }
+
     /// The rotor side of the gap as (weight, x/y/z DOFs) terms: the one coincident node with
     /// weight 1, or the tied face's nodes of non-zero weight. The rotor point's velocity is
     /// Σ w v_a, and a force f on it is w f on each node.

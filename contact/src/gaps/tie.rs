@@ -97,14 +97,6 @@ pub struct TieOutcome {
     pub stats: TieStats,
 }
 
-fn cross(a: [Real; 3], b: [Real; 3]) -> [Real; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
 /// Ties every pad node to the rotor surface: projects it on the faces near it, keeps the
 /// closest valid projection (|ξ|, |η| ≤ 1 + ε and distance ≤ the limit), and makes one gap
 /// whose rotor side is the face's nodes with weights N_a(ξ*).
@@ -208,7 +200,6 @@ pub fn tie_gaps(
         })
         .collect();
     let grid = Grid::from_boxes(&boxes, cell);
-    let omega = opts.omega();
     let mut stats = TieStats {
         n_pad: pad.len(),
         max_distance: tol,
@@ -217,17 +208,13 @@ pub fn tie_gaps(
     let mut gaps = Vec::with_capacity(pad.len());
     let mut unmatched = Vec::new();
     for pn in pad {
-        let s = pn.area;
-        let a = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
-        if !(a.is_finite() && a > 0.0) {
-            bad.push(report(
-                pn,
-                format!(
-                    "pad node has area vector {s:?} (|S_p| = {a}); it must be non-zero and finite"
-                ),
-            ));
-            continue;
-        }
+        let a = match pn.pad_area() {
+            Ok(a) => a,
+            Err(reason) => {
+                bad.push(report(pn, reason));
+                continue;
+            }
+        };
         let mut best: Option<(usize, super::face::Projection)> = None;
         let mut nearest: Option<(usize, super::face::Projection)> = None;
         for fi in grid.boxes_at(&pn.coords) {
@@ -268,29 +255,16 @@ pub fn tie_gaps(
         stats.largest_distance = stats.largest_distance.max(pr.distance);
         stats.largest_outside = stats.largest_outside.max(pr.outside);
         stats.max_iterations = stats.max_iterations.max(pr.iterations);
-        let x = pn.coords;
-        let o = opts.rotor_axis_origin;
-        gaps.push(Gap {
-            pad_node: pn.id,
-            rotor_node: f.nodes[main],
-            coords: x,
-            pad_dofs: [None; 3],
-            rotor_dofs: [None; 3],
-            normal: [s[0] / a, s[1] / a, s[2] / a],
-            area: a,
-            v_slide: cross(omega, [x[0] - o[0], x[1] - o[1], x[2] - o[2]]),
-            p0: opts.p0,
-            temperature: opts.temperature,
-            tie: Some(FaceTie {
-                face: f.id,
-                kind: f.kind,
-                xi: pr.xi,
-                nodes: f.nodes.clone(),
-                weights,
-                distance: pr.distance,
-                dofs: Vec::new(),
-            }),
-        });
+        let tie = FaceTie {
+            face: f.id,
+            kind: f.kind,
+            xi: pr.xi,
+            nodes: f.nodes.clone(),
+            weights,
+            distance: pr.distance,
+            dofs: Vec::new(),
+        };
+        gaps.push(Gap::at_pad_node(pn, a, f.nodes[main], opts, Some(tie)));
     }
     if !unmatched.is_empty() && tie.unmatched == Unmatched::Error {
         bad.extend(unmatched.iter().cloned());
