@@ -83,7 +83,7 @@ pub struct CaseResult {
     pub contact: crate::stages::transient::validity::ContactValidity,
     /// The step bound of the run.
     pub h_max: Option<Real>,
-    /// First time the response velocity exceeds the study's onset level.
+    /// Time the squealing root's fitted amplitude reaches the study's onset level.
     pub onset_s: Option<Real>,
     pub n_dofs: usize,
     pub n_gaps: usize,
@@ -120,7 +120,8 @@ pub fn run(
     let wall = Instant::now();
     let study = StudySpec::load(study_path)?;
     let base_path = study.base_path();
-    let base = Scene::load(&base_path, &args.set)?;
+    let sets: Vec<String> = study.set.iter().chain(&args.set).cloned().collect();
+    let base = Scene::load(&base_path, &sets)?;
     let n_contact = base.contact.len();
     let selected: Vec<&CaseSpec> = match &args.cases {
         Some(list) => {
@@ -332,9 +333,7 @@ fn run_case(
     let loads = scene.loads.clone().unwrap_or_default();
     let damping = scene.damping.clone().unwrap_or_default();
     let law = scene.friction.clone().unwrap_or_default().law;
-    let onset_s = report::onset_time(&cdir, &r.response, study.onset_level, loads.tload)
-        .ok()
-        .flatten();
+    let onset_s = report::onset_time(&r.verdict, study.onset_level);
     Ok(CaseResult {
         case: c.case,
         mu: study::mu_label(&law),

@@ -13,6 +13,12 @@ type Real = f64;
 pub struct StudySpec {
     /// Base scene, relative to the study file (required).
     pub base: PathBuf,
+    /// Scene settings applied to the base before every case, as `--set` writes them
+    /// (`"contact.0.normal_stiffness=1e6"`; default: none). A study of a variant of a shipped
+    /// scene says here what differs, and its report prints them. The command line's `--set`
+    /// comes after these.
+    #[serde(default)]
+    pub set: Vec<String>,
     /// A run stops after `step_cap × TF / h_max` steps when the base scene sets `h_max`
     /// (default: 1.6).
     #[serde(default = "default_step_cap")]
@@ -20,8 +26,8 @@ pub struct StudySpec {
     /// Run `squeal cea` at every case's steady sliding state (default: true).
     #[serde(default = "yes")]
     pub cea: bool,
-    /// Response velocity level whose first crossing is the squeal onset time (default: 0.1,
-    /// model units of velocity).
+    /// Amplitude of the squealing root (the verdict's deciding root, norm over the output
+    /// velocity DOFs) that marks the squeal onset time (default: 0.1, model units of velocity).
     #[serde(default = "default_onset")]
     pub onset_level: Real,
     /// Complex eigenvalues of the base scene over a range of constant μ (default: none): which
