@@ -82,40 +82,38 @@ fn coarse_steps_never_give_no_squeal_when_the_cea_has_an_unstable_root() {
     }
 }
 
-/// Issue 11, part 2: study case 2 (examples/sample-brake/base.toml) at tight tolerance
-/// (RTOL1 = 1e-8, ATOL1 = 1e-10; 163 427 steps): the response's largest root from the
-/// estimator (`transient_vs_cea[0]`, paired with the CEA at the same state) within 0.5 % of
-/// the CEA's Re p and 0.1 % of its frequency. Slow (~70 s release):
-/// `cargo test --release -p squeal-cli --test verdict -- --ignored case2`.
+/// Issue 11, part 2: study case 2 (examples/sample-brake/base.toml, compliant contact
+/// k_n = 1e6 psi/in) at tight tolerance (RTOL1 = 1e-8, ATOL1 = 1e-10; 119 174 steps): the
+/// response's largest root from the estimator (`transient_vs_cea[0]`, paired with the CEA at
+/// the same state) within 0.5 % of the CEA's Re p and 0.1 % of its frequency. Slow (~30 s
+/// release): `cargo test --release -p squeal-cli --test verdict -- --ignored case2`.
 ///
-/// Measured on the study brake under its clamp load (157.2 psi): σ = 277.5 /s against
-/// Re p = +274.3 /s (+1.2 %, FAILS the 0.5 %), f = 2159.1 against 2158.2 Hz (+0.04 %). The
-/// response after the ramp is 1–3 in/s against a sliding speed of 47–65 in/s: the fit's
-/// residual is 1.6 % and σ moves by ±2 % with the window; the residual stays at 0.8–1.2 %
-/// whatever the model order (40–120) and the sampling (5–20 µs), so the response is not a sum
-/// of damped exponentials to better than ~1 %: the nonlinearity the linear CEA does not have
-/// (docs/verdict.md). Left failing rather than loosened; the same state reached by a gentler
-/// ramp passes (`case2_state_slow_ramp_top_root_matches_the_cea`).
+/// Measured: σ = 128.8 /s against Re p = +136.72 /s (−5.8 %, FAILS the 0.5 %), f = 2097.06
+/// against 2101.34 Hz (−0.20 %, FAILS the 0.1 %). The paper's 6 ms leave a 5.5 ms window after
+/// the 0.5 ms ramp in which the 2.1 kHz root grows by a factor of 2.1 only, while the ramp rings
+/// strongly damped modes of the same size (5.8 kHz at −680 /s starts at the squealing root's
+/// amplitude) and the response carries 3–4 % that is not a sum of damped exponentials (the
+/// fit's residual stays at 3.2–4.1 % for model orders 40–160; σ moves by ±15 % with the
+/// window's start). Left failing rather than loosened; the same case observed to 13 ms
+/// passes (`case2_to_13ms_top_root_matches_the_cea`). With the rigid contact of the earlier
+/// study (Re p +274.3 /s, a factor of 4.5 in the window) this test gave +1.2 %.
 #[test]
 #[ignore]
 fn case2_tight_tolerance_top_root_matches_the_cea() {
     case2_top_root_matches_the_cea("verdict-case2-tight", &[]);
 }
 
-/// The estimator's accuracy where the response is linear enough: study case 2's final state
-/// (the same steady sliding state and CEA root, Re p = +274.31 /s at 2158.21 Hz), reached by
-/// a 2 ms load ramp instead of 0.5 ms (TF 7.5 ms, the same 5.5 ms window after the ramp).
-/// The gentler ramp rings the strongly damped modes far less (the 9.5 kHz root's amplitude
-/// at the window's start 0.21 against 0.84 in/s): the fit's residual is 0.26 % and σ =
-/// 274.09 /s (−0.08 %), f = 2158.23 Hz (+0.001 %) (measured, release build, 133 793 steps,
-/// ~70 s CPU). `cargo test --release -p squeal-cli --test verdict -- --ignored slow_ramp`.
+/// The estimator's accuracy once the window shows the growth: study case 2 at the same tight
+/// tolerance observed to TF = 13 ms (12.5 ms after the ramp, a growth factor of 5.5; the
+/// contact stays compressive throughout, min p_n +0.29 psi at gap 19, so the state is the
+/// CEA's). Measured (release build, 217 391 steps, ~75 s wall): σ = 136.47 /s against Re p =
+/// +136.72 /s (−0.19 %), f = 2101.321 against 2101.336 Hz (−0.0007 %), residual 0.79 %.
+/// (To 16 ms: −0.18 %, but gap 19 turns tensile from 13.1 ms.)
+/// `cargo test --release -p squeal-cli --test verdict -- --ignored to_13ms`.
 #[test]
 #[ignore]
-fn case2_state_slow_ramp_top_root_matches_the_cea() {
-    case2_top_root_matches_the_cea(
-        "verdict-case2-slow-ramp",
-        &["loads.tload=0.002", "transient.tfinal=0.0075"],
-    );
+fn case2_to_13ms_top_root_matches_the_cea() {
+    case2_top_root_matches_the_cea("verdict-case2-13ms", &["transient.tfinal=0.013"]);
 }
 
 /// Study case 2 (base.toml) at RTOL1 = 1e-8, ATOL1 = 1e-10 with `extra` settings: the
@@ -143,6 +141,8 @@ fn case2_top_root_matches_the_cea(name: &str, extra: &[&str]) {
         p["rel_diff_frequency"].as_f64().unwrap(),
     );
     eprintln!("{name}: {p}");
+    // The CEA's state is the run's only while every gap stays compressive.
+    assert_eq!(s["contact"]["tensile_gap_steps"], 0, "{}", s["contact"]);
     assert!(p["cea_real_part"].as_f64().unwrap() > 0.0, "{p}");
     assert!(ds.abs() < 5e-3, "sigma {ds:+.4} relative: {p}");
     assert!(df.abs() < 1e-3, "f {df:+.5} relative: {p}");
