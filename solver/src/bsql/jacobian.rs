@@ -22,6 +22,18 @@
 //! A compliant row (normal contact compliance c_k) keeps s G_k and gets the diagonal
 //! −s² c_k cj (see [`super::compliance`] for its right-hand side).
 //!
+//! # Elimination of the modal block
+//! When M, B, K have a diagonal block d that no constraint row touches (the Craig–Bampton
+//! modal coordinates; `BsqlSystem::modal`, found by pattern), and the friction tangents D, C_f
+//! vanish on its rows and columns (checked at every set-up), the saddle matrix is
+//! $$\begin{bmatrix} A_{bb} & A_{bd} & s(G^T − D)_b \\ A_{db} & A_{dd} & 0 \\ s G_b & 0 & C
+//! \end{bmatrix},\quad A_{dd} = \mathrm{diag}(c_j M_{ii} + B_{ii} + K_{ii}/c_j),$$
+//! and δv_d = A_dd⁻¹ (r_d − A_db δv_b) leaves the (kept + ng) system with
+//! S = A_bb − A_bd A_dd⁻¹ A_db in place of A (`linalg::diag_block`). The scaling s is the
+//! whole A's (as without elimination), so the two paths differ by round-off only. If a
+//! friction tangent ever touches an eliminated DOF, the elimination is given up for the rest
+//! of the run (`BsqlStats::elimination_fallbacks`).
+//!
 //! # Where a low-rank update would go
 //! Only D = ∂F_f/∂λ' (and C_f) change between factorisations at equal cj, and they are
 //! non-zero only in the rows of the contact DOFs. Factorising S₀ (the matrix with D = 0)
@@ -33,7 +45,64 @@
 use faer::Mat;
 
 use super::{BsqlSystem, FrictionForces};
+use crate::linalg::diag_block::DiagBlock;
+use crate::linalg::lu::DenseLu;
 use crate::{Real, SolverError};
+
+/// True when D = ∂F_f/∂λ' has no entry in the rows of the eliminated DOFs, and C_f (if given)
+/// none in their rows and columns.
+fn tangents_clear(blk: &DiagBlock, d_dlam: &Mat<Real>, cf: Option<&Mat<Real>>) -> bool {
+    let ng = d_dlam.ncols();
+    let d_ok = blk
+        .d
+        .iter()
+        .all(|&i| (0..ng).all(|k| d_dlam[(i, k)] == 0.0));
+    let cf_ok = cf.is_none_or(|cf| {
+        blk.d.iter().all(|&i| {
+            cf.col_as_slice(i).iter().all(|&x| x == 0.0)
+                && (0..cf.ncols()).all(|j| cf[(i, j)] == 0.0)
+        })
+    });
+    d_ok && cf_ok
+}
+
+/// The kept block A[kept, kept] of A = cj M + B − C_f + K/cj (M for `cj` = None) into the
+/// leading block of `a`.
+#[allow(clippy::too_many_arguments)]
+fn fill_kept(
+    a: &mut Mat<Real>,
+    kept: &[usize],
+    m: &Mat<Real>,
+    b: &Mat<Real>,
+    k: &Mat<Real>,
+    cf: Option<&Mat<Real>>,
+    cj: Option<Real>,
+) {
+    for (q, &j) in kept.iter().enumerate() {
+        let col = &mut a.col_as_slice_mut(q)[..kept.len()];
+        let mj = m.col_as_slice(j);
+        match cj {
+            Some(c) => {
+                let inv = 1.0 / c;
+                let (bj, kj) = (b.col_as_slice(j), k.col_as_slice(j));
+                for (p, &i) in kept.iter().enumerate() {
+                    col[p] = c * mj[i] + bj[i] + kj[i] * inv;
+                }
+                if let Some(cf) = cf {
+                    let cfj = cf.col_as_slice(j);
+                    for (p, &i) in kept.iter().enumerate() {
+                        col[p] -= cfj[i];
+                    }
+                }
+            }
+            None => {
+                for (p, &i) in kept.iter().enumerate() {
+                    col[p] = mj[i];
+                }
+            }
+        }
+    }
+}
 
 /// A = cj M + B − C_f + K/cj (or M for `cj` = None) into the leading n × n block of `a`;
 /// returns max |A_jj|.
@@ -108,17 +177,50 @@ impl<F: FrictionForces> BsqlSystem<F> {
         let d_dv = if with_cf { Some(&mut self.d_dv) } else { None };
         self.friction
             .add_tangents(t, v, lamp, &mut self.d_dlam, d_dv)?;
+        let cf = with_cf.then_some(&self.d_dv);
+        if let Some(blk) = &self.modal {
+            if !tangents_clear(blk, &self.d_dlam, cf) {
+                // Friction on an eliminated DOF: factorise the whole system from now on.
+                self.modal = None;
+                self.red_rhs = Vec::new();
+                self.lu = DenseLu::new(n + ng);
+                self.stats.eliminated_dofs = 0;
+                self.stats.elimination_fallbacks += 1;
+            }
+        }
         let a = &mut self.lu.a;
-        // A block, column by column on contiguous slices (vectorised).
-        let a_scale = crate::linalg::sparse::dispatch(FillA {
-            a,
-            m: &self.M,
-            b: &self.B,
-            k: &self.K,
-            cf: with_cf.then_some(&self.d_dv),
-            cj,
-            n,
-        });
+        let a_scale = match &mut self.modal {
+            // A block, column by column on contiguous slices (vectorised).
+            None => crate::linalg::sparse::dispatch(FillA {
+                a,
+                m: &self.M,
+                b: &self.B,
+                k: &self.K,
+                cf,
+                cj,
+                n,
+            }),
+            // Kept block, then S = A_bb − A_bd A_dd⁻¹ A_db.
+            Some(blk) => {
+                fill_kept(a, &blk.kept, &self.M, &self.B, &self.K, cf, cj);
+                let (what, coef) = match cj {
+                    Some(c) => ("BSQL iteration (eq. 18), modal block", [c, 1.0, 1.0 / c]),
+                    None => ("BSQL ∂F/∂y', modal block", [1.0, 0.0, 0.0]),
+                };
+                blk.fill(&coef, &[&self.M, &self.B, &self.K], what, t)?;
+                blk.subtract_schur(a);
+                // The whole A's diagonal, as the dense path scales with it.
+                let mut a_scale: Real = 0.0;
+                for j in 0..n {
+                    let ajj = coef[0] * self.M[(j, j)]
+                        + coef[1] * self.B[(j, j)]
+                        + coef[2] * self.K[(j, j)]
+                        - cf.map_or(0.0, |cf| cf[(j, j)]);
+                    a_scale = a_scale.max(ajj.abs());
+                }
+                a_scale
+            }
+        };
         let s = if a_scale > 0.0 {
             a_scale / self.g_scale
         } else {
@@ -130,23 +232,28 @@ impl<F: FrictionForces> BsqlSystem<F> {
             Some(c) => s * s / c,
             None => s * s,
         };
+        // Kept position p is DOF dof(p) (all DOFs without elimination).
+        let kept = self.modal.as_ref().map(|b| b.kept.as_slice());
+        let nv = kept.map_or(n, <[usize]>::len);
+        let dof = |p: usize| kept.map_or(p, |kept| kept[p]);
         for k in 0..ng {
-            for i in 0..n {
-                a[(i, n + k)] = s * (self.G[(k, i)] - self.d_dlam[(i, k)]);
-                a[(n + k, i)] = if self.open[k] {
+            for p in 0..nv {
+                let i = dof(p);
+                a[(p, nv + k)] = s * (self.G[(k, i)] - self.d_dlam[(i, k)]);
+                a[(nv + k, p)] = if self.open[k] {
                     0.0
                 } else {
                     s * self.G[(k, i)]
                 };
             }
             for l in 0..ng {
-                a[(n + k, n + l)] = 0.0;
+                a[(nv + k, nv + l)] = 0.0;
             }
             if self.open[k] {
-                a[(n + k, n + k)] = d_open;
+                a[(nv + k, nv + k)] = d_open;
             }
         }
-        self.compliant_matrix_rows(cj, s);
+        self.compliant_matrix_rows(cj, s, nv);
         Ok(s)
     }
 
@@ -185,7 +292,7 @@ impl<F: FrictionForces> BsqlSystem<F> {
                 self.compliant_rhs(None, s, bl, bu);
             }
         }
-        self.lu.solve(&mut self.rhs)?;
+        self.solve_saddle()?;
         match cj {
             Some(c) => {
                 for i in 0..n {
@@ -205,5 +312,23 @@ impl<F: FrictionForces> BsqlSystem<F> {
             }
         }
         Ok(())
+    }
+
+    /// Solves the factorised saddle system in place in `rhs` (n + ng), through the Schur
+    /// complement when the modal block is eliminated.
+    fn solve_saddle(&mut self) -> Result<(), SolverError> {
+        let n = self.n;
+        match &mut self.modal {
+            None => self.lu.solve(&mut self.rhs),
+            Some(blk) => {
+                let nv = blk.kept.len();
+                blk.forward(&self.rhs[..n], &mut self.red_rhs[..nv]);
+                self.red_rhs[nv..].copy_from_slice(&self.rhs[n..]);
+                self.lu.solve(&mut self.red_rhs)?;
+                blk.back(&self.red_rhs[..nv], &mut self.rhs[..n]);
+                self.rhs[n..].copy_from_slice(&self.red_rhs[nv..]);
+                Ok(())
+            }
+        }
     }
 }
