@@ -31,8 +31,9 @@
 //! and δv_d = A_dd⁻¹ (r_d − A_db δv_b) leaves the (kept + ng) system with
 //! S = A_bb − A_bd A_dd⁻¹ A_db in place of A (`linalg::diag_block`). The scaling s is the
 //! whole A's (as without elimination), so the two paths differ by round-off only. If a
-//! friction tangent ever touches an eliminated DOF, the elimination is given up for the rest
-//! of the run (`BsqlStats::elimination_fallbacks`).
+//! friction tangent touches an eliminated DOF (a contact node's tangential DOFs carry no
+//! constraint, so the pattern alone cannot exclude them), the DOFs it touches are marked and
+//! the block is found again without them (`BsqlStats::modal_redetections`).
 //!
 //! # Where a low-rank update would go
 //! Only D = ∂F_f/∂λ' (and C_f) change between factorisations at equal cj, and they are
@@ -46,7 +47,6 @@ use faer::Mat;
 
 use super::{BsqlSystem, FrictionForces};
 use crate::linalg::diag_block::DiagBlock;
-use crate::linalg::lu::DenseLu;
 use crate::{Real, SolverError};
 
 /// True when D = ∂F_f/∂λ' has no entry in the rows of the eliminated DOFs, and C_f (if given)
@@ -177,17 +177,26 @@ impl<F: FrictionForces> BsqlSystem<F> {
         let d_dv = if with_cf { Some(&mut self.d_dv) } else { None };
         self.friction
             .add_tangents(t, v, lamp, &mut self.d_dlam, d_dv)?;
-        let cf = with_cf.then_some(&self.d_dv);
-        if let Some(blk) = &self.modal {
-            if !tangents_clear(blk, &self.d_dlam, cf) {
-                // Friction on an eliminated DOF: factorise the whole system from now on.
-                self.modal = None;
-                self.red_rhs = Vec::new();
-                self.lu = DenseLu::new(n + ng);
-                self.stats.eliminated_dofs = 0;
-                self.stats.elimination_fallbacks += 1;
+        while self
+            .modal
+            .as_ref()
+            .is_some_and(|blk| !tangents_clear(blk, &self.d_dlam, with_cf.then_some(&self.d_dv)))
+        {
+            let cf = with_cf.then_some(&self.d_dv);
+            // Friction on an eliminated DOF: keep every DOF the tangents touch, find the block
+            // again (the marks only grow, so this ends).
+            for i in 0..n {
+                let row_d = (0..ng).any(|k| self.d_dlam[(i, k)] != 0.0);
+                let row_cf = cf.is_some_and(|cf| {
+                    (0..n).any(|j| cf[(i, j)] != 0.0)
+                        || cf.col_as_slice(i).iter().any(|&x| x != 0.0)
+                });
+                self.touched[i] |= row_d || row_cf;
             }
+            self.stats.modal_redetections += 1;
+            self.set_modal_elimination(true);
         }
+        let cf = with_cf.then_some(&self.d_dv);
         let a = &mut self.lu.a;
         let a_scale = match &mut self.modal {
             // A block, column by column on contiguous slices (vectorised).

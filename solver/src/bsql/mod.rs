@@ -148,10 +148,10 @@ pub struct BsqlStats {
     /// factorised).
     #[serde(default)]
     pub eliminated_dofs: u64,
-    /// Times the elimination was given up because the friction tangents touched an
-    /// eliminated DOF (the system is then factorised whole from that set-up on).
+    /// Times the block was found again because the friction tangents touched an eliminated
+    /// DOF (those DOFs are kept from then on).
     #[serde(default)]
-    pub elimination_fallbacks: u64,
+    pub modal_redetections: u64,
 }
 
 /// What the last factorisation holds.
@@ -196,6 +196,8 @@ pub struct BsqlSystem<F: FrictionForces> {
     pub(crate) modal: Option<DiagBlock>,
     /// Right-hand side of the reduced saddle system (kept + ng; empty without `modal`).
     pub(crate) red_rhs: Vec<Real>,
+    /// DOFs never eliminated: those the friction tangents were seen to touch.
+    pub(crate) touched: Vec<bool>,
     /// M, B, K on their union pattern (the residual's M v' + B v + K u, the energy forms).
     pub(crate) mbk: RunRows,
     /// K alone (the Newton solve's K r_u / cj).
@@ -257,6 +259,7 @@ impl<F: FrictionForces> BsqlSystem<F> {
             lu: DenseLu::new(0),
             modal: None,
             red_rhs: Vec::new(),
+            touched: vec![false; n],
             mbk,
             k_rows,
             g_rows,
@@ -273,17 +276,20 @@ impl<F: FrictionForces> BsqlSystem<F> {
 
     /// Eliminate the diagonal block of M, B, K before the LU when there is one (default: on,
     /// set by [`BsqlSystem::new`]); off, the whole (n + ng) saddle system is factorised. The
-    /// two differ by round-off only. A DOF is eliminated when no constraint row touches it,
+    /// two differ by round-off only. A DOF is eliminated when no constraint row and no
+    /// friction tangent seen so far touches it,
     /// M_ii > 0, B_ii ≥ 0, K_ii ≥ 0 (so cj M_ii + B_ii + K_ii/cj > 0 for every cj > 0), and
-    /// no other eliminated DOF couples with it in M, B or K; at least n/10 such DOFs are
-    /// needed (fewer would not pay for the Schur complement's bookkeeping).
+    /// no other eliminated DOF couples with it in M, B or K; at least n/10 (and 2) such DOFs
+    /// are needed (fewer would not pay for the Schur complement's bookkeeping).
     pub fn set_modal_elimination(&mut self, on: bool) {
         let (n, ng) = (self.n, self.ng);
         self.factored = Factored::None;
         self.modal = if on {
             let (M, B, K, G) = (&self.M, &self.B, &self.K, &self.G);
+            let touched = &self.touched;
             let allowed = |i: usize| {
-                (0..ng).all(|k| G[(k, i)] == 0.0)
+                !touched[i]
+                    && (0..ng).all(|k| G[(k, i)] == 0.0)
                     && M[(i, i)] > 0.0
                     && B[(i, i)] >= 0.0
                     && K[(i, i)] >= 0.0
@@ -291,7 +297,7 @@ impl<F: FrictionForces> BsqlSystem<F> {
                     && B[(i, i)].is_finite()
                     && K[(i, i)].is_finite()
             };
-            DiagBlock::detect(&[M, B, K], allowed, n.div_ceil(10))
+            DiagBlock::detect(&[M, B, K], allowed, n.div_ceil(10).max(2))
         } else {
             None
         };
