@@ -164,10 +164,10 @@ impl FrictionForces for ModalDrag {
         d_dlam: &mut Mat<Real>,
         d_dv: Option<&mut Mat<Real>>,
     ) -> Result<(), SolverError> {
-        let d_dv = d_dv.map(|d| {
+        let mut d_dv = d_dv;
+        if let Some(d) = d_dv.as_mut() {
             d[(7, 7)] -= 0.05 * lambda_dot[0];
-            d
-        });
+        }
         self.0.add_tangents(t, v, lambda_dot, d_dlam, d_dv)?;
         d_dlam[(7, 0)] -= 0.05 * v[7];
         Ok(())
