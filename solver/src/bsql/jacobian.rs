@@ -166,9 +166,17 @@ impl<F: FrictionForces> BsqlSystem<F> {
             && !self.opts.include_friction_damping
             && self.opts.friction_damping_near_stick
             && self.friction.near_stick(t, v, lamp);
-        let with_cf = (self.opts.include_friction_damping || near_stick) && cj.is_some();
+        let after_failure = cj.is_some()
+            && !self.opts.include_friction_damping
+            && !near_stick
+            && self.cf_after_failure;
+        let with_cf =
+            (self.opts.include_friction_damping || near_stick || after_failure) && cj.is_some();
         if near_stick {
             self.stats.near_stick_factorisations += 1;
+        }
+        if after_failure {
+            self.stats.friction_damping_after_failure += 1;
         }
         if with_cf {
             self.d_dv.fill(0.0);

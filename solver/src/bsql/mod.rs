@@ -106,9 +106,13 @@ pub struct BsqlOptions {
     /// Newton then converges linearly in the v-dependence of friction).
     pub include_friction_damping: bool,
     /// Include C_f automatically in the factorisations at which the friction model reports
-    /// a contact near sticking ([`FrictionForces::near_stick`]) (default: true). Off, a
-    /// stick–slip run takes many Newton failures at each stick (the v-dependence of friction
-    /// is then steep and left out of Newton's matrix).
+    /// a contact near sticking ([`FrictionForces::near_stick`]), and in every factorisation
+    /// after the first Newton convergence failure with a fresh matrix without it (default:
+    /// true). Off, a stick–slip run takes many Newton failures at each stick (the
+    /// v-dependence of friction is then steep and left out of Newton's matrix), and so does a
+    /// growing squeal vibration (the tangential vibration velocity turns the sliding direction,
+    /// ∂F_f/∂v ~ μN/|V_t|): 2 049 failures and 6 731 set-ups for 5 562 steps on the study
+    /// brake at RTOL1 1e-4 (README, "Cost of a transient step").
     pub friction_damping_near_stick: bool,
 }
 
@@ -144,6 +148,10 @@ pub struct BsqlStats {
     pub max_constraint_drift: Real,
     /// Factorisations that included C_f because a contact was near sticking.
     pub near_stick_factorisations: u64,
+    /// Factorisations that included C_f because Newton had failed with a fresh matrix
+    /// without it (see [`BsqlOptions::friction_damping_near_stick`]).
+    #[serde(default)]
+    pub friction_damping_after_failure: u64,
     /// DOFs of the diagonal (modal) block eliminated before the LU (0: the whole system is
     /// factorised).
     #[serde(default)]
@@ -198,6 +206,12 @@ pub struct BsqlSystem<F: FrictionForces> {
     pub(crate) red_rhs: Vec<Real>,
     /// DOFs never eliminated: those the friction tangents were seen to touch.
     pub(crate) touched: Vec<bool>,
+    /// C_f goes into every iteration matrix: Newton failed with a fresh matrix without it.
+    pub(crate) cf_after_failure: bool,
+    /// (t, cj) of the last iteration-matrix set-up, its y and y' in `last_y`, `last_yp`.
+    last_setup: Option<(Real, Real)>,
+    last_y: Vec<Real>,
+    last_yp: Vec<Real>,
     /// M, B, K on their union pattern (the residual's M v' + B v + K u, the energy forms).
     pub(crate) mbk: RunRows,
     /// K alone (the Newton solve's K r_u / cj).
@@ -260,6 +274,10 @@ impl<F: FrictionForces> BsqlSystem<F> {
             modal: None,
             red_rhs: Vec::new(),
             touched: vec![false; n],
+            cf_after_failure: false,
+            last_setup: None,
+            last_y: vec![0.0; 2 * n + ng],
+            last_yp: vec![0.0; 2 * n + ng],
             mbk,
             k_rows,
             g_rows,
@@ -344,7 +362,22 @@ impl<F: FrictionForces> BsqlSystem<F> {
 
     /// Sets the counters and the drift monitor (a restarted run continues those of the run it
     /// resumes).
+    ///
+    /// A run that had switched C_f on after a Newton failure
+    /// (`friction_damping_after_failure` > 0) continues with it: the last iteration matrix is
+    /// formed again with C_f at its point before the counters are set.
     pub fn restore_stats(&mut self, stats: BsqlStats) {
+        if stats.friction_damping_after_failure > 0 && !self.cf_after_failure {
+            self.cf_after_failure = true;
+            if let (Some((t, cj)), Factored::Iteration { .. }) = (self.last_setup, self.factored) {
+                let (y, yp) = (self.last_y.clone(), self.last_yp.clone());
+                // The matrix the run had is the one it formed there; a failure now is the
+                // restart's to report (at the next step's set-up).
+                if self.setup_jacobian(t, &y, &yp, cj).is_err() {
+                    self.factored = Factored::None;
+                }
+            }
+        }
         let eliminated = self.stats.eliminated_dofs;
         self.stats = stats;
         self.stats.eliminated_dofs = eliminated; // this system's structure, not the file's
@@ -411,11 +444,19 @@ impl<F: FrictionForces> DaeSystem for BsqlSystem<F> {
         cj: Real,
     ) -> Result<(), SolverError> {
         self.factored = Factored::None;
+        self.last_setup = Some((t, cj));
+        self.last_y.copy_from_slice(y);
+        self.last_yp.copy_from_slice(yp);
         let s = self.assemble_iteration_matrix(t, y, yp, Some(cj))?;
         self.lu.factor("BSQL iteration (eq. 18)", t)?;
         self.stats.factorisations += 1;
         self.factored = Factored::Iteration { cj, s };
         Ok(())
+    }
+    fn newton_failed_with_fresh_matrix(&mut self) {
+        if self.opts.friction_damping_near_stick && !self.opts.include_friction_damping {
+            self.cf_after_failure = true;
+        }
     }
     fn solve_jacobian(&mut self, b: &mut [Real]) -> Result<(), SolverError> {
         match self.factored {
