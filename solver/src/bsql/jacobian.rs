@@ -349,3 +349,98 @@ impl<F: FrictionForces> BsqlSystem<F> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::{BsqlOptions, BsqlSystem, FrictionForces, LoadHistory};
+    use crate::bdf::DaeSystem;
+    use crate::{Real, SolverError};
+    use faer::Mat;
+
+    /// Friction on DOF 0 with a speed dependence: F = (0.5 − 2 v₀) λ'₀.
+    struct Falling;
+    impl FrictionForces for Falling {
+        fn add_forces(
+            &mut self,
+            _: Real,
+            v: &[Real],
+            l: &[Real],
+            f: &mut [Real],
+        ) -> Result<(), SolverError> {
+            f[0] += (0.5 - 2.0 * v[0]) * l[0];
+            Ok(())
+        }
+        fn add_tangents(
+            &mut self,
+            _: Real,
+            v: &[Real],
+            l: &[Real],
+            d_dlam: &mut Mat<Real>,
+            d_dv: Option<&mut Mat<Real>>,
+        ) -> Result<(), SolverError> {
+            d_dlam[(0, 0)] += 0.5 - 2.0 * v[0];
+            if let Some(d) = d_dv {
+                d[(0, 0)] += -2.0 * l[0];
+            }
+            Ok(())
+        }
+    }
+
+    fn system(include: bool) -> BsqlSystem<Falling> {
+        let m = Mat::from_fn(3, 3, |i, j| if i == j { 1.0 + i as Real } else { 0.1 });
+        let k = Mat::from_fn(3, 3, |i, j| if i == j { 50.0 } else { -5.0 });
+        let b = Mat::from_fn(3, 3, |i, j| 1e-3 * k[(i, j)]);
+        let mut g = Mat::zeros(1, 3);
+        g[(0, 1)] = 1.0;
+        let opts = BsqlOptions {
+            include_friction_damping: include,
+            ..Default::default()
+        };
+        BsqlSystem::new(m, b, k, g, LoadHistory::default(), Falling, opts).unwrap()
+    }
+
+    /// After a Newton failure with a fresh matrix, the next iteration matrices carry C_f:
+    /// their solves are those of the matrix with C_f always in.
+    #[test]
+    fn a_newton_failure_puts_the_friction_damping_into_later_matrices() {
+        let y = [0.3, 0.0, -0.1, 0.0, 0.01, 0.02, 0.0];
+        let yp = [0.0, 0.0, 0.0, 20.0, 0.3, 0.0, 0.1];
+        let rhs = [1.0, -2.0, 0.5, 0.3, 0.2, -0.1, 0.4];
+        let solve = |sys: &mut BsqlSystem<Falling>| {
+            sys.setup_jacobian(0.0, &y, &yp, 50.0).unwrap();
+            let mut b = rhs;
+            sys.solve_jacobian(&mut b).unwrap();
+            b
+        };
+        let (mut paper, mut with_cf) = (system(false), system(true));
+        let before = solve(&mut paper);
+        let want = solve(&mut with_cf);
+        assert!((0..7).any(|i| (before[i] - want[i]).abs() > 1e-6));
+        paper.newton_failed_with_fresh_matrix();
+        let after = solve(&mut paper);
+        assert_eq!(paper.stats().friction_damping_after_failure, 1);
+        for i in 0..7 {
+            assert!((after[i] - want[i]).abs() <= 1e-14 * (1.0 + want[i].abs()));
+        }
+        // Off with `friction_damping_near_stick = false`: the paper's matrix stays.
+        let mut off = BsqlSystem::new(
+            paper.M.clone(),
+            paper.B.clone(),
+            paper.K.clone(),
+            paper.G.clone(),
+            LoadHistory::default(),
+            Falling,
+            BsqlOptions {
+                friction_damping_near_stick: false,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        off.newton_failed_with_fresh_matrix();
+        let kept = solve(&mut off);
+        assert_eq!(off.stats().friction_damping_after_failure, 0);
+        for i in 0..7 {
+            assert!((kept[i] - before[i]).abs() <= 1e-14 * (1.0 + before[i].abs()));
+        }
+    }
+}
