@@ -94,8 +94,9 @@ struct Row {
     n_gaps: usize,
     /// `normal_stiffness` of both pairs (None: rigid contact).
     normal_stiffness: Option<f64>,
-    /// DOFs of the diagonal (modal) block eliminated before the LU, their coupling groups,
-    /// and the multiply–adds of one Schur-complement update.
+    /// DOFs of the diagonal (modal) block found by pattern on a fresh system (the first
+    /// set-up keeps those the friction tangents touch), their coupling groups, and the
+    /// multiply–adds of one Schur-complement update.
     eliminated_dofs: usize,
     modal_groups: usize,
     schur_madds: usize,
