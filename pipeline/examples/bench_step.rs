@@ -4,7 +4,11 @@
 //! `squeal transient` keeps it, no files written):
 //! - `study_case2_rtol1e-4`: the study brake (`examples/sample-brake/base.toml` = paper case 2 of
 //!   `study.toml`: 244 reduced DOFs, 20 gaps, μ = 0.7 − 0.0005 V, TLOAD 5e-4, TF 6e-3) at the
-//!   paper's tolerances (RTOL1 = ATOL1 = 1e-4) under the band step bound, as `reproduce` runs it;
+//!   paper's tolerances (RTOL1 = ATOL1 = 1e-4) under the band step bound, as `reproduce` runs it,
+//!   with the paper's rigid contact (any `normal_stiffness` of the scene is removed, so that the
+//!   run stays the one of `docs/bench/transient_step_before.json`);
+//! - `study_case2_compliant_rtol1e-4`: the same with a compliant contact, `normal_stiffness =
+//!   1e6` psi/in on both pairs (set here, whatever the scene file says);
 //! - `study_case2_rtol1e-8`: the same at RTOL1 = 1e-8 (ATOL1 scaled), no step bound (the
 //!   work–precision table's run);
 //! - `hex20_case2`: the hex20 brake (`examples/transient/sample-brake-case2.toml`, the
@@ -17,6 +21,10 @@
 //! evaluations, iteration-matrix set-ups; then the cost of each operation alone on the same
 //! system at the start state (a residual, a factorisation of the iteration matrix, a Newton
 //! solve, one energy observation), and the time those operations account for (cost × count).
+//! Each case runs twice: with the Craig–Bampton modal block eliminated before the LU (the
+//! default, `BsqlSystem::set_modal_elimination`) and with the whole system factorised (`dense`:
+//! the same binary, the path before the elimination), with the largest relative difference of
+//! the final velocities between the two (`moved_vs_dense`).
 //! The final state is written to `target/bench/transient_step_<case>.final.json`; when such a
 //! file exists from an earlier run, the largest relative difference of the final velocities to
 //! it is reported (how far a change moved the results).
@@ -65,11 +73,37 @@ struct Breakdown {
     integrator_other_s: f64,
 }
 
+/// The same case with the whole saddle system factorised (no modal elimination).
+#[derive(Serialize)]
+struct DenseRun {
+    steps: u64,
+    newton_iterations: u64,
+    jacobian_setups: u64,
+    run_cpu_s: f64,
+    us_per_step: f64,
+    integrator_us_per_step: f64,
+    setup_us: f64,
+    solve_us: f64,
+    energy_balance_rel: f64,
+}
+
 #[derive(Serialize)]
 struct Row {
     case: String,
     n_dofs: usize,
     n_gaps: usize,
+    /// `normal_stiffness` of both pairs (None: rigid contact).
+    normal_stiffness: Option<f64>,
+    /// DOFs of the diagonal (modal) block found by pattern on a fresh system (the first
+    /// set-up keeps those the friction tangents touch), their coupling groups, and the
+    /// multiply–adds of one Schur-complement update.
+    eliminated_dofs: usize,
+    modal_groups: usize,
+    schur_madds: usize,
+    /// The run's `BsqlStats::modal_redetections` (friction touched the block: found again).
+    modal_redetections: u64,
+    /// Factorisations with C_f because a contact was near sticking (`BsqlStats`).
+    near_stick_factorisations: u64,
     /// Stored entries of M, B, K (union pattern), K, G over n², n², ng·n.
     density_mbk: f64,
     density_k: f64,
@@ -105,6 +139,93 @@ struct Row {
     /// max_i |v_i − v_i,prev| / max_i |v_i,prev| against the previous run's final state (at
     /// TFINAL, or at the last step of a run stopped by its step cap; None: no previous file).
     moved_vs_previous: Option<f64>,
+    /// The whole system factorised, same binary.
+    dense: DenseRun,
+    /// max_i |v_i − v_i,dense| / max_i |v_i,dense| of the final states (at TFINAL or the cap).
+    moved_vs_dense: f64,
+}
+
+/// What one run of a case gives.
+struct RunOut {
+    stats: squeal_solver::bdf::BdfStats,
+    bsql: squeal_solver::bsql::BsqlStats,
+    run_cpu_s: f64,
+    wall_s: f64,
+    bookkeeping_s: f64,
+    energy_balance_rel: f64,
+    status: String,
+    t: f64,
+    y: Vec<f64>,
+}
+
+/// One BDF run of the prepared case from its start state, with or without the modal
+/// elimination.
+fn run_once(
+    prepared: &squeal_pipeline::stages::transient::Prepared,
+    model: &squeal_pipeline::stages::model::ReducedModel,
+    start: &squeal_pipeline::stages::transient::StartState,
+    case: &str,
+    eliminate: bool,
+) -> Result<RunOut, Box<dyn std::error::Error>> {
+    let spec = &prepared.spec;
+    let method = squeal_pipeline::stages::transient::driver::Method::Bdf {
+        rtol: spec.rtol1,
+        max_order: spec.maxord,
+    };
+    let mut stepper = Stepper::new(
+        &prepared.problem,
+        &model.gaps,
+        spec,
+        method,
+        0.0,
+        &start.y0,
+        &start.yp0,
+        spec.tfinal,
+    )?;
+    if let Stepper::Bdf { sys, .. } = &mut stepper {
+        sys.set_modal_elimination(eliminate);
+    }
+    let clock = Instant::now();
+    let cpu0 = thread_cpu_s(&clock);
+    let out = drive(
+        &mut stepper,
+        &mut [],
+        &DriveOptions {
+            tfinal: spec.tfinal,
+            max_steps: spec.max_steps,
+            energy: true,
+            label: case.into(),
+        },
+        &Progress::quiet(),
+    )?;
+    let wall_s = clock.elapsed().as_secs_f64();
+    let run_cpu_s = thread_cpu_s(&clock) - cpu0;
+    let (stats, bsql) = match stepper.stats() {
+        IntegratorStats::Bdf { bdf, bsql, .. } => (bdf, bsql),
+        _ => unreachable!("BDF run"),
+    };
+    let balance = out.energy.as_ref().expect("energy kept");
+    Ok(RunOut {
+        stats,
+        bsql,
+        run_cpu_s,
+        wall_s,
+        bookkeeping_s: out.bookkeeping_s * run_cpu_s / wall_s.max(f64::MIN_POSITIVE),
+        energy_balance_rel: balance.residual() / balance.scale().max(f64::MIN_POSITIVE),
+        status: format!("{:?}", out.status),
+        t: stepper.t(),
+        y: stepper.y().to_vec(),
+    })
+}
+
+/// max_i |a_i − b_i| / max_i |b_i| over the first n entries (the velocities).
+fn moved(a: &[f64], b: &[f64], n: usize) -> f64 {
+    let scale = b[..n].iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let d = a[..n]
+        .iter()
+        .zip(&b[..n])
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    d / scale.max(f64::MIN_POSITIVE)
 }
 
 /// CPU seconds of this thread (`/proc/thread-self/schedstat`, Linux): time the thread ran,
@@ -141,11 +262,16 @@ fn run_case(
     case: &str,
     scene_path: &Path,
     sets: &[&str],
+    normal_stiffness: Option<f64>,
     cache: &ModelCache,
     work: &Path,
 ) -> Result<Row, Box<dyn std::error::Error>> {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let scene = Scene::load(scene_path, &sets)?;
+    let mut scene = Scene::load(scene_path, &sets)?;
+    for pair in &mut scene.contact {
+        pair.normal_stiffness = normal_stiffness;
+    }
+    scene.validate()?;
     let run_dir = RunDir::create(&work.join(case))?;
     let (model, _) = model::build_cached(&scene, &run_dir, &Progress::quiet(), Some(cache))?;
     let prepared = prepare(&scene, &model)?;
@@ -153,53 +279,33 @@ fn run_case(
     let problem = &prepared.problem;
     let start = start_state(problem, &model.gaps, spec.tolint)?;
     let (n, ng) = (model.n(), model.gaps.len());
-    let method = squeal_pipeline::stages::transient::driver::Method::Bdf {
-        rtol: spec.rtol1,
-        max_order: spec.maxord,
-    };
-    let mut stepper = Stepper::new(
-        problem,
-        &model.gaps,
-        &spec,
-        method,
-        0.0,
-        &start.y0,
-        &start.yp0,
-        spec.tfinal,
-    )?;
-    let clock = Instant::now();
-    let cpu0 = thread_cpu_s(&clock);
-    let out = drive(
-        &mut stepper,
-        &mut [],
-        &DriveOptions {
-            tfinal: spec.tfinal,
-            max_steps: spec.max_steps,
-            energy: true,
-            label: case.into(),
-        },
-        &Progress::quiet(),
-    )?;
-    let wall_s = clock.elapsed().as_secs_f64();
-    let run_cpu_s = thread_cpu_s(&clock) - cpu0;
-    let bdf = match stepper.stats() {
-        IntegratorStats::Bdf { bdf, .. } => bdf,
-        _ => unreachable!("BDF run"),
-    };
-    // Cost of each operation alone, on a fresh system at the start state.
+    let run = run_once(&prepared, &model, &start, case, true)?;
+    let dense_run = run_once(&prepared, &model, &start, case, false)?;
+    let (wall_s, run_cpu_s) = (run.wall_s, run.run_cpu_s);
+    let bdf = run.stats.clone();
+    // Cost of each operation alone, on a fresh system at the start state (with the
+    // elimination, then without).
     let mut sys = problem.system(model.gaps.clone())?;
+    let (eliminated_dofs, modal_groups, schur_madds) = sys.modal_elimination();
     let (y, yp) = (start.y0.clone(), start.yp0.clone());
     let mut res = vec![0.0; y.len()];
     let t = 0.5 * spec.tfinal;
     let min_s = if n > 1000 { 1.0 } else { 0.3 };
     let residual_us = per_call_us(min_s, || sys.residual(t, &y, &yp, &mut res).unwrap());
     let cj = 2.0 / spec.h_max.unwrap_or(1e-6).max(1e-7) * 0.75;
-    let setup_us = per_call_us(min_s, || sys.setup_jacobian(t, &y, &yp, cj).unwrap());
     let mut b = vec![0.0; y.len()];
-    let solve_us = per_call_us(min_s, || {
-        b.copy_from_slice(&res);
-        sys.solve_jacobian(&mut b).unwrap()
-    });
+    let mut setup_solve = |sys: &mut squeal_solver::bsql::BsqlSystem<_>| {
+        let setup_us = per_call_us(min_s, || sys.setup_jacobian(t, &y, &yp, cj).unwrap());
+        let solve_us = per_call_us(min_s, || {
+            b.copy_from_slice(&res);
+            sys.solve_jacobian(&mut b).unwrap()
+        });
+        (setup_us, solve_us)
+    };
+    let (setup_us, solve_us) = setup_solve(&mut sys);
+    sys.set_modal_elimination(false);
+    let (dense_setup_us, dense_solve_us) = setup_solve(&mut sys);
+    sys.set_modal_elimination(true);
     let observe_us = per_call_us(min_s, || {
         sys.observe(t, &y, &yp).unwrap();
     });
@@ -255,33 +361,24 @@ fn run_case(
         nnz_mbk as f64 / runs.max(1) as f64
     );
     let steps = bdf.steps;
-    let cpu_per_wall = run_cpu_s / wall_s.max(f64::MIN_POSITIVE);
-    let bookkeeping_s = out.bookkeeping_s * cpu_per_wall;
+    let bookkeeping_s = run.bookkeeping_s;
     let integrator_s = run_cpu_s - bookkeeping_s;
     let residuals_s = 1e-6 * residual_us * bdf.residual_evals as f64;
     let setups_s = 1e-6 * setup_us * bdf.jacobian_setups as f64;
     let solves_s = 1e-6 * solve_us * bdf.newton_iterations as f64;
-    let balance = out.energy.as_ref().expect("energy kept");
-    let energy_balance_rel = balance.residual() / balance.scale().max(f64::MIN_POSITIVE);
+    let energy_balance_rel = run.energy_balance_rel;
     // How far the results moved against the previous run of this benchmark.
     let final_path = PathBuf::from(format!("target/bench/transient_step_{case}.final.json"));
     let now = FinalState {
-        t: stepper.t(),
+        t: run.t,
         steps,
-        y: stepper.y().to_vec(),
+        y: run.y.clone(),
     };
     let moved_vs_previous = std::fs::read_to_string(&final_path)
         .ok()
         .and_then(|s| serde_json::from_str::<FinalState>(&s).ok())
         .filter(|p| p.y.len() == now.y.len())
-        .map(|p| {
-            let scale = p.y[..n].iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            let d = p.y[..n]
-                .iter()
-                .zip(&now.y[..n])
-                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-            d / scale.max(f64::MIN_POSITIVE)
-        });
+        .map(|p| moved(&now.y, &p.y, n));
     if let Some(dir) = final_path.parent() {
         std::fs::create_dir_all(dir)?;
     }
@@ -290,13 +387,19 @@ fn run_case(
         case: case.into(),
         n_dofs: n,
         n_gaps: ng,
+        normal_stiffness,
+        eliminated_dofs,
+        modal_groups,
+        schur_madds,
+        modal_redetections: run.bsql.modal_redetections,
+        near_stick_factorisations: run.bsql.near_stick_factorisations,
         density_mbk: nnz_mbk as f64 / (n * n) as f64,
         density_k: nnz_k as f64 / (n * n) as f64,
         density_g: nnz_g as f64 / (n * ng).max(1) as f64,
         rtol1: spec.rtol1,
         h_max: spec.h_max,
-        t_end: stepper.t(),
-        status: format!("{:?}", out.status),
+        t_end: run.t,
+        status: run.status.clone(),
         steps,
         newton_iterations: bdf.newton_iterations,
         residual_evals: bdf.residual_evals,
@@ -328,11 +431,27 @@ fn run_case(
         },
         energy_balance_rel,
         moved_vs_previous,
+        dense: DenseRun {
+            steps: dense_run.stats.steps,
+            newton_iterations: dense_run.stats.newton_iterations,
+            jacobian_setups: dense_run.stats.jacobian_setups,
+            run_cpu_s: dense_run.run_cpu_s,
+            us_per_step: 1e6 * dense_run.run_cpu_s / dense_run.stats.steps.max(1) as f64,
+            integrator_us_per_step: 1e6 * (dense_run.run_cpu_s - dense_run.bookkeeping_s)
+                / dense_run.stats.steps.max(1) as f64,
+            setup_us: dense_setup_us,
+            solve_us: dense_solve_us,
+            energy_balance_rel: dense_run.energy_balance_rel,
+        },
+        moved_vs_dense: moved(&run.y, &dense_run.y, n),
     };
     println!(
         "{case:<22} n = {n}, ng = {ng}: {steps} steps, {} Newton, {} set-ups, {:.1} us/step \
          (integrator {:.1}, bookkeeping {:.1}); residual {:.1} us, set-up {:.1} us, solve {:.1} \
-         us, observe {:.1} us (dense M,B,K products {:.1} us; density {:.3}); moved {:?}",
+         us, observe {:.1} us (dense M,B,K products {:.1} us; density {:.3}); moved {:?}\n  \
+         eliminated {eliminated_dofs} DOFs in {modal_groups} groups ({} re-detections, {} near-stick \
+         set-ups); whole system factorised: \
+         {} steps, {} set-ups, {:.1} us/step, set-up {:.1} us, solve {:.1} us; moved vs dense {:.2e}",
         row.newton_iterations,
         row.jacobian_setups,
         row.us_per_step,
@@ -344,7 +463,15 @@ fn run_case(
         observe_us,
         dense_mbk_products_us,
         row.density_mbk,
-        row.moved_vs_previous
+        row.moved_vs_previous,
+        row.modal_redetections,
+        row.near_stick_factorisations,
+        row.dense.steps,
+        row.dense.jacobian_setups,
+        row.dense.us_per_step,
+        dense_setup_us,
+        dense_solve_us,
+        row.moved_vs_dense
     );
     Ok(row)
 }
@@ -365,6 +492,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "study_case2_rtol1e-4",
             study,
             &["transient.tfinal=0.006", "transient.nrstrt=0"],
+            None,
+            &cache,
+            &work,
+        )?,
+        run_case(
+            "study_case2_compliant_rtol1e-4",
+            study,
+            &["transient.tfinal=0.006", "transient.nrstrt=0"],
+            Some(1.0e6),
             &cache,
             &work,
         )?,
@@ -378,6 +514,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 "transient.atol1=1e-8",
                 "transient.band_step_bound=false",
             ],
+            None,
             &cache,
             &work,
         )?,
@@ -388,6 +525,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "hex20_case2",
             Path::new("examples/transient/sample-brake-case2.toml"),
             &["transient.nrstrt=0", &steps],
+            None,
             &cache,
             &work,
         )?);

@@ -228,8 +228,10 @@ pub struct TransientSpec {
     /// the paper).
     pub friction_damping_in_jacobian: bool,
     /// Put C_f into the BDF's Newton matrix automatically at the factorisations where a gap
-    /// slips slower than 30·VTOL (near sticking) (default: true; false = the paper's matrix
-    /// everywhere, which costs Newton failures at every stick).
+    /// slips slower than 30·VTOL (near sticking), and in every factorisation after the first
+    /// Newton failure with a fresh matrix without it (default: true; false = the paper's
+    /// matrix everywhere, which costs Newton failures at every stick and, once a squeal
+    /// vibration has grown, at most steps).
     pub friction_damping_near_stick: bool,
     /// Maximum number of steps (default: 500000).
     pub max_steps: usize,

@@ -73,6 +73,10 @@ pub trait DaeSystem {
     ) -> Result<bool, SolverError> {
         Ok(false)
     }
+    /// Told when Newton failed to converge with a matrix formed for this very attempt (the
+    /// step is then retried with a smaller one): a system whose matrix leaves terms out may
+    /// put them in from now on (default: nothing).
+    fn newton_failed_with_fresh_matrix(&mut self) {}
 }
 
 /// How a `step_to` call ended. Failures to converge are statuses, not errors.
@@ -155,6 +159,8 @@ pub(crate) struct Work {
     pub n_active: usize,
     /// ‖F‖∞ at the last residual evaluation.
     pub last_res_norm: Real,
+    /// Why the last Newton iteration failed (for the statistics).
+    pub fail_cause: newton::FailCause,
 }
 
 /// The BDF integrator: options, state and workspace.
@@ -218,6 +224,7 @@ impl Bdf {
             yp_out: st.yp.clone(),
             n_active: 0,
             last_res_norm: 0.0,
+            fail_cause: newton::FailCause::Other,
         };
         opts.tolerances.expand(n, &mut w.rtol, &mut w.atol)?;
         w.n_active = w.atol.iter().filter(|&&a| a < ATOL_EXCLUDED).count();

@@ -21,6 +21,24 @@ pub(crate) enum Nls {
     Failed,
 }
 
+/// Why a Newton iteration failed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum FailCause {
+    /// Estimated rate above 0.9.
+    Rate,
+    /// Iteration limit reached.
+    MaxIters,
+    /// Non-finite values or a recoverable callback error.
+    Other,
+}
+
+#[derive(Clone, Copy)]
+enum SetupReason {
+    Forced,
+    CjRatio,
+    StaleRetry,
+}
+
 const RATE_MAX: Real = 0.9;
 const XRATE: Real = 0.25;
 
@@ -66,13 +84,16 @@ impl Bdf {
     ) -> Result<Nls, SolverError> {
         let lo = (1.0 - XRATE) / (1.0 + XRATE);
         let mut call_setup = self.st.force_setup || self.st.jacobian_point.is_none();
+        // Why a set-up is called, for the statistics.
+        let mut reason = SetupReason::Forced;
         let cj_ratio = if self.st.cj_old > 0.0 {
             self.st.cj / self.st.cj_old
         } else {
             0.0
         };
-        if cj_ratio < lo || cj_ratio > 1.0 / lo {
+        if !call_setup && (cj_ratio < lo || cj_ratio > 1.0 / lo) {
             call_setup = true;
+            reason = SetupReason::CjRatio;
         }
         if self.st.cj != self.st.cj_last {
             self.st.ss = 100.0;
@@ -84,6 +105,11 @@ impl Bdf {
             }
             if call_setup {
                 self.st.stats.jacobian_setups += 1;
+                match reason {
+                    SetupReason::Forced => self.st.stats.setups_forced += 1,
+                    SetupReason::CjRatio => self.st.stats.setups_cj_ratio += 1,
+                    SetupReason::StaleRetry => self.st.stats.setups_stale_retry += 1,
+                }
                 self.st.force_setup = false;
                 self.record_jacobian_point();
                 if let Err(e) = sys.setup_jacobian(self.st.t, &self.w.yy, &self.w.yp, self.st.cj) {
@@ -93,10 +119,20 @@ impl Bdf {
                 self.st.cj_old = self.st.cj;
                 self.st.ss = 20.0;
             }
+            self.w.fail_cause = FailCause::Other;
             let out = self.newton_iterations(sys)?;
             if out == Nls::Failed && !call_setup {
                 call_setup = true;
+                reason = SetupReason::StaleRetry;
                 continue;
+            }
+            if out == Nls::Failed {
+                sys.newton_failed_with_fresh_matrix();
+                match self.w.fail_cause {
+                    FailCause::Rate => self.st.stats.convergence_failures_rate += 1,
+                    FailCause::MaxIters => self.st.stats.convergence_failures_max_iters += 1,
+                    FailCause::Other => {}
+                }
             }
             return Ok(out);
         }
@@ -168,6 +204,7 @@ impl Bdf {
             } else {
                 let rate = (del_norm / old_norm).powf(1.0 / m as Real);
                 if rate > RATE_MAX {
+                    self.w.fail_cause = FailCause::Rate;
                     return Ok(Nls::Failed);
                 }
                 self.st.ss = rate / (1.0 - rate);
@@ -177,6 +214,7 @@ impl Bdf {
             }
             m += 1;
             if m >= self.opts.max_newton_iters {
+                self.w.fail_cause = FailCause::MaxIters;
                 return Ok(Nls::Failed);
             }
             if self.eval_residual(sys)? == Nls::Failed {

@@ -33,6 +33,21 @@ pub struct BdfStats {
     /// Wall-clock seconds spent inside `step_to`, the per-step callback (the caller's
     /// bookkeeping) excluded (named cpu_s as in BSQL's table).
     pub cpu_s: Real,
+    /// Set-ups because cj left [0.6, 1/0.6] × the cj of the last set-up (IDA's rule).
+    #[serde(default)]
+    pub setups_cj_ratio: u64,
+    /// Set-ups forced by a convergence failure of the step before (and the first step).
+    #[serde(default)]
+    pub setups_forced: u64,
+    /// Set-ups because Newton failed with an older matrix and is retried with a fresh one.
+    #[serde(default)]
+    pub setups_stale_retry: u64,
+    /// Convergence failures (with a fresh matrix) whose estimated rate exceeded 0.9.
+    #[serde(default)]
+    pub convergence_failures_rate: u64,
+    /// Convergence failures (with a fresh matrix) at the iteration limit.
+    #[serde(default)]
+    pub convergence_failures_max_iters: u64,
 }
 
 /// The (t, y, y', cj) at which the current iteration matrix was formed.

@@ -122,9 +122,10 @@ impl<F: FrictionForces> BsqlSystem<F> {
 
     /// The compliant rows of the scaled saddle matrix (after the rigid rows were written),
     /// each multiplied by ρ_k: the G part s G_k (J) or 0 (∂F/∂y'), the diagonal −s² c_k c_j
-    /// (−s² c_k for ∂F/∂y').
-    pub(crate) fn compliant_matrix_rows(&mut self, cj: Option<Real>, s: Real) {
-        let n = self.n;
+    /// (−s² c_k for ∂F/∂y'); `nv` is the size of the velocity block of the factorised matrix
+    /// (n, or the kept DOFs when the modal block is eliminated).
+    pub(crate) fn compliant_matrix_rows(&mut self, cj: Option<Real>, s: Real, nv: usize) {
+        let n = nv;
         for k in 0..self.compliance.len() {
             let c = self.compliance[k];
             if !(c > 0.0) || self.open[k] {

@@ -7,6 +7,10 @@
 //! models); the products of every Newton iteration and every step's energy terms use their
 //! non-zero entries only (compressed rows built once in [`BsqlSystem::new`]: M, B, K on their
 //! union pattern, K alone, G and Gᵀ), the iteration matrix is assembled from the dense copies.
+//! When M, B, K have a diagonal block that no constraint touches (a Craig–Bampton model's
+//! modal coordinates, found by pattern in [`BsqlSystem::new`]), it is eliminated before the
+//! LU: the factorisation and its solves are of the kept DOFs and the multipliers only
+//! ([`jacobian`], `linalg::diag_block`).
 //! Friction enters through the [`FrictionForces`] callback.
 //!
 //! - [`residual`]: F(t, y, y'), eq. (16), and the load history P(t).
@@ -34,6 +38,8 @@ pub use steady::{steady_state, SteadyOptions, SteadyState};
 pub use unilateral::{Unilateral, UnilateralOptions, UnilateralState, UnilateralStats};
 
 use crate::bdf::{DaeSystem, TolerancePartition, Tolerances};
+use crate::linalg::diag_block::DiagBlock;
+use crate::linalg::lu::DenseLu;
 use crate::linalg::sparse::RunRows;
 use crate::{Real, SolverError};
 
@@ -100,9 +106,13 @@ pub struct BsqlOptions {
     /// Newton then converges linearly in the v-dependence of friction).
     pub include_friction_damping: bool,
     /// Include C_f automatically in the factorisations at which the friction model reports
-    /// a contact near sticking ([`FrictionForces::near_stick`]) (default: true). Off, a
-    /// stick–slip run takes many Newton failures at each stick (the v-dependence of friction
-    /// is then steep and left out of Newton's matrix).
+    /// a contact near sticking ([`FrictionForces::near_stick`]), and in every factorisation
+    /// after the first Newton convergence failure with a fresh matrix without it (default:
+    /// true). Off, a stick–slip run takes many Newton failures at each stick (the
+    /// v-dependence of friction is then steep and left out of Newton's matrix), and so does a
+    /// growing squeal vibration (the tangential vibration velocity turns the sliding direction,
+    /// ∂F_f/∂v ~ μN/|V_t|): 2 049 failures and 6 731 set-ups for 5 562 steps on the study
+    /// brake at RTOL1 1e-4 (README, "Cost of a transient step").
     pub friction_damping_near_stick: bool,
 }
 
@@ -138,6 +148,18 @@ pub struct BsqlStats {
     pub max_constraint_drift: Real,
     /// Factorisations that included C_f because a contact was near sticking.
     pub near_stick_factorisations: u64,
+    /// Factorisations that included C_f because Newton had failed with a fresh matrix
+    /// without it (see [`BsqlOptions::friction_damping_near_stick`]).
+    #[serde(default)]
+    pub friction_damping_after_failure: u64,
+    /// DOFs of the diagonal (modal) block eliminated before the LU (0: the whole system is
+    /// factorised).
+    #[serde(default)]
+    pub eliminated_dofs: u64,
+    /// Times the block was found again because the friction tangents touched an eliminated
+    /// DOF (those DOFs are kept from then on).
+    #[serde(default)]
+    pub modal_redetections: u64,
 }
 
 /// What the last factorisation holds.
@@ -175,7 +197,21 @@ pub struct BsqlSystem<F: FrictionForces> {
     pub(crate) d_dlam: Mat<Real>,
     pub(crate) d_dv: Mat<Real>,
     pub(crate) rhs: Vec<Real>,
-    pub(crate) lu: crate::linalg::lu::DenseLu,
+    /// The factorised saddle matrix: (n + ng) square, or (kept + ng) with the diagonal block
+    /// eliminated.
+    pub(crate) lu: DenseLu,
+    /// The eliminated diagonal block (None: the whole system is factorised).
+    pub(crate) modal: Option<DiagBlock>,
+    /// Right-hand side of the reduced saddle system (kept + ng; empty without `modal`).
+    pub(crate) red_rhs: Vec<Real>,
+    /// DOFs never eliminated: those the friction tangents were seen to touch.
+    pub(crate) touched: Vec<bool>,
+    /// C_f goes into every iteration matrix: Newton failed with a fresh matrix without it.
+    pub(crate) cf_after_failure: bool,
+    /// (t, cj) of the last iteration-matrix set-up, its y and y' in `last_y`, `last_yp`.
+    last_setup: Option<(Real, Real)>,
+    last_y: Vec<Real>,
+    last_yp: Vec<Real>,
     /// M, B, K on their union pattern (the residual's M v' + B v + K u, the energy forms).
     pub(crate) mbk: RunRows,
     /// K alone (the Newton solve's K r_u / cj).
@@ -218,7 +254,7 @@ impl<F: FrictionForces> BsqlSystem<F> {
         let k_rows = RunRows::from_dense(&[&K], "K")?;
         let g_rows = RunRows::from_dense(&[&G], "G")?;
         let gt_rows = RunRows::transpose_of_dense(&G, "G")?;
-        Ok(Self {
+        let mut sys = Self {
             M,
             B,
             K,
@@ -234,7 +270,14 @@ impl<F: FrictionForces> BsqlSystem<F> {
             d_dlam: Mat::zeros(n, ng),
             d_dv,
             rhs: vec![0.0; n + ng],
-            lu: crate::linalg::lu::DenseLu::new(n + ng),
+            lu: DenseLu::new(0),
+            modal: None,
+            red_rhs: Vec::new(),
+            touched: vec![false; n],
+            cf_after_failure: false,
+            last_setup: None,
+            last_y: vec![0.0; 2 * n + ng],
+            last_yp: vec![0.0; 2 * n + ng],
             mbk,
             k_rows,
             g_rows,
@@ -244,7 +287,57 @@ impl<F: FrictionForces> BsqlSystem<F> {
             open: vec![false; ng],
             lambda_dot_open: vec![0.0; ng],
             compliance: Vec::new(),
-        })
+        };
+        sys.set_modal_elimination(true);
+        Ok(sys)
+    }
+
+    /// Eliminate the diagonal block of M, B, K before the LU when there is one (default: on,
+    /// set by [`BsqlSystem::new`]); off, the whole (n + ng) saddle system is factorised. The
+    /// two differ by round-off only. A DOF is eliminated when no constraint row and no
+    /// friction tangent seen so far touches it,
+    /// M_ii > 0, B_ii ≥ 0, K_ii ≥ 0 (so cj M_ii + B_ii + K_ii/cj > 0 for every cj > 0), and
+    /// no other eliminated DOF couples with it in M, B or K; at least n/10 (and 2) such DOFs
+    /// are needed (fewer would not pay for the Schur complement's bookkeeping).
+    pub fn set_modal_elimination(&mut self, on: bool) {
+        let (n, ng) = (self.n, self.ng);
+        self.factored = Factored::None;
+        self.modal = if on {
+            let (M, B, K, G) = (&self.M, &self.B, &self.K, &self.G);
+            let touched = &self.touched;
+            let allowed = |i: usize| {
+                !touched[i]
+                    && (0..ng).all(|k| G[(k, i)] == 0.0)
+                    && M[(i, i)] > 0.0
+                    && B[(i, i)] >= 0.0
+                    && K[(i, i)] >= 0.0
+                    && M[(i, i)].is_finite()
+                    && B[(i, i)].is_finite()
+                    && K[(i, i)].is_finite()
+            };
+            DiagBlock::detect(&[M, B, K], allowed, n.div_ceil(10).max(2))
+        } else {
+            None
+        };
+        let nv = self.modal.as_ref().map_or(n, |b| b.kept.len());
+        self.stats.eliminated_dofs = (n - nv) as u64;
+        if self.lu.a.nrows() != nv + ng {
+            self.lu = DenseLu::new(nv + ng);
+        }
+        self.red_rhs = if self.modal.is_some() {
+            vec![0.0; nv + ng]
+        } else {
+            Vec::new()
+        };
+    }
+
+    /// Number of DOFs eliminated before the LU (the diagonal block), the number of coupling
+    /// patterns (groups) they fall in, and the multiply–adds of one Schur-complement update
+    /// (all 0 without elimination).
+    pub fn modal_elimination(&self) -> (usize, usize, usize) {
+        self.modal
+            .as_ref()
+            .map_or((0, 0, 0), |b| (b.d.len(), b.n_groups(), b.schur_flops()))
     }
 
     /// Number of structural DOFs n.
@@ -269,8 +362,25 @@ impl<F: FrictionForces> BsqlSystem<F> {
 
     /// Sets the counters and the drift monitor (a restarted run continues those of the run it
     /// resumes).
+    ///
+    /// A run that had switched C_f on after a Newton failure
+    /// (`friction_damping_after_failure` > 0) continues with it: the last iteration matrix is
+    /// formed again with C_f at its point before the counters are set.
     pub fn restore_stats(&mut self, stats: BsqlStats) {
+        if stats.friction_damping_after_failure > 0 && !self.cf_after_failure {
+            self.cf_after_failure = true;
+            if let (Some((t, cj)), Factored::Iteration { .. }) = (self.last_setup, self.factored) {
+                let (y, yp) = (self.last_y.clone(), self.last_yp.clone());
+                // The matrix the run had is the one it formed there; a failure now is the
+                // restart's to report (at the next step's set-up).
+                if self.setup_jacobian(t, &y, &yp, cj).is_err() {
+                    self.factored = Factored::None;
+                }
+            }
+        }
+        let eliminated = self.stats.eliminated_dofs;
         self.stats = stats;
+        self.stats.eliminated_dofs = eliminated; // this system's structure, not the file's
     }
 
     /// The friction model.
@@ -334,11 +444,19 @@ impl<F: FrictionForces> DaeSystem for BsqlSystem<F> {
         cj: Real,
     ) -> Result<(), SolverError> {
         self.factored = Factored::None;
+        self.last_setup = Some((t, cj));
+        self.last_y.copy_from_slice(y);
+        self.last_yp.copy_from_slice(yp);
         let s = self.assemble_iteration_matrix(t, y, yp, Some(cj))?;
         self.lu.factor("BSQL iteration (eq. 18)", t)?;
         self.stats.factorisations += 1;
         self.factored = Factored::Iteration { cj, s };
         Ok(())
+    }
+    fn newton_failed_with_fresh_matrix(&mut self) {
+        if self.opts.friction_damping_near_stick && !self.opts.include_friction_damping {
+            self.cf_after_failure = true;
+        }
     }
     fn solve_jacobian(&mut self, b: &mut [Real]) -> Result<(), SolverError> {
         match self.factored {

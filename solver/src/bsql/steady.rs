@@ -99,6 +99,9 @@ pub fn steady_state<F: FrictionForces>(
     let zero_v = vec![0.0; n];
     let mut r = vec![0.0; n + ng];
     let mut p = vec![0.0; n];
+    // The whole (n + ng) Newton matrix (the system's own LU may be the reduced one of the
+    // modal elimination); allocated once per call.
+    let mut lu = crate::linalg::lu::DenseLu::new(n + ng);
     sys.load.add_to(t, 1.0, &mut p);
     let scale = p.iter().fold(1.0f64, |m, x| m.max(x.abs()));
     let tol = opts.tol * scale;
@@ -151,7 +154,7 @@ pub fn steady_state<F: FrictionForces>(
         sys.d_dlam.fill(0.0);
         sys.friction
             .add_tangents(t, &zero_v, &lamp, &mut sys.d_dlam, None)?;
-        let a = &mut sys.lu.a;
+        let a = &mut lu.a;
         let mut k_scale: Real = 0.0;
         for j in 0..n {
             for i in 0..n {
@@ -174,12 +177,12 @@ pub fn steady_state<F: FrictionForces>(
             }
             a[(n + k, n + k)] = -s * s * sys.compliance.get(k).copied().unwrap_or(0.0);
         }
-        sys.lu.factor("steady-state Newton", t)?;
+        lu.factor("steady-state Newton", t)?;
         sys.stats.factorisations += 1;
         for k in 0..ng {
             r[n + k] *= s;
         }
-        sys.lu.solve(&mut r)?;
+        lu.solve(&mut r)?;
         for i in 0..n {
             u[i] -= r[i];
         }

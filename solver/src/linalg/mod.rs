@@ -1,5 +1,7 @@
-//! Linear-algebra kernels shared by the integrators: dense LU on preallocated storage, and
-//! sparse products with the constant matrices of a time step.
+//! Linear-algebra kernels shared by the integrators: dense LU on preallocated storage, the
+//! elimination of a diagonal block (Craig–Bampton modal coordinates) before it, and sparse
+//! products with the constant matrices of a time step.
 
+pub(crate) mod diag_block;
 pub(crate) mod lu;
 pub(crate) mod sparse;
