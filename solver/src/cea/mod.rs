@@ -53,7 +53,7 @@ pub use eigen::{complex_eigen, first_order_matrix};
 pub use error::CeaError;
 pub use options::{CeaMethod, CeaOptions, ProjectionOptions, SweepOptions};
 pub use reduce::{reduce, Reduced};
-pub use refine::{RefineOptions, RefineStats, RefinedRoot};
+pub use refine::{RefineOptions, RefineStats, RefinedRoot, ShiftStats};
 pub use sweep::{sweep, Critical, Sweep, SweepStats, SweepStep, Track};
 pub use track::mac;
 
