@@ -36,6 +36,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         d: read(dir, "d", &meta),
         c_f: read(dir, "c_f", &meta),
     };
+    if argv.iter().any(|a| a == "dense_basis") {
+        opts.projection.basis_solver = squeal_solver::cea::BasisSolver::Dense;
+    }
+    if argv.iter().any(|a| a == "basis") {
+        for _ in 0..2 {
+            let t = Instant::now();
+            let b = squeal_solver::cea::ModalBasis::new(&sys, &opts)?;
+            eprintln!(
+                "basis {} modes, {:.2} s",
+                b.len(),
+                t.elapsed().as_secs_f64()
+            );
+        }
+        return Ok(());
+    }
     if argv.iter().any(|a| a == "micro") {
         micro(&sys.m);
         return Ok(());
