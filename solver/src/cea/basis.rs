@@ -2,7 +2,7 @@
 
 use super::eigen::sandwich;
 use super::lanczos::lowest_modes;
-use super::operator::{check_inputs, cholesky, mass_solve, ContactProjector};
+use super::operator::{check_inputs, cholesky, mass_solve};
 use super::{reduce, BasisSolver, CeaError, CeaMatrices, CeaOptions};
 use faer::{Mat, MatRef, Side};
 use std::time::Instant;
@@ -38,12 +38,26 @@ impl ModalBasis {
     /// Computes the basis from the reference state `sys` and `opts.projection`.
     ///
     /// # Derivation
-    /// With `T` an orthonormal basis of null(G) and `P` the contact projector ([`reduce`]),
-    /// the real modes solve `sym(K_r) φ = ω² M_r φ`, `M_r = TᵀMT`, `K_r = TᵀPKT`,
-    /// `sym(X) = (X + Xᵀ)/2` (= K_r when the reference state has no friction tangent). With
-    /// `M_r = L Lᵀ`: `L⁻¹ sym(K_r) L⁻ᵀ v = ω² v` (dense `self_adjoint_eigen`), `φ = L⁻ᵀ v`, so
-    /// `Φᵀ M_r Φ = I`. The modes with `ω/2π ≤` the cutoff are kept, at most `n_basis` of them
-    /// (lowest first), and `Ψ = T Φ`. Damping (`B`, `C_f`) is ignored for the basis.
+    /// The basis is the real modes of the friction-free, undamped constrained problem (D, B
+    /// and C_f ignored; K symmetrised): `sym(K) φ = ω² M φ`, `G φ = 0`, `sym(X) = (X + Xᵀ)/2`.
+    /// With `T` an orthonormal basis of null(G) ([`reduce`]) they solve
+    /// `sym(K_r) φ = ω² M_r φ`, `M_r = TᵀMT`, `K_r = TᵀKT`. The modes with `ω/2π ≤` the cutoff
+    /// are kept, at most `n_basis` of them (lowest first). (Until 2026-11 the basis took
+    /// `K_r = TᵀPKT` with the friction tangent D in the contact projector P: `sym(PK)` is
+    /// indefinite under friction — 9 negative eigenvalues on the hex20 brake — and each such
+    /// mode gave the projection a spurious real root of up to 2e5 /s, which the refinement
+    /// then had to disprove at the cost of one shift.)
+    ///
+    /// Two eigensolvers (`projection.basis_solver`):
+    /// - `dense`: `M_r = L Lᵀ`, `L⁻¹ sym(K_r) L⁻ᵀ v = ω² v` (dense `self_adjoint_eigen` of size
+    ///   n − ng), `φ = L⁻ᵀ v`, `Ψ = T Φ`; O(n³) with the null space and its products.
+    /// - `auto` (default): when a cutoff is given and at most (n − ng)/4 modes lie below it,
+    ///   shift-invert Lanczos on the bordered matrix `[sym(K) − σM, Gᵀ; G, 0]` with the count of
+    ///   modes below the cutoff from the inertia of `[sym(K) − ω_c²M, Gᵀ; G, 0]`
+    ///   (`lanczos.rs`): two factorisations of size n + ng and ~1.5 nb solves; else `dense`.
+    ///   The Ritz pairs below half the cutoff (the band, for the default `cutoff_factor`) are
+    ///   converged to 1e-8; those above span the rest of the subspace. `GΨ = 0` and
+    ///   `ΨᵀMΨ = I` to round-off either way.
     ///
     /// # Errors
     /// As [`reduce`]; a reduced mass that is not positive definite; an empty basis (cutoff
@@ -59,7 +73,7 @@ impl ModalBasis {
         };
         let pr = &opts.projection;
         let fast = match (pr.basis_solver, pr.cutoff_hz()) {
-            (BasisSolver::Auto, Some(fc)) => lanczos_basis(sys, opts, y.as_ref(), gt.as_ref(), fc)?,
+            (BasisSolver::Auto, Some(fc)) => lanczos_basis(sys, opts, gt.as_ref(), fc)?,
             _ => None,
         };
         let (psi, frequencies_hz, n_reduced, rank_ratio) = match fast {
@@ -121,7 +135,7 @@ fn dense_basis(sys: &CeaMatrices, opts: &CeaOptions) -> Result<BasisParts, CeaEr
         k: sys.k.clone(),
         b: None,
         g: sys.g.clone(),
-        d: sys.d.clone(),
+        d: None,
         c_f: None,
     };
     let red = reduce(&undamped, opts)?;
@@ -169,14 +183,13 @@ fn dense_basis(sys: &CeaMatrices, opts: &CeaOptions) -> Result<BasisParts, CeaEr
     ))
 }
 
-/// The Lanczos path ([`super::lanczos::lowest_modes`]) on `sym(P K)` (P the contact projector
-/// when D is given): `Tᵀ sym(P K) T = sym(K_r)`, so the modes are those of the dense path.
+/// The Lanczos path ([`super::lanczos::lowest_modes`]) on `sym(K)`: `Tᵀ sym(K) T = sym(K_r)`
+/// of the friction-free problem, so the modes are those of the dense path.
 /// `None` when it does not apply (the dense path then runs).
 #[allow(non_snake_case)]
 fn lanczos_basis(
     sys: &CeaMatrices,
     opts: &CeaOptions,
-    y: Option<&Mat<f64>>,
     gt: Option<&Mat<f64>>,
     cutoff_hz: f64,
 ) -> Result<Option<BasisParts>, CeaError> {
@@ -208,12 +221,7 @@ fn lanczos_basis(
     if max_modes == 0 {
         return Ok(None);
     }
-    let pk = match (&sys.d, y, gt) {
-        (Some(D), Some(Y), Some(Gt)) if ng > 0 => {
-            ContactProjector::new(Y.clone(), Gt, D)?.apply(sys.k.clone())
-        }
-        _ => sys.k.clone(),
-    };
+    let pk = &sys.k;
     let ks = Mat::from_fn(n, n, |i, j| 0.5 * (pk[(i, j)] + pk[(j, i)]));
     let w_c = 2.0 * std::f64::consts::PI * cutoff_hz;
     let low = lowest_modes(&ks, &sys.m, sys.g.as_ref(), w_c * w_c, max_modes, 1e-8)?;
