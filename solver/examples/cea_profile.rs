@@ -1,8 +1,10 @@
 //! Profiles one CEA on matrices written by `squeal-pipeline`'s `cea_dump` example.
 //!
 //! ```text
-//! cargo run --release -p squeal-solver --example cea_profile -- DIR [exact]
+//! cargo run --release -p squeal-solver --example cea_profile -- DIR [exact] [dense_basis] [basis] [micro]
 //! ```
+//! `exact`: the dense CEA; `dense_basis`: `projection.basis_solver = "dense"`; `basis`: only
+//! build the basis (twice, timed); `micro`: time the dense kernels of a refinement step.
 
 use faer::Mat;
 use squeal_solver::cea::{complex_eigen, CeaMatrices, CeaMethod, CeaOptions};
@@ -52,7 +54,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         return Ok(());
     }
     if argv.iter().any(|a| a == "micro") {
-        micro(&sys.m);
+        micro(&sys.m, sys.g.as_ref().map_or(0, |g| g.nrows()));
         return Ok(());
     }
     let t = Instant::now();
@@ -78,8 +80,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-#[allow(dead_code)]
-pub fn micro(m: &Mat<f64>) {
+/// Times the kernels of one refinement step on M's size: products with n × 2 and n × 1
+/// right-hand sides, real and complex LU of size n + ng and their solves.
+fn micro(m: &Mat<f64>, ng: usize) {
     use faer::c64;
     use faer::linalg::solvers::Solve;
     let n = m.nrows();
@@ -101,7 +104,7 @@ pub fn micro(m: &Mat<f64>) {
         "M*x(n x 1): {:.2} ms",
         t.elapsed().as_secs_f64() / 20.0 * 1e3
     );
-    let nn = n + 234;
+    let nn = n + ng;
     let q = Mat::<c64>::from_fn(nn, nn, |i, j| {
         c64::new(
             if i == j {
