@@ -137,7 +137,31 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                        "refined": r.map(|r| [r.re, r.im]), "rel_diff": rel})
             })
             .collect();
+        // Each refined in-band unstable root against the nearest dense root of any stability
+        // (a root near neutral can be called unstable by one method and not the other: the
+        // threshold is `unstable_tol` × the largest |p| each method computed).
+        let reverse: Vec<Value> = refined
+            .iter()
+            .map(|r| {
+                let e = d
+                    .modes
+                    .iter()
+                    .min_by(|a, b| {
+                        (a.eigenvalue - r.eigenvalue)
+                            .norm()
+                            .total_cmp(&(b.eigenvalue - r.eigenvalue).norm())
+                    })
+                    .map(|e| (e.eigenvalue, e.unstable));
+                json!({"refined": [r.eigenvalue.re, r.eigenvalue.im],
+                       "dense": e.map(|e| [e.0.re, e.0.im]),
+                       "dense_unstable": e.map(|e| e.1),
+                       "rel_diff": e.map(|e| (e.0 - r.eigenvalue).norm() / e.0.norm())})
+            })
+            .collect();
         doc["dense"] = json!({
+            "unstable_threshold": d.out.stats.spectral_radius * d.spec.solver.unstable_tol,
+            "projected_unstable_threshold": st.spectral_radius * p.spec.solver.unstable_tol,
+            "refined_vs_nearest_dense": reverse,
             "wall_s": dense_s,
             "time_reduce_s": d.out.stats.time_reduce_s,
             "time_eigen_s": d.out.stats.time_eigen_s,

@@ -1,8 +1,9 @@
 //! The real modal basis of the constrained, friction-free problem (subspace projection).
 
 use super::eigen::sandwich;
+use super::lanczos::lowest_modes;
 use super::operator::{check_inputs, cholesky, mass_solve};
-use super::{reduce, CeaError, CeaMatrices, CeaOptions};
+use super::{reduce, BasisSolver, CeaError, CeaMatrices, CeaOptions};
 use faer::{Mat, MatRef, Side};
 use std::time::Instant;
 
@@ -37,12 +38,26 @@ impl ModalBasis {
     /// Computes the basis from the reference state `sys` and `opts.projection`.
     ///
     /// # Derivation
-    /// With `T` an orthonormal basis of null(G) and `P` the contact projector ([`reduce`]),
-    /// the real modes solve `sym(K_r) φ = ω² M_r φ`, `M_r = TᵀMT`, `K_r = TᵀPKT`,
-    /// `sym(X) = (X + Xᵀ)/2` (= K_r when the reference state has no friction tangent). With
-    /// `M_r = L Lᵀ`: `L⁻¹ sym(K_r) L⁻ᵀ v = ω² v` (dense `self_adjoint_eigen`), `φ = L⁻ᵀ v`, so
-    /// `Φᵀ M_r Φ = I`. The modes with `ω/2π ≤` the cutoff are kept, at most `n_basis` of them
-    /// (lowest first), and `Ψ = T Φ`. Damping (`B`, `C_f`) is ignored for the basis.
+    /// The basis is the real modes of the friction-free, undamped constrained problem (D, B
+    /// and C_f ignored; K symmetrised): `sym(K) φ = ω² M φ`, `G φ = 0`, `sym(X) = (X + Xᵀ)/2`.
+    /// With `T` an orthonormal basis of null(G) ([`reduce`]) they solve
+    /// `sym(K_r) φ = ω² M_r φ`, `M_r = TᵀMT`, `K_r = TᵀKT`. The modes with `ω/2π ≤` the cutoff
+    /// are kept, at most `n_basis` of them (lowest first). (Until 2026-11 the basis took
+    /// `K_r = TᵀPKT` with the friction tangent D in the contact projector P: `sym(PK)` is
+    /// indefinite under friction — 9 negative eigenvalues on the hex20 brake — and each such
+    /// mode gave the projection a spurious real root of up to 2e5 /s, which the refinement
+    /// then had to disprove at the cost of one shift.)
+    ///
+    /// Two eigensolvers (`projection.basis_solver`):
+    /// - `dense`: `M_r = L Lᵀ`, `L⁻¹ sym(K_r) L⁻ᵀ v = ω² v` (dense `self_adjoint_eigen` of size
+    ///   n − ng), `φ = L⁻ᵀ v`, `Ψ = T Φ`; O(n³) with the null space and its products.
+    /// - `auto` (default): when a cutoff is given and at most (n − ng)/4 modes lie below it,
+    ///   shift-invert Lanczos on the bordered matrix `[sym(K) − σM, Gᵀ; G, 0]` with the count of
+    ///   modes below the cutoff from the inertia of `[sym(K) − ω_c²M, Gᵀ; G, 0]`
+    ///   (`lanczos.rs`): two factorisations of size n + ng and ~1.5 nb solves; else `dense`.
+    ///   The Ritz pairs below half the cutoff (the band, for the default `cutoff_factor`) are
+    ///   converged to 1e-8; those above span the rest of the subspace. `GΨ = 0` and
+    ///   `ΨᵀMΨ = I` to round-off either way.
     ///
     /// # Errors
     /// As [`reduce`]; a reduced mass that is not positive definite; an empty basis (cutoff
@@ -51,67 +66,30 @@ impl ModalBasis {
         opts.validate()?;
         let t0 = Instant::now();
         let (n, ng) = check_inputs(sys)?;
-        let undamped = CeaMatrices {
-            m: sys.m.clone(),
-            k: sys.k.clone(),
-            b: None,
-            g: sys.g.clone(),
-            d: sys.d.clone(),
-            c_f: None,
-        };
-        let red = reduce(&undamped, opts)?;
-        let m = red.m_r.nrows();
-        let llt = cholesky("T^T M T", &red.m_r)?;
-        let l = llt.L();
-        let ksym = Mat::from_fn(m, m, |i, j| 0.5 * (red.k_r[(i, j)] + red.k_r[(j, i)]));
-        let khat = sandwich(l, &ksym);
-        let evd = khat
-            .self_adjoint_eigen(Side::Lower)
-            .map_err(|_| CeaError::NoConvergence {
-                what: "symmetric eigendecomposition (projection basis)",
-                n: m,
-            })?;
-        let lam = evd.S().column_vector();
-        let hz = |x: f64| x.max(0.0).sqrt() / (2.0 * std::f64::consts::PI);
-        let pr = &opts.projection;
-        let mut nb = match pr.cutoff_hz() {
-            Some(fc) => (0..m).take_while(|&i| hz(lam[i]) <= fc).count(),
-            None => m,
-        };
-        if let Some(cap) = pr.n_basis {
-            nb = nb.min(cap);
-        }
-        if nb == 0 {
-            return Err(CeaError::InvalidOption {
-                field: "projection.basis_cutoff_hz",
-                value: format!("{:?}", pr.cutoff_hz()),
-                reason: format!(
-                    "no real mode below the cutoff (lowest: {} Hz)",
-                    if m > 0 { hz(lam[0]) } else { f64::NAN }
-                ),
-            });
-        }
-        let mut phi = evd.U().subcols(0, nb).to_owned();
-        l.transpose().solve_upper_triangular_in_place(&mut phi);
-        let psi = match &red.t {
-            Some(t) => t * &phi,
-            None => phi,
-        };
         let gt = sys.g.as_ref().map(|g| g.transpose().to_owned());
         let y = match (&gt, ng) {
             (Some(gt), ng) if ng > 0 => Some(mass_solve(&sys.m, gt)?),
             _ => None,
         };
+        let pr = &opts.projection;
+        let fast = match (pr.basis_solver, pr.cutoff_hz()) {
+            (BasisSolver::Auto, Some(fc)) => lanczos_basis(sys, opts, gt.as_ref(), fc)?,
+            _ => None,
+        };
+        let (psi, frequencies_hz, n_reduced, rank_ratio) = match fast {
+            Some(x) => x,
+            None => dense_basis(sys, opts)?,
+        };
         debug_assert_eq!(psi.nrows(), n);
         Ok(ModalBasis {
             psi,
-            frequencies_hz: (0..nb).map(|i| hz(lam[i])).collect(),
+            frequencies_hz,
             m_ref: sys.m.clone(),
             g_ref: sys.g.clone(),
             gt,
             y,
-            n_reduced: m,
-            rank_ratio: red.rank_ratio,
+            n_reduced,
+            rank_ratio,
             time_s: t0.elapsed().as_secs_f64(),
         })
     }
@@ -140,4 +118,115 @@ impl ModalBasis {
     pub fn time_s(&self) -> f64 {
         self.time_s
     }
+}
+
+fn hz(x: f64) -> f64 {
+    x.max(0.0).sqrt() / (2.0 * std::f64::consts::PI)
+}
+
+/// (Ψ, frequencies, n − ng, σ_min(G)/σ_max(G)).
+type BasisParts = (Mat<f64>, Vec<f64>, usize, f64);
+
+/// The dense path: constraint eliminated (null space T of G), one symmetric
+/// eigendecomposition of size n − ng (see [`ModalBasis::new`]).
+fn dense_basis(sys: &CeaMatrices, opts: &CeaOptions) -> Result<BasisParts, CeaError> {
+    let undamped = CeaMatrices {
+        m: sys.m.clone(),
+        k: sys.k.clone(),
+        b: None,
+        g: sys.g.clone(),
+        d: None,
+        c_f: None,
+    };
+    let red = reduce(&undamped, opts)?;
+    let m = red.m_r.nrows();
+    let llt = cholesky("T^T M T", &red.m_r)?;
+    let l = llt.L();
+    let ksym = Mat::from_fn(m, m, |i, j| 0.5 * (red.k_r[(i, j)] + red.k_r[(j, i)]));
+    let khat = sandwich(l, &ksym);
+    let evd = khat
+        .self_adjoint_eigen(Side::Lower)
+        .map_err(|_| CeaError::NoConvergence {
+            what: "symmetric eigendecomposition (projection basis)",
+            n: m,
+        })?;
+    let lam = evd.S().column_vector();
+    let pr = &opts.projection;
+    let mut nb = match pr.cutoff_hz() {
+        Some(fc) => (0..m).take_while(|&i| hz(lam[i]) <= fc).count(),
+        None => m,
+    };
+    if let Some(cap) = pr.n_basis {
+        nb = nb.min(cap);
+    }
+    if nb == 0 {
+        return Err(CeaError::InvalidOption {
+            field: "projection.basis_cutoff_hz",
+            value: format!("{:?}", pr.cutoff_hz()),
+            reason: format!(
+                "no real mode below the cutoff (lowest: {} Hz)",
+                if m > 0 { hz(lam[0]) } else { f64::NAN }
+            ),
+        });
+    }
+    let mut phi = evd.U().subcols(0, nb).to_owned();
+    l.transpose().solve_upper_triangular_in_place(&mut phi);
+    let psi = match &red.t {
+        Some(t) => t * &phi,
+        None => phi,
+    };
+    Ok((
+        psi,
+        (0..nb).map(|i| hz(lam[i])).collect(),
+        m,
+        red.rank_ratio,
+    ))
+}
+
+/// The Lanczos path ([`super::lanczos::lowest_modes`]) on `sym(K)`: `Tᵀ sym(K) T = sym(K_r)`
+/// of the friction-free problem, so the modes are those of the dense path.
+/// `None` when it does not apply (the dense path then runs).
+#[allow(non_snake_case)]
+fn lanczos_basis(
+    sys: &CeaMatrices,
+    opts: &CeaOptions,
+    gt: Option<&Mat<f64>>,
+    cutoff_hz: f64,
+) -> Result<Option<BasisParts>, CeaError> {
+    let n = sys.m.nrows();
+    let ng = sys.g.as_ref().map_or(0, |g| g.nrows());
+    let rank_ratio = match gt {
+        Some(gt) if ng > 0 => {
+            let sv = gt.singular_values().map_err(|_| CeaError::NoConvergence {
+                what: "singular values of G^T",
+                n,
+            })?;
+            let smax = sv.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
+            let smin = sv.iter().fold(f64::INFINITY, |a, &b| a.min(b.abs()));
+            let ratio = if smax > 0.0 { smin / smax } else { 0.0 };
+            if ratio <= opts.rank_tol {
+                return Err(CeaError::RankDeficientConstraints {
+                    ng,
+                    n,
+                    ratio,
+                    tol: opts.rank_tol,
+                });
+            }
+            ratio
+        }
+        _ => 1.0,
+    };
+    let m_red = n - ng;
+    let max_modes = opts.projection.n_basis.unwrap_or(usize::MAX).min(m_red / 4);
+    if max_modes == 0 {
+        return Ok(None);
+    }
+    let pk = &sys.k;
+    let ks = Mat::from_fn(n, n, |i, j| 0.5 * (pk[(i, j)] + pk[(j, i)]));
+    let w_c = 2.0 * std::f64::consts::PI * cutoff_hz;
+    let low = lowest_modes(&ks, &sys.m, sys.g.as_ref(), w_c * w_c, max_modes, 1e-8)?;
+    Ok(low.map(|l| {
+        let f = l.lambda.iter().map(|&x| hz(x)).collect();
+        (l.phi, f, m_red, rank_ratio)
+    }))
 }

@@ -21,6 +21,18 @@ pub enum CeaMethod {
     Projection,
 }
 
+/// How the projection basis' real modes are computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum BasisSolver {
+    /// `lanczos` when the basis has a frequency cutoff and holds at most a quarter of the
+    /// n − ng modes, else `dense`.
+    #[default]
+    Auto,
+    /// One dense symmetric eigendecomposition of size n − ng (constraint eliminated).
+    Dense,
+}
+
 /// Subspace-projection options (used when the method resolves to `projection`).
 ///
 /// The basis is the undamped real modes of `M_r q̈ + sym(K_r) q = 0` at the reference state,
@@ -47,6 +59,9 @@ pub struct ProjectionOptions {
     /// `auto` projects a single CEA only above this many reduced DOFs n − ng (default: 1000:
     /// the exact dense solve of 2(n − ng) takes about 10 s there on 2 cores).
     pub auto_single_min_dofs: usize,
+    /// Eigensolver of the basis (default: `auto`: shift-invert Lanczos on the bordered
+    /// constrained problem with an inertia count, see [`super::ModalBasis::new`]).
+    pub basis_solver: BasisSolver,
     /// Exact refinement of the in-band unstable projected roots of a single CEA (default:
     /// [`RefineOptions::default`]: on).
     pub refine: RefineOptions,
@@ -62,6 +77,7 @@ impl Default for ProjectionOptions {
             basis_mu: None,
             auto_min_dofs: 200,
             auto_single_min_dofs: 1000,
+            basis_solver: BasisSolver::Auto,
             refine: RefineOptions::default(),
         }
     }

@@ -2,7 +2,7 @@
 //! full first-order operator ([`super::shift_invert`]).
 
 use super::eigen::normalise_shape;
-use super::operator::damping;
+use super::operator::{damping, mul_complex};
 use super::shift_invert::{Arnoldi, Ritz, ShiftInvert};
 use super::{CeaError, CeaMatrices, Cplx, Mode};
 use faer::linalg::solvers::SolveLstsq;
@@ -118,6 +118,27 @@ pub struct RefinedRoot {
     pub target: bool,
 }
 
+/// What one refinement shift cost and found.
+#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+pub struct ShiftStats {
+    /// The shift σ `[re, im]`.
+    #[serde(serialize_with = "ser_pair")]
+    pub sigma: Cplx,
+    /// Final Krylov dimension.
+    pub krylov_dim: usize,
+    /// Operator applications (LU solves).
+    pub n_applications: usize,
+    /// Projected roots paired with an exact root at this shift.
+    pub n_refined: usize,
+    /// Radius of the converged disc around σ, 1/s.
+    pub converged_radius: f64,
+    /// Seconds: factorisation, operator applications, orthogonalisation, Ritz values.
+    pub time_factor_s: f64,
+    pub time_apply_s: f64,
+    pub time_orth_s: f64,
+    pub time_ritz_s: f64,
+}
+
 /// Statistics of the exact refinement.
 #[derive(Debug, Clone, PartialEq, Serialize, Default)]
 pub struct RefineStats {
@@ -160,6 +181,8 @@ pub struct RefineStats {
     pub max_constraint_residual: f64,
     /// Each refined root.
     pub roots: Vec<RefinedRoot>,
+    /// Each shift.
+    pub shifts: Vec<ShiftStats>,
     /// Wall time of the refinement, seconds.
     pub time_s: f64,
 }
@@ -208,13 +231,9 @@ impl<'a> Residual<'a> {
     /// (backward error, constraint residual) of (p, u).
     fn of(&self, p: Cplx, u: &[Cplx]) -> (f64, f64) {
         let n = u.len();
-        let re = Mat::from_fn(n, 2, |i, j| if j == 0 { u[i].re } else { u[i].im });
-        let cplx = |x: &Mat<f64>| -> Vec<Cplx> {
-            (0..n).map(|i| Cplx::new(x[(i, 0)], x[(i, 1)])).collect()
-        };
-        let mu = cplx(&(&self.sys.m * &re));
-        let ku = cplx(&(&self.sys.k * &re));
-        let cu = self.c.map(|c| cplx(&(c * &re)));
+        let mu = mul_complex(&self.sys.m, u);
+        let ku = mul_complex(&self.sys.k, u);
+        let cu = self.c.map(|c| mul_complex(c, u));
         let mut r: Vec<Cplx> = (0..n)
             .map(|i| p * p * mu[i] + ku[i] + cu.as_ref().map_or(Cplx::new(0.0, 0.0), |c| p * c[i]))
             .collect();
@@ -237,8 +256,8 @@ impl<'a> Residual<'a> {
         let back = if scale > 0.0 { rn / scale } else { rn };
         let cons = match &self.sys.g {
             Some(gm) if gm.nrows() > 0 && g > 0.0 && un > 0.0 => {
-                let gu = gm * &re;
-                gu.norm_l2() / (g * un)
+                let gu = mul_complex(gm, u);
+                gu.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt() / (g * un)
             }
             _ => 0.0,
         };
@@ -296,15 +315,24 @@ pub(crate) fn refine(
             break;
         }
         let sigma = modes[first].eigenvalue;
+        let tf = Instant::now();
         let op = ShiftInvert::new(sys, c.as_ref(), sigma)?;
+        let mut sh = ShiftStats {
+            sigma,
+            time_factor_s: tf.elapsed().as_secs_f64(),
+            ..ShiftStats::default()
+        };
         let shift = st.n_shifts;
         st.n_shifts += 1;
         let mut arn = Arnoldi::new(&op);
         let mut k = opts.krylov_dim;
         let (ritz, pairs, exact, spurious) = loop {
             arn.grow(&op, k);
+            let tr = Instant::now();
             let ritz = arn.ritz(op.sigma())?;
             let r_c = converged_radius(&ritz, sigma, opts.tol);
+            sh.converged_radius = r_c;
+            sh.time_ritz_s += tr.elapsed().as_secs_f64();
             // Exact roots in the disc, upper half plane (the conjugates are nearer σ's
             // mirror), not found by an earlier shift.
             let exact: Vec<usize> = (0..ritz.len())
@@ -343,6 +371,12 @@ pub(crate) fn refine(
             k = (k + opts.krylov_step).min(opts.max_krylov_dim);
         };
         st.n_applications += arn.applications;
+        sh.krylov_dim = arn.dim();
+        sh.n_applications = arn.applications;
+        sh.n_refined = pairs.len();
+        sh.time_apply_s = arn.time_apply_s;
+        sh.time_orth_s = arn.time_orth_s;
+        st.shifts.push(sh);
         let shape_of = |r: usize| {
             let x = arn.vector(&ritz[r]);
             normalise_shape(x[..x.len() / 2].to_vec())

@@ -1,9 +1,11 @@
 //! Shift-invert Arnoldi on the full first-order operator of the constrained problem (no
 //! constraint elimination, no projection): the exact check of the projected roots.
 
+use super::operator::mul_complex;
 use super::{CeaError, CeaMatrices, Cplx};
 use faer::linalg::solvers::{PartialPivLu, Solve};
 use faer::{c64, Mat};
+use std::time::Instant;
 
 /// `(F − σE)⁻¹E` for the first-order pencil of the constrained problem.
 ///
@@ -28,11 +30,6 @@ pub(crate) struct ShiftInvert<'a> {
     lu: PartialPivLu<c64>,
     n: usize,
     ng: usize,
-}
-
-/// `[Re | Im]` of a complex vector as an n × 2 real matrix.
-fn split(z: &[Cplx]) -> Mat<f64> {
-    Mat::from_fn(z.len(), 2, |i, j| if j == 0 { z[i].re } else { z[i].im })
 }
 
 impl<'a> ShiftInvert<'a> {
@@ -98,13 +95,13 @@ impl<'a> ShiftInvert<'a> {
         let (n, s) = (self.n, self.sigma);
         let (a, b) = x.split_at(n);
         let t: Vec<Cplx> = (0..n).map(|i| b[i] + s * a[i]).collect();
-        let mt = self.m * split(&t);
-        let ca = self.c.map(|c| c * split(a));
+        let mt = mul_complex(self.m, &t);
+        let ca = self.c.map(|c| mul_complex(c, a));
         let mut rhs = Mat::<c64>::from_fn(n + self.ng, 1, |i, _| {
             if i < n {
-                let mut r = -c64::new(mt[(i, 0)], mt[(i, 1)]);
+                let mut r = -mt[i];
                 if let Some(ca) = &ca {
-                    r -= c64::new(ca[(i, 0)], ca[(i, 1)]);
+                    r -= ca[i];
                 }
                 r
             } else {
@@ -139,6 +136,9 @@ pub(crate) struct Arnoldi {
     pub(crate) exhausted: bool,
     /// Operator applications.
     pub(crate) applications: usize,
+    /// Seconds in operator applications and in the orthogonalisation.
+    pub(crate) time_apply_s: f64,
+    pub(crate) time_orth_s: f64,
 }
 
 fn dot(a: &[Cplx], b: &[Cplx]) -> Cplx {
@@ -161,6 +161,7 @@ impl Arnoldi {
             state ^= state << 17;
             (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
         };
+        let t = Instant::now();
         let mut x: Vec<Cplx> = (0..dim).map(|_| Cplx::new(rnd(), rnd())).collect();
         for _ in 0..2 {
             x = op.apply(&x);
@@ -172,6 +173,8 @@ impl Arnoldi {
             h: Vec::new(),
             exhausted: false,
             applications: 2,
+            time_apply_s: t.elapsed().as_secs_f64(),
+            time_orth_s: 0.0,
         }
     }
 
@@ -184,8 +187,11 @@ impl Arnoldi {
     pub(crate) fn grow(&mut self, op: &ShiftInvert<'_>, k: usize) {
         while self.h.len() < k && !self.exhausted {
             let j = self.h.len();
+            let t = Instant::now();
             let mut w = op.apply(&self.v[j]);
             self.applications += 1;
+            let t1 = Instant::now();
+            self.time_apply_s += (t1 - t).as_secs_f64();
             let mut hj = vec![Cplx::new(0.0, 0.0); j + 2];
             for _ in 0..2 {
                 for (i, vi) in self.v.iter().enumerate() {
@@ -204,6 +210,7 @@ impl Arnoldi {
                 w.iter_mut().for_each(|z| *z /= beta);
                 self.v.push(w);
             }
+            self.time_orth_s += t1.elapsed().as_secs_f64();
         }
     }
 
