@@ -4,6 +4,8 @@
 //! tangent D, proportional damping, and real roots; and the subspace-projection method
 //! against the exact one (Hoffmann models and a random constrained model).
 
+mod common;
+use common::random::{random_spd, RandomConstrained, Rng};
 use faer::{Mat, Side};
 use squeal_solver::cea::{
     complex_eigen, mac, sweep, CeaError, CeaMatrices, CeaMethod, CeaOptions, Cplx, ModalBasis,
@@ -208,27 +210,6 @@ fn friction_tangent_d_is_projected_exactly() {
             );
         }
     }
-}
-
-/// Small deterministic generator (xorshift64*), uniform in [−1, 1).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        let x = self.0.wrapping_mul(0x2545_f491_4f6c_dd1d);
-        (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-}
-
-fn random_spd(n: usize, rng: &mut Rng, shift: f64) -> Mat<f64> {
-    let a = Mat::from_fn(n, n, |_, _| rng.next());
-    let mut s = &a * a.transpose();
-    for i in 0..n {
-        s[(i, i)] += shift;
-    }
-    s
 }
 
 /// Proportional damping C = αM + βK on a random symmetric positive system: the modes are the
@@ -460,27 +441,10 @@ fn projected_sweep_reproduces_hoffmann_critical_mu() {
     }
 }
 
-/// A random constrained model: n DOFs, ng random constraints, unsymmetric friction
-/// stiffness μ K1, friction tangent μ D1 and damping.
+/// A random constrained model (`common::random`), built once and evaluated at any μ.
 fn random_constrained(n: usize, ng: usize, seed: u64) -> impl Fn(f64) -> CeaMatrices {
-    let mut rng = Rng(seed);
-    let m = random_spd(n, &mut rng, n as f64);
-    let mut k0 = random_spd(n, &mut rng, 0.0);
-    for i in 0..n {
-        // Spread the spectrum: ω² from ~n to ~100 n.
-        k0[(i, i)] += n as f64 * (1.0 + 100.0 * (i as f64 / n as f64).powi(2));
-    }
-    let k1 = Mat::from_fn(n, n, |_, _| 0.5 * rng.next() * (n as f64).sqrt());
-    let g = Mat::from_fn(ng, n, |_, _| rng.next());
-    let d1 = Mat::from_fn(n, ng, |_, _| 0.3 * rng.next());
-    let b = &k0 * 1e-4 + &m * 1e-3;
-    move |mu| {
-        let mut s = CeaMatrices::new(m.clone(), &k0 + &k1 * mu);
-        s.b = Some(b.clone());
-        s.g = Some(g.clone());
-        s.d = Some(&d1 * mu);
-        s
-    }
+    let model = RandomConstrained::new(n, ng, seed);
+    move |mu| model.at(mu)
 }
 
 /// Random 150-DOF model with 12 constraints: the full basis reproduces all 138 roots to

@@ -2,50 +2,17 @@
 //! against the dense symmetric eigendecomposition (`basis_solver = "dense"`, the reference), and
 //! the projected + refined CEA on that basis against the exact dense CEA, root by root.
 
-use faer::Mat;
 use squeal_solver::cea::{
     complex_eigen, BasisSolver, CeaMatrices, CeaMethod, CeaOptions, ModalBasis, Mode,
     ProjectionOptions,
 };
 
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        let x = self.0.wrapping_mul(0x2545_f491_4f6c_dd1d);
-        (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-}
+mod common;
+use common::random::RandomConstrained;
 
-fn random_spd(n: usize, rng: &mut Rng, shift: f64) -> Mat<f64> {
-    let a = Mat::from_fn(n, n, |_, _| rng.next());
-    let mut s = &a * a.transpose();
-    for i in 0..n {
-        s[(i, i)] += shift;
-    }
-    s
-}
-
-/// As `cea_refine.rs`: n DOFs, ng random constraints, unsymmetric friction stiffness μ K1,
-/// friction tangent μ D1, damping B = 1e-4 K0 + 1e-3 M.
+/// n DOFs, ng random constraints at friction coefficient μ (`common::random`).
 fn random_constrained(n: usize, ng: usize, mu: f64, seed: u64) -> CeaMatrices {
-    let mut rng = Rng(seed);
-    let m = random_spd(n, &mut rng, n as f64);
-    let mut k0 = random_spd(n, &mut rng, 0.0);
-    for i in 0..n {
-        k0[(i, i)] += n as f64 * (1.0 + 100.0 * (i as f64 / n as f64).powi(2));
-    }
-    let k1 = Mat::from_fn(n, n, |_, _| 0.5 * rng.next() * (n as f64).sqrt());
-    let g = Mat::from_fn(ng, n, |_, _| rng.next());
-    let d1 = Mat::from_fn(n, ng, |_, _| 0.3 * rng.next());
-    let b = &k0 * 1e-4 + &m * 1e-3;
-    let mut s = CeaMatrices::new(m, &k0 + &k1 * mu);
-    s.b = Some(b);
-    s.g = Some(g);
-    s.d = Some(&d1 * mu);
-    s
+    RandomConstrained::new(n, ng, seed).at(mu)
 }
 
 fn opts(band: f64, solver: BasisSolver) -> CeaOptions {

@@ -1,6 +1,8 @@
 //! Shared models for the solver verification tests.
 #![allow(dead_code)]
 
+pub mod random;
+
 use faer::Mat;
 use squeal_solver::bdf::DaeSystem;
 use squeal_solver::bsql::{BsqlOptions, BsqlSystem, FrictionForces, LoadHistory};
