@@ -147,8 +147,8 @@ pub fn column(case_dir: &Path, name: &str) -> Result<(Vec<Real>, Vec<Real>), Pip
 
 /// Onset of squeal: the time the squealing root's fitted amplitude reaches `level`.
 ///
-/// The squealing root is the verdict's deciding root (the fastest-growing significant root
-/// of the multi-root estimator, `verdict.roots`); its amplitude (norm over the output DOFs)
+/// The squealing root is the verdict's deciding root ([`PencilFit::deciding`](crate::stages::transient::roots::PencilFit::deciding),
+/// the fastest-growing significant root); its amplitude (norm over the output DOFs)
 /// is `amplitude`·e^{σ(t − t0)} over the fitted window [t0, t1]. The onset is where that
 /// reaches `level`: t0 when it starts above, None when σ ≤ 0 or the level is not reached
 /// within the window (no extrapolation beyond the run). One DOF's velocity crossing a level
@@ -158,12 +158,8 @@ pub fn column(case_dir: &Path, name: &str) -> Result<(Vec<Real>, Vec<Real>), Pip
 pub fn onset_time(verdict: &Verdict, level: Real) -> Option<Real> {
     let fit = verdict.estimator.as_ref()?;
     let [t0, t1] = fit.window;
-    let sigma = verdict.growth_rate_per_s?;
-    let root = verdict
-        .roots
-        .iter()
-        .filter(|r| r.significant)
-        .find(|r| r.growth_rate_per_s == sigma)?;
+    let root = fit.deciding()?;
+    let sigma = root.growth_rate_per_s;
     if !(sigma > 0.0 && root.amplitude > 0.0) {
         return None;
     }
