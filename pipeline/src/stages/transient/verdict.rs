@@ -54,6 +54,9 @@ pub struct Verdict {
     pub dominant_frequency_hz: Option<Real>,
     /// e^{σT} of the deciding root over the fitted window T.
     pub growth_factor: Option<Real>,
+    /// The deciding root's smallest σ over the fit and its refits on the later parts of the
+    /// window: a clear growth needs it above the threshold too.
+    pub growth_rate_min_per_s: Option<Real>,
     /// The response's oscillating roots, largest at the window's end first (at most 12).
     pub roots: Vec<Root>,
     /// How the roots were estimated (window, channels, samples, order, residual).
@@ -111,6 +114,7 @@ impl Verdict {
             growth_rate_per_s: deciding.map(|r| r.growth_rate_per_s),
             dominant_frequency_hz: roots.first().map(|r| r.frequency_hz),
             growth_factor: deciding.map(|r| (r.growth_rate_per_s * span).exp()),
+            growth_rate_min_per_s: deciding.map(|r| r.growth_rate_range_per_s[0]),
             roots,
             estimator: fit,
             envelope,
@@ -128,11 +132,14 @@ impl Verdict {
     }
 
     /// A clear growth: the deciding root grows faster than `rate` (per unit time) and by at
-    /// least `min_factor` over the fitted window. (The verdict's `state` also weighs whether
-    /// a run without it could have seen squeal.)
+    /// least `min_factor` over the fitted window, and faster than `rate` in every refit on
+    /// the window's later parts. (The verdict's `state` also weighs whether a run without it
+    /// could have seen squeal.)
     pub fn is_squeal(&self, rate: Real, min_factor: Real) -> bool {
         match (self.growth_rate_per_s, self.growth_factor) {
-            (Some(g), Some(f)) => g > rate && f >= min_factor,
+            (Some(g), Some(f)) => {
+                g > rate && f >= min_factor && self.growth_rate_min_per_s.is_none_or(|m| m > rate)
+            }
             _ => false,
         }
     }
@@ -271,6 +278,45 @@ mod tests {
         let flat = analyse(&t[..5], &x[..5], 0.0);
         assert!(flat.growth_rate_per_s.is_none());
         assert!(!flat.is_squeal(0.0, 1.0));
+    }
+
+    /// A clear growth needs the deciding root to grow in every refit: σ = +108 /s over a
+    /// window of 8.5 ms (×2.5) with a refit at −24 /s is no clear growth (the hex20 brake's
+    /// case 7 had such a root at 9.2 kHz), with the refits at +60 and +130 /s it is.
+    #[test]
+    fn a_clear_growth_grows_in_every_refit() {
+        use super::super::roots::{PencilFit, Root};
+        let verdict = |range: [Real; 2]| {
+            let fit = PencilFit {
+                roots: vec![Root {
+                    growth_rate_per_s: 108.0,
+                    frequency_hz: 9187.0,
+                    amplitude: 1.0,
+                    amplitude_end: 2.5,
+                    significant: true,
+                    consistent: true,
+                    growth_rate_range_per_s: range,
+                }],
+                window: [2e-3, 10.5e-3],
+                channels: 9,
+                samples: 1500,
+                dt: 5.7e-6,
+                pencil: 300,
+                order: 40,
+                singular_values: vec![],
+                relative_residual: 0.02,
+            };
+            Verdict::new(
+                Some(fit),
+                analyse(&[], &[], 0.0),
+                [2e-3, 10.5e-3],
+                Some(2.5e-6),
+            )
+        };
+        let v = verdict([-24.0, 110.0]);
+        assert!((v.growth_factor.unwrap() - (108.0f64 * 8.5e-3).exp()).abs() < 1e-12);
+        assert!(!v.is_squeal(0.0, 2.0), "{v:?}");
+        assert!(verdict([60.0, 130.0]).is_squeal(0.0, 2.0));
     }
 
     /// The growth factor is e^{σ·span} of the fitted amplitudes; a slow growth over a short
