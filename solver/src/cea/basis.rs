@@ -27,6 +27,12 @@ pub struct ModalBasis {
     /// Gᵀ and Y = M⁻¹Gᵀ of the reference state (only with constraints).
     pub(crate) gt: Option<Mat<f64>>,
     pub(crate) y: Option<Mat<f64>>,
+    /// K Ψ and B Ψ of the reference state, with K and B (a solve whose K and B equal them
+    /// reuses the products: in a friction sweep only D and C_f change with μ).
+    pub(crate) k_ref: Mat<f64>,
+    pub(crate) kpsi: Mat<f64>,
+    pub(crate) b_ref: Option<Mat<f64>>,
+    pub(crate) bpsi: Option<Mat<f64>>,
     /// Size of the reduced problem n − ng.
     pub(crate) n_reduced: usize,
     /// σ_min(G)/σ_max(G).
@@ -81,7 +87,13 @@ impl ModalBasis {
             None => dense_basis(sys, opts)?,
         };
         debug_assert_eq!(psi.nrows(), n);
+        let kpsi = &sys.k * &psi;
+        let bpsi = sys.b.as_ref().map(|b| b * &psi);
         Ok(ModalBasis {
+            k_ref: sys.k.clone(),
+            kpsi,
+            b_ref: sys.b.clone(),
+            bpsi,
             psi,
             frequencies_hz,
             m_ref: sys.m.clone(),
@@ -229,4 +241,67 @@ fn lanczos_basis(
         let f = l.lambda.iter().map(|&x| hz(x)).collect();
         (l.phi, f, m_red, rank_ratio)
     }))
+}
+
+impl ModalBasis {
+    /// The basis with the real and imaginary parts of `vectors` added (exact eigenvectors of
+    /// a sweep's critical μ): each part projected M-orthogonally on null(G)
+    /// (`v − Y (G Y)⁻¹ G v`, `Y = M⁻¹Gᵀ`) and M-orthonormalised against Ψ and the parts before
+    /// it (Gram–Schmidt twice); a part left with less than 1e-8 of its M-norm is dropped. So
+    /// `GΨ' = 0` and `Ψ'ᵀMΨ' = I` still hold for the reference M, and the projection of a
+    /// problem reproduces every eigenpair whose vector lies in the span (Galerkin).
+    pub(crate) fn augmented(&self, vectors: &[Vec<super::Cplx>]) -> Result<ModalBasis, CeaError> {
+        use faer::linalg::solvers::Solve;
+        let n = self.psi.nrows();
+        let m = &self.m_ref;
+        let lu = match (&self.g_ref, &self.y) {
+            (Some(g), Some(y)) => Some((g, y, (g * y).partial_piv_lu())),
+            _ => None,
+        };
+        let mut cols: Vec<faer::Col<f64>> = Vec::new();
+        let mut psi_cols: Vec<faer::Col<f64>> = (0..self.psi.ncols())
+            .map(|j| self.psi.col(j).to_owned())
+            .collect();
+        for v in vectors.iter().filter(|v| v.len() == n) {
+            for part in [0, 1] {
+                let mut x = faer::Col::from_fn(n, |i| if part == 0 { v[i].re } else { v[i].im });
+                if let Some((g, y, lu)) = &lu {
+                    let mut c = *g * &x;
+                    lu.solve_in_place(c.as_mat_mut());
+                    x -= *y * &c;
+                }
+                let norm0 = (x.transpose() * (m * &x)).sqrt();
+                if !(norm0 > 0.0 && norm0.is_finite()) {
+                    continue;
+                }
+                for _ in 0..2 {
+                    let mx = m * &x;
+                    for q in &psi_cols {
+                        let c = q.transpose() * &mx;
+                        x -= q * c;
+                    }
+                }
+                let nrm = (x.transpose() * (m * &x)).sqrt();
+                if nrm > 1e-8 * norm0 {
+                    x /= nrm;
+                    psi_cols.push(x.clone());
+                    cols.push(x);
+                }
+            }
+        }
+        let nb = self.psi.ncols();
+        let psi = Mat::from_fn(n, nb + cols.len(), |i, j| {
+            if j < nb {
+                self.psi[(i, j)]
+            } else {
+                cols[j - nb][i]
+            }
+        });
+        Ok(ModalBasis {
+            kpsi: &self.k_ref * &psi,
+            bpsi: self.b_ref.as_ref().map(|b| b * &psi),
+            psi,
+            ..self.clone()
+        })
+    }
 }
