@@ -102,12 +102,15 @@ fn critical_mu_equals_dense_exact_bisection() {
         basis_mu: Some(0.0),
         ..ProjectionOptions::default()
     };
+    // The onset is a coalescence: the exact Re p is flat, then grows like √(μ − μc), where
+    // regula falsi degrades to its bisection steps (measured: 17 evaluations from 0.019 away, 4e-9 from the reference).
     let opts = SweepOptions {
         cea: CeaOptions {
             method: CeaMethod::Projection,
             projection,
             ..exact_opts()
         },
+        max_exact_critical: 30,
         ..SweepOptions::default()
     };
     let s = sweep(build, &mus, &opts).unwrap();
@@ -116,24 +119,32 @@ fn critical_mu_equals_dense_exact_bisection() {
     let x = c.exact.as_ref().expect("refined exactly");
     eprintln!(
         "projected sweep: located {:.12} ({} solves), exact {:.12} ({} exact solves, {} shifts, \
-         {} model solves, root error {:.2e}); stats: {} exact, {} failed, max |dmu| {:?}",
+         root error {:.2e}); stats: {} exact, {} failed, max |dmu| {:?}",
         c.mu_located,
         c.locate_solves,
         c.mu,
         x.n_solves,
         x.n_shifts,
-        x.n_model_solves,
         x.max_rel_root_error,
         s.stats.n_critical_exact,
         s.stats.n_critical_exact_failed,
         s.stats.max_critical_mu_change
     );
+    // The exact crossing is bracketed to `exact_critical_tol` (1e-5) and interpolated there.
+    let tol_exact = opts.exact_critical_tol;
     assert!(x.converged);
-    assert!((c.mu - reference).abs() <= tol, "{} vs {reference}", c.mu);
-    // Measured: 3 exact evaluations (the first at the projected crossing, 0.0193 below).
-    assert!(x.n_solves <= 4, "{} exact evaluations", x.n_solves);
-    // The projection error moved the projected crossing by more than the tolerance.
-    assert!((c.mu_located - reference).abs() > 10.0 * tol);
+    let [lo, hi] = x.bracket.unwrap();
+    assert!(
+        lo < reference && reference <= hi && hi - lo <= tol_exact,
+        "{lo} {hi}"
+    );
+    assert!(
+        (c.mu - reference).abs() <= tol_exact,
+        "{} vs {reference}",
+        c.mu
+    );
+    // The projection error moved the projected crossing by much more than the tolerance.
+    assert!((c.mu_located - reference).abs() > 100.0 * tol_exact);
     assert_eq!(s.stats.n_critical_exact_solves, {
         let t = s.tracks.iter().filter_map(|t| t.critical.as_ref());
         t.filter_map(|c| c.exact.as_ref())

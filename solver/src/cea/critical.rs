@@ -16,16 +16,15 @@ fn ser_cplx<S: Serializer>(p: &Cplx, s: S) -> Result<S::Ok, S::Error> {
 /// The critical μ of the exact root (a projected sweep's crossing checked by refinement).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CriticalExact {
-    /// Critical μ of the exact root (see [`CriticalExact::converged`]); the projected
-    /// crossing when not converged.
+    /// Critical μ of the exact root: linear interpolation of the crossing in `bracket`; the
+    /// projected crossing when no bracket was found.
     pub mu: f64,
-    /// The largest μ at which the exact root was evaluated stable and the smallest at which it
-    /// was unstable, when the first is below the second (`None` otherwise).
+    /// μ at which the exact root was stable and μ at which it was unstable, the last bracket
+    /// of the search (`None`: no sign change found).
     pub bracket: Option<[f64; 2]>,
-    /// The crossing of the augmented projection lies within `bisection_tol`·max(1, |μ|) of the
-    /// last exact evaluation, on the side its sign says.
+    /// The bracket is shorter than `exact_critical_tol`·max(1, |μ|).
     pub converged: bool,
-    /// Exact root at the last exact evaluation `[re, im]`.
+    /// Exact root at the unstable end of the bracket `[re, im]`.
     #[serde(serialize_with = "ser_cplx")]
     pub eigenvalue: Cplx,
     /// Its frequency, Hz.
@@ -34,9 +33,6 @@ pub struct CriticalExact {
     pub n_solves: usize,
     /// Refinement shifts (complex LUs of size n + ng) over those evaluations.
     pub n_shifts: usize,
-    /// Solves of the augmented projection (basis + the exact shapes found) spent locating
-    /// its crossing between the exact evaluations.
-    pub n_model_solves: usize,
     /// Largest |p_exact − p_projected| / |p_exact| of the tracked root over the evaluations.
     pub max_rel_root_error: f64,
     /// Largest |Re p_exact − Re p_projected| over the evaluations, 1/s.
@@ -189,14 +185,13 @@ where
     /// The exact tracked root at μ: the system built, projected on the basis, the tracked
     /// root (and the best-MAC mode, its coalescing partner near an onset) refined by
     /// shift-invert Arnoldi. Returns the exact point, the projected one, the best-MAC exact
-    /// shape, the exact shapes of the refined candidates and the shifts.
-    #[allow(clippy::type_complexity)]
+    /// shape and the shifts.
     fn exact_point(
         &mut self,
         mu: f64,
         reference: &[Cplx],
         band_hz: f64,
-    ) -> Result<(Point, Point, Vec<Cplx>, Vec<Vec<Cplx>>, usize), CeaError> {
+    ) -> Result<(Point, Point, Vec<Cplx>, usize), CeaError> {
         let sys = self.system(mu)?;
         let Some(basis) = self.basis.as_ref() else {
             return Err(CeaError::InvalidOption {
@@ -226,16 +221,6 @@ where
         // The band only decides which exact roots found near the shift are added as missed.
         let st = refine_targets(&sys, &mut r.modes, targets, band_hz, thr, ro)?;
         let (top, best) = tracked(&r.modes, reference).ok_or_else(none)?;
-        let exact_shapes: Vec<Vec<Cplx>> = r
-            .modes
-            .iter()
-            .filter(|m| {
-                st.roots
-                    .iter()
-                    .any(|x| x.exact == m.eigenvalue || x.exact.conj() == m.eigenvalue)
-            })
-            .map(|m| m.shape.clone())
-            .collect();
         let m = &r.modes[top];
         Ok((
             Point {
@@ -245,57 +230,20 @@ where
             },
             projected,
             r.modes[best].shape.clone(),
-            exact_shapes,
             st.n_shifts,
         ))
     }
 
-    /// The crossing of the current basis' tracked root near `start` (a solve at `start`, then
-    /// steps of `d`, doubling, away from its stable or unstable side until the sign changes
-    /// inside `bounds`, then [`Solver::locate`]): `(Some(μ), solves)`, or `None` when no sign
-    /// change lies inside the bounds.
-    fn crossing_near(
-        &mut self,
-        start: f64,
-        reference: Vec<Cplx>,
-        mut d: f64,
-        bounds: (f64, f64),
-        opts: &SweepOptions,
-    ) -> Result<(Option<f64>, usize), CeaError> {
-        let (mut a, mut reference) = self.point(start, &reference)?;
-        let mut n = 1;
-        let dir = if a.f > 0.0 { -1.0 } else { 1.0 };
-        let br = loop {
-            let mu = a.mu + dir * d;
-            if !(bounds.0..=bounds.1).contains(&mu) {
-                return Ok((None, n));
-            }
-            let (b, shape) = self.point(mu, &reference)?;
-            n += 1;
-            if (b.f > 0.0) != (a.f > 0.0) {
-                break if dir > 0.0 {
-                    Bracket { lo: a, hi: b }
-                } else {
-                    Bracket { lo: b, hi: a }
-                };
-            }
-            a = b;
-            reference = shape;
-            d *= 2.0;
-        };
-        let (br, k) = self.locate(br, reference, opts)?;
-        Ok((Some(br.crossing().0), n + k))
-    }
-
     /// The crossing of the exact root near the projected one (`projected`, the final bracket
-    /// of [`Solver::locate`]), by subspace acceleration: the exact tracked root is computed at
-    /// the projected critical μ (shift-invert refinement), its exact shapes (and its
-    /// partner's) are added to the basis ([`super::ModalBasis::augmented`]), and the crossing
-    /// of the tracked root of that augmented projection — exact at every μ evaluated so far —
-    /// is the next μ to evaluate exactly. It stops when the next μ is within
-    /// `bisection_tol`·max(1, |μ|) of the last exact one and on the side its sign says
-    /// (`converged`), after `max_exact_critical` exact evaluations, or when the crossing
-    /// leaves the bracketing steps widened by one step on each side.
+    /// of [`Solver::locate`]), from exact evaluations only (the tracked root refined by
+    /// shift-invert Arnoldi at each trial μ): the first trial is the projected critical μ; the
+    /// next steps towards the crossing by the exact value over the projected slope (×1.5, so
+    /// that it overshoots; at least 1/64 of a sweep step), growing 4× until the sign changes,
+    /// within one sweep step of the bracketing steps; then Illinois regula falsi with bisection steps, as
+    /// [`Solver::locate`], until the exact bracket is shorter than
+    /// `exact_critical_tol`·max(1, |μ|) (`converged`), or `max_exact_critical` evaluations.
+    /// (Re p of a nearly neutral root is ~1e-7 of |p|: the roots of a projection, even one
+    /// augmented with exact shapes, are not accurate enough to locate its crossing.)
     pub(super) fn refine_critical(
         &mut self,
         projected: &Bracket,
@@ -308,13 +256,7 @@ where
         let (mu_p, p_p) = projected.crossing();
         let h = steps.1 - steps.0;
         let bounds = (steps.0 - h, steps.1 + h);
-        let Some(base) = self.basis.clone() else {
-            return Err(CeaError::InvalidOption {
-                field: "sweep.refine_critical",
-                value: "true".into(),
-                reason: "the exact critical mu needs the projection method".into(),
-            });
-        };
+        let slope_p = (projected.hi.f - projected.lo.f) / projected.width();
         let mut out = CriticalExact {
             mu: mu_p,
             bracket: None,
@@ -323,20 +265,14 @@ where
             frequency_hz: p_p.im.abs() / (2.0 * std::f64::consts::PI),
             n_solves: 0,
             n_shifts: 0,
-            n_model_solves: 0,
             max_rel_root_error: 0.0,
             max_real_part_error: 0.0,
             mu_change: 0.0,
             time_s: 0.0,
         };
         let mut reference = reference;
-        let mut vectors: Vec<Vec<Cplx>> = Vec::new();
-        let (mut lo, mut hi): (Option<Point>, Option<Point>) = (None, None);
-        let mut mu = mu_p;
-        let mut d = h / 16.0;
-        let mut estimate = None;
-        while out.n_solves < opts.max_exact_critical {
-            let (e, pr, shape, shapes, shifts) = self.exact_point(mu, &reference, band_hz)?;
+        let eval = |s: &mut Self, mu: f64, reference: &mut Vec<Cplx>, out: &mut CriticalExact| {
+            let (e, pr, shape, shifts) = s.exact_point(mu, reference, band_hz)?;
             out.n_solves += 1;
             out.n_shifts += shifts;
             let err = (e.p - pr.p).norm();
@@ -344,44 +280,80 @@ where
                 .max_rel_root_error
                 .max(err / e.p.norm().max(f64::MIN_POSITIVE));
             out.max_real_part_error = out.max_real_part_error.max((e.p.re - pr.p.re).abs());
-            reference = shape;
-            vectors.extend(shapes);
-            if e.f > 0.0 {
-                if hi.as_ref().is_none_or(|h| e.mu < h.mu) {
-                    hi = Some(e.clone());
+            *reference = shape;
+            Ok::<Point, CeaError>(e)
+        };
+        // Bracket the exact crossing.
+        let mut a = eval(self, mu_p, &mut reference, &mut out)?;
+        let dir = if a.f > 0.0 { -1.0 } else { 1.0 };
+        let tol = |mu: f64| opts.exact_critical_tol * mu.abs().max(1.0);
+        let mut d = if slope_p.is_finite() && slope_p > 0.0 {
+            1.5 * a.f.abs() / slope_p
+        } else {
+            h / 16.0
+        };
+        d = d.clamp(h / 64.0, h);
+        let mut br = None;
+        while out.n_solves < opts.max_exact_critical {
+            let mu = a.mu + dir * d;
+            if !(bounds.0..=bounds.1).contains(&mu) {
+                break;
+            }
+            let b = eval(self, mu, &mut reference, &mut out)?;
+            if (b.f > 0.0) != (a.f > 0.0) {
+                br = Some(if dir > 0.0 {
+                    Bracket { lo: a, hi: b }
+                } else {
+                    Bracket { lo: b, hi: a }
+                });
+                break;
+            }
+            a = b;
+            d *= 4.0;
+        }
+        // Shrink it: Illinois regula falsi with bisection steps.
+        if let Some(mut br) = br {
+            let (mut wlo, mut whi) = (br.lo.f, br.hi.f);
+            let mut side = 0i8;
+            let mut widths = vec![br.width()];
+            loop {
+                let t = tol(br.hi.mu);
+                if br.width() <= t {
+                    out.converged = true;
+                    break;
                 }
-            } else if lo.as_ref().is_none_or(|l| e.mu > l.mu) {
-                lo = Some(e.clone());
+                if out.n_solves >= opts.max_exact_critical {
+                    break;
+                }
+                let k = widths.len() - 1;
+                let slow = k >= 2 && br.width() > 0.5 * widths[k - 2];
+                let mu = if slow {
+                    0.5 * (br.lo.mu + br.hi.mu)
+                } else {
+                    trial(br.lo.mu, wlo, br.hi.mu, whi, t)
+                };
+                let e = eval(self, mu, &mut reference, &mut out)?;
+                if e.f > 0.0 {
+                    whi = e.f;
+                    br.hi = e;
+                    if side == 1 {
+                        wlo *= 0.5;
+                    }
+                    side = 1;
+                } else {
+                    wlo = e.f;
+                    br.lo = e;
+                    if side == -1 {
+                        whi *= 0.5;
+                    }
+                    side = -1;
+                }
+                widths.push(br.width());
             }
-            // The crossing of the augmented projection near the exact point.
-            let aug = base.augmented(&vectors)?;
-            let saved = self.basis.replace(aug);
-            let res = self.crossing_near(mu, reference.clone(), d, bounds, opts);
-            self.basis = saved;
-            let (next, k) = res?;
-            out.n_model_solves += k;
-            let Some(next) = next else {
-                break;
-            };
-            estimate = Some((next, e.p));
-            let tol = opts.bisection_tol * next.abs().max(1.0);
-            if (next - mu).abs() <= tol && ((next > mu) == (e.f <= 0.0) || next == mu) {
-                out.converged = true;
-                break;
-            }
-            d = (2.0 * (next - mu).abs()).max(tol);
-            mu = next;
-        }
-        if let Some((m, p)) = estimate {
-            if out.converged {
-                out.mu = m;
-                out.eigenvalue = p;
-            }
-        }
-        if let (Some(l), Some(h)) = (&lo, &hi) {
-            if l.mu < h.mu {
-                out.bracket = Some([l.mu, h.mu]);
-            }
+            out.bracket = Some([br.lo.mu, br.hi.mu]);
+            let (m, p) = br.crossing();
+            out.mu = m;
+            out.eigenvalue = p;
         }
         out.frequency_hz = out.eigenvalue.im.abs() / (2.0 * std::f64::consts::PI);
         out.mu_change = out.mu - mu_p;

@@ -209,8 +209,12 @@ pub struct SweepOptions {
     /// the crossing of the exact root: secant on the Re p of the tracked root refined by
     /// shift-invert Arnoldi (default: true).
     pub refine_critical: bool,
-    /// Largest number of exact evaluations per critical μ with `refine_critical` (default: 8).
+    /// Largest number of exact evaluations per critical μ with `refine_critical` (default: 12).
     pub max_exact_critical: usize,
+    /// The exact crossing stops when its bracket is shorter than
+    /// `exact_critical_tol`·max(1, |μ|) (default: 1e-5; each evaluation costs a complex LU of
+    /// size n + ng).
+    pub exact_critical_tol: f64,
     /// Keep the mode shapes of every step in the result (default: false: memory n × modes × steps).
     pub keep_shapes: bool,
     /// With projection, also solve exactly (eigenvalues only) at the first and last μ and
@@ -229,7 +233,8 @@ impl Default for SweepOptions {
             bisection_tol: 1e-7,
             max_bisection: 60,
             refine_critical: true,
-            max_exact_critical: 8,
+            max_exact_critical: 12,
+            exact_critical_tol: 1e-5,
             keep_shapes: false,
             exact_check: true,
             exact_check_every: 0,
@@ -251,6 +256,12 @@ impl SweepOptions {
             "sweep.bisection_tol",
             self.bisection_tol,
             self.bisection_tol > 0.0,
+            "must be > 0",
+        )?;
+        check(
+            "sweep.exact_critical_tol",
+            self.exact_critical_tol,
+            self.exact_critical_tol > 0.0,
             "must be > 0",
         )
     }
