@@ -1,6 +1,7 @@
 //! The critical μ of a tracked mode: located between the two sweep steps that bracket its
 //! onset by Illinois regula falsi on its Re p, then (projected sweeps) moved to the crossing of
-//! the exact root by a secant on the exact Re p, each value from a shift-invert refinement.
+//! the exact root by a bracket search and regula falsi on the exact Re p, each value from a
+//! shift-invert refinement.
 
 use super::refine::refine_targets;
 use super::sweep::Solver;
@@ -43,7 +44,7 @@ pub struct CriticalExact {
     pub time_s: f64,
 }
 
-/// The tracked root at one μ: the values of the bracket and the secant.
+/// The tracked root at one μ: the values of a bracket.
 #[derive(Debug, Clone)]
 pub(super) struct Point {
     pub mu: f64,

@@ -206,8 +206,8 @@ pub struct SweepOptions {
     /// Largest number of solves locating one critical μ (default: 60).
     pub max_bisection: usize,
     /// With projection (and `cea.projection.refine.enabled`), move each in-band critical μ to
-    /// the crossing of the exact root: secant on the Re p of the tracked root refined by
-    /// shift-invert Arnoldi (default: true).
+    /// the crossing of the exact root: bracket search and regula falsi on the Re p of the
+    /// tracked root refined by shift-invert Arnoldi (default: true).
     pub refine_critical: bool,
     /// Largest number of exact evaluations per critical μ with `refine_critical` (default: 12).
     pub max_exact_critical: usize,

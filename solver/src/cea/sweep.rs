@@ -261,8 +261,9 @@ where
 /// μ is a new `build` + solve; candidates at a trial are the modes whose MAC with the
 /// reference is at least half the best, the most unstable counting: near a coalescence both
 /// partners qualify). A projected sweep then moves each in-band onset (frequency ≤ the check
-/// band) to the crossing of the exact root when `opts.refine_critical`: a secant on the Re p
-/// of the tracked root refined exactly by shift-invert Arnoldi, as the single projected CEA
+/// band) to the crossing of the exact root when `opts.refine_critical`: a bracket search and
+/// regula falsi on the Re p of the tracked root refined exactly by shift-invert Arnoldi
+/// (exact evaluations only), as the single projected CEA
 /// refines its unstable roots ([`Critical::exact`], [`SweepStats::n_critical_exact`]). The
 /// merging partner is the tracked mode with the nearest frequency at the first unstable
 /// step (for a mode-coupling instability the two frequencies coalesce there).
