@@ -7,7 +7,10 @@
 //!   Arnoldi on the full first-order operator;
 //! - `dense`: the exact dense CEA (`cea.solver.method = "exact"`; `--no-dense` skips it), the
 //!   reference: each of its in-band unstable roots is compared with the refined one;
-//! - `sweep`: the 50-point friction sweep μ = 0.1…0.9 (constant μ) on the same model.
+//! - `sweep`: the 50-point friction sweep μ = 0.1…0.9 (constant μ) on the same model, its
+//!   in-band critical μ moved to the crossing of the exact root (`critical` in the JSON);
+//! - `dense_at` (with `--dense-at MU,MU,…`): the exact dense CEA at those μ with the sweep's
+//!   steady state, the reference for the critical μ (in-band roots with Re p > −1 /s).
 //!
 //! With `--npy DIR` it also writes what `python/bench/bench_cea_scipy.py` reads: the real
 //! first-order matrix of the exact method (`first_order.npy`, size 2(n − ng); its eigenvalues
@@ -16,16 +19,17 @@
 //! ```text
 //! cargo build --release -p squeal-pipeline --example bench_cea_brake
 //! target/release/examples/bench_cea_brake [SCENE] [--out docs/bench/cea_brake.json]
-//!     [--npy DIR] [--no-dense] [--sweep N]
+//!     [--npy DIR] [--no-dense] [--sweep N] [--dense-at MU,MU,...]
 //! ```
 //! (gmsh is found as for `squeal`: `SQUEAL_GMSH`, `.venv/bin/gmsh`, or `PATH`.)
 
 use serde_json::{json, Value};
 use squeal_pipeline::history::npy::write_npy;
-use squeal_pipeline::stages::cea::{compute, tangents, CeaArgs, CeaComputed};
+use squeal_pipeline::scene::CeaSweepSpec;
+use squeal_pipeline::stages::cea::{compute, sweep, tangents, CeaArgs, CeaComputed};
 use squeal_pipeline::stages::model;
 use squeal_pipeline::{progress::Progress, RunDir, Scene};
-use squeal_solver::cea::{first_order_matrix, Mode};
+use squeal_solver::cea::{complex_eigen, first_order_matrix, CeaMethod, CeaOptions, Mode};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -59,6 +63,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut scene_path = PathBuf::from("examples/transient/sample-brake-case2.toml");
     let mut out = PathBuf::from("docs/bench/cea_brake.json");
     let (mut npy, mut dense, mut n_sweep) = (None::<PathBuf>, true, 50usize);
+    let mut dense_at: Vec<f64> = Vec::new();
     let mut i = 0;
     while i < argv.len() {
         match argv[i].as_str() {
@@ -75,6 +80,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 i += 1;
             }
             "--no-dense" => dense = false,
+            "--dense-at" => {
+                dense_at = argv[i + 1]
+                    .split(',')
+                    .map(|x| x.trim().parse())
+                    .collect::<Result<_, _>>()?;
+                i += 1;
+            }
             s => scene_path = s.into(),
         }
         i += 1;
@@ -211,6 +223,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "sweep of {n_sweep} points: {sweep_s:.1} s (sweep {:.1} s; solves {}, checks {:.1} s), lowest critical mu {:?}",
             rep.stats.time_s, rep.stats.n_solves, rep.stats.time_check_s, rep.lowest_critical_mu
         );
+        let band = p.out.outside_band.band_hz.unwrap_or(f64::INFINITY);
+        let mut critical: Vec<Value> = rep
+            .tracks
+            .iter()
+            .filter_map(|t| t.critical.as_ref().map(|c| (t.id, c)))
+            .map(|(id, c)| {
+                json!({"track": id, "in_band": c.frequency_hz <= band,
+                       "critical": serde_json::to_value(c).unwrap_or(Value::Null)})
+            })
+            .collect();
+        critical.sort_by(|a, b| {
+            let m = |v: &Value| v["critical"]["mu"].as_f64().unwrap_or(f64::INFINITY);
+            m(a).total_cmp(&m(b))
+        });
+        let lowest_in_band = critical
+            .iter()
+            .find(|c| c["in_band"] == json!(true))
+            .map(|c| c["critical"]["mu"].clone());
+        eprintln!("lowest in-band critical mu {lowest_in_band:?}");
         doc["sweep"] = json!({
             "points": n_sweep,
             "mu": [0.1, 0.9],
@@ -218,9 +249,42 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "sweep_s": rep.stats.time_s,
             "per_point_s": rep.stats.time_s / n_sweep as f64,
             "stats": serde_json::to_value(&rep.stats)?,
+            "steady_states": serde_json::to_value(&rep.steady_states)?,
             "lowest_critical_mu": rep.lowest_critical_mu,
+            "lowest_in_band_critical_mu": lowest_in_band,
+            "band_hz": band,
             "n_couplings": rep.couplings.len(),
+            "critical": critical,
         });
+    }
+    if !dense_at.is_empty() {
+        // The exact dense CEA at each μ, with the sweep's steady state and tangents.
+        let sw = CeaSweepSpec::default();
+        let opts = CeaOptions {
+            method: CeaMethod::Exact,
+            ..p.spec.solver.clone()
+        };
+        let band = p.out.outside_band.band_hz.unwrap_or(f64::INFINITY);
+        let mut out = Vec::new();
+        for &mu in &dense_at {
+            let t = Instant::now();
+            let sys = sweep::matrices_at(&p.problem, &m.gaps, &p.lin, &p.spec, &sw, mu, None)?;
+            let r = complex_eigen(&sys, &opts)?;
+            let wall_s = t.elapsed().as_secs_f64();
+            let near: Vec<[f64; 2]> = r
+                .modes
+                .iter()
+                .filter(|x| x.frequency_hz <= band && x.real_part > -1.0)
+                .map(|x| [x.eigenvalue.re, x.eigenvalue.im])
+                .collect();
+            eprintln!("dense exact at mu = {mu}: {wall_s:.1} s, in-band Re p > -1: {near:?}");
+            out.push(json!({
+                "mu": mu, "wall_s": wall_s,
+                "unstable_threshold": r.stats.spectral_radius * opts.unstable_tol,
+                "in_band_re_above_minus_1": near,
+            }));
+        }
+        doc["dense_at"] = Value::Array(out);
     }
     if let Some(parent) = out.parent() {
         std::fs::create_dir_all(parent)?;

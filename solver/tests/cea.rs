@@ -43,10 +43,10 @@ fn critical_mu(
         .lowest_critical()
         .expect("an onset of instability inside the sweep");
     eprintln!(
-        "critical mu = {:.8} (interpolated {:.8}), {} bisection solves, omega = {:.8}",
+        "critical mu = {:.8} (interpolated {:.8}), {} locate solves, omega = {:.8}",
         c.mu,
         c.mu_interpolated,
-        c.bisection_solves,
+        c.locate_solves,
         2.0 * std::f64::consts::PI * c.frequency_hz
     );
     (c.mu, c.frequency_hz, s)

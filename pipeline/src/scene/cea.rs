@@ -68,6 +68,9 @@ pub struct CeaSweepSpec {
     /// Recompute the steady sliding state at every μ (default: true; false keeps the state of
     /// the scene's law and only changes the tangents).
     pub resolve_state: bool,
+    /// With the projection method, move each in-band critical μ to the crossing of the exact
+    /// root (shift-invert refinement of the tracked root; default: true).
+    pub refine_critical: bool,
 }
 
 impl Default for CeaSweepSpec {
@@ -82,6 +85,7 @@ impl Default for CeaSweepSpec {
             bisection_tol: s.bisection_tol,
             exact_check: s.exact_check,
             resolve_state: true,
+            refine_critical: s.refine_critical,
         }
     }
 }
@@ -176,6 +180,7 @@ impl CeaSweepSpec {
             bisection: self.bisection,
             bisection_tol: self.bisection_tol,
             exact_check: self.exact_check,
+            refine_critical: self.refine_critical,
             ..SweepOptions::default()
         }
     }

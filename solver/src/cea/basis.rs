@@ -27,6 +27,12 @@ pub struct ModalBasis {
     /// Gᵀ and Y = M⁻¹Gᵀ of the reference state (only with constraints).
     pub(crate) gt: Option<Mat<f64>>,
     pub(crate) y: Option<Mat<f64>>,
+    /// K Ψ and B Ψ of the reference state, with K and B (a solve whose K and B equal them
+    /// reuses the products: in a friction sweep only D and C_f change with μ).
+    pub(crate) k_ref: Mat<f64>,
+    pub(crate) kpsi: Mat<f64>,
+    pub(crate) b_ref: Option<Mat<f64>>,
+    pub(crate) bpsi: Option<Mat<f64>>,
     /// Size of the reduced problem n − ng.
     pub(crate) n_reduced: usize,
     /// σ_min(G)/σ_max(G).
@@ -81,7 +87,13 @@ impl ModalBasis {
             None => dense_basis(sys, opts)?,
         };
         debug_assert_eq!(psi.nrows(), n);
+        let kpsi = &sys.k * &psi;
+        let bpsi = sys.b.as_ref().map(|b| b * &psi);
         Ok(ModalBasis {
+            k_ref: sys.k.clone(),
+            kpsi,
+            b_ref: sys.b.clone(),
+            bpsi,
             psi,
             frequencies_hz,
             m_ref: sys.m.clone(),

@@ -35,6 +35,7 @@
 
 mod basis;
 mod check;
+mod critical;
 mod eigen;
 mod error;
 mod first_order;
@@ -50,6 +51,7 @@ mod track;
 
 pub use basis::ModalBasis;
 pub use check::{compare_eigenvalues, CheckKind, EigenvalueComparison, ExactCheck};
+pub use critical::CriticalExact;
 pub use eigen::{complex_eigen, first_order_matrix};
 pub use error::CeaError;
 pub use options::{BasisSolver, CeaMethod, CeaOptions, ProjectionOptions, SweepOptions};

@@ -194,13 +194,27 @@ pub struct SweepOptions {
     /// Smallest MAC for two modes at neighbouring μ to be the same tracked mode; below it a
     /// track ends and a new one starts (default: 0.1).
     pub mac_min: f64,
-    /// Refine each critical μ by bisection between the two steps that bracket it (default: true).
+    /// Locate each critical μ between the two steps that bracket it by Illinois regula falsi
+    /// on the tracked root's Re p (default: true; false: linear interpolation between the
+    /// steps). A projected sweep on a truncated basis interpolates the onsets above its check
+    /// band in any case (the projection does not resolve them). (The name is historical: it was a bisection
+    /// until 2026-11.)
     pub bisection: bool,
-    /// Bisection stops when the bracket is shorter than `bisection_tol`·max(1, |μ|)
-    /// (default: 1e-7).
+    /// Locating a crossing stops when its bracket is shorter than `bisection_tol`·max(1, |μ|)
+    /// (default: 1e-7); so does the exact crossing of `refine_critical`.
     pub bisection_tol: f64,
-    /// Largest number of bisection solves per critical μ (default: 60).
+    /// Largest number of solves locating one critical μ (default: 60).
     pub max_bisection: usize,
+    /// With projection (and `cea.projection.refine.enabled`), move each in-band critical μ to
+    /// the crossing of the exact root: bracket search and regula falsi on the Re p of the
+    /// tracked root refined by shift-invert Arnoldi (default: true).
+    pub refine_critical: bool,
+    /// Largest number of exact evaluations per critical μ with `refine_critical` (default: 12).
+    pub max_exact_critical: usize,
+    /// The exact crossing stops when its bracket is shorter than
+    /// `exact_critical_tol`·max(1, |μ|) (default: 1e-5; each evaluation costs a complex LU of
+    /// size n + ng).
+    pub exact_critical_tol: f64,
     /// Keep the mode shapes of every step in the result (default: false: memory n × modes × steps).
     pub keep_shapes: bool,
     /// With projection, also solve exactly (eigenvalues only) at the first and last μ and
@@ -218,6 +232,9 @@ impl Default for SweepOptions {
             bisection: true,
             bisection_tol: 1e-7,
             max_bisection: 60,
+            refine_critical: true,
+            max_exact_critical: 12,
+            exact_critical_tol: 1e-5,
             keep_shapes: false,
             exact_check: true,
             exact_check_every: 0,
@@ -239,6 +256,12 @@ impl SweepOptions {
             "sweep.bisection_tol",
             self.bisection_tol,
             self.bisection_tol > 0.0,
+            "must be > 0",
+        )?;
+        check(
+            "sweep.exact_critical_tol",
+            self.exact_critical_tol,
+            self.exact_critical_tol > 0.0,
             "must be > 0",
         )
     }

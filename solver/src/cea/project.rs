@@ -38,8 +38,9 @@ impl ModalBasis {
     /// With `Ψ = T Φ` these are `ΦᵀM_rΦ`, `ΦᵀC_rΦ`, `ΦᵀK_rΦ`: with the full basis Φ is
     /// invertible and the roots are exactly those of the reduced problem; truncated, the
     /// roots well below the cutoff are approximated (the error is what a sweep's exact
-    /// checks measure). Per call: products of K, C and M with Ψ (O(n² nb)) and a dense
-    /// eigenproblem of size 2 nb; no factorisation of size n unless M changed.
+    /// checks measure). Per call: products of K, C and M with Ψ (O(n² nb); K Ψ and B Ψ are
+    /// reused when K and B are those of the reference state, as in a friction sweep) and a
+    /// dense eigenproblem of size 2 nb; no factorisation of size n unless M changed.
     ///
     /// # Errors
     /// Matrix sizes or G differing from the reference ([`CeaError::BasisMismatch`]), the
@@ -89,12 +90,23 @@ impl ModalBasis {
             };
             psi.transpose() * PXPsi
         };
-        let mut k_p = galerkin(&sys.k * psi);
-        let c_psi = match (&sys.b, &sys.c_f) {
+        // K Ψ and B Ψ of the reference state are reused when K and B are the same.
+        let kpsi = if first_difference(&sys.k, &self.k_ref).is_none() {
+            self.kpsi.clone()
+        } else {
+            &sys.k * psi
+        };
+        let bpsi = match (&sys.b, &self.b_ref, &self.bpsi) {
+            (Some(b), Some(b0), Some(bp)) if first_difference(b, b0).is_none() => Some(bp.clone()),
+            (Some(b), _, _) => Some(b * psi),
+            (None, _, _) => None,
+        };
+        let mut k_p = galerkin(kpsi);
+        let c_psi = match (bpsi, &sys.c_f) {
             (None, None) => None,
-            (Some(b), None) => Some(b * psi),
+            (Some(bp), None) => Some(bp),
             (None, Some(c)) => Some(-(c * psi)),
-            (Some(b), Some(c)) => Some(b * psi - c * psi),
+            (Some(bp), Some(c)) => Some(bp - c * psi),
         };
         let mut c_p = c_psi.map(galerkin);
         let llt = match &m_p {

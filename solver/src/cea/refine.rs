@@ -291,6 +291,23 @@ pub(crate) fn refine(
     unstable_tol_abs: f64,
     opts: &RefineOptions,
 ) -> Result<RefineStats, CeaError> {
+    let targets: Vec<usize> = (0..modes.len())
+        .filter(|&i| modes[i].unstable && modes[i].frequency_hz <= band_hz)
+        .collect();
+    refine_targets(sys, modes, targets, band_hz, unstable_tol_abs, opts)
+}
+
+/// [`refine`] with the targets given (indices into `modes`, stable or not): the exact roots
+/// of a friction sweep's critical μ, where the tracked root is refined on both sides of its
+/// crossing.
+pub(crate) fn refine_targets(
+    sys: &CeaMatrices,
+    modes: &mut Vec<Mode>,
+    targets: Vec<usize>,
+    band_hz: f64,
+    unstable_tol_abs: f64,
+    opts: &RefineOptions,
+) -> Result<RefineStats, CeaError> {
     opts.validate()?;
     let t0 = Instant::now();
     let c = damping(sys);
@@ -300,9 +317,7 @@ pub(crate) fn refine(
         ..RefineStats::default()
     };
     let with_shapes = modes.iter().any(|m| !m.shape.is_empty());
-    let mut pending: Vec<usize> = (0..modes.len())
-        .filter(|&i| modes[i].unstable && modes[i].frequency_hz <= band_hz)
-        .collect();
+    let mut pending = targets;
     pending.sort_by(|&a, &b| modes[b].real_part.total_cmp(&modes[a].real_part));
     st.n_targets = pending.len();
     let is_target: Vec<bool> = (0..modes.len()).map(|i| pending.contains(&i)).collect();

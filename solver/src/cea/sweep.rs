@@ -1,5 +1,6 @@
 //! Friction sweep: CEA at a list of μ, mode tracking, critical μ.
 
+use super::critical::{Bracket, CriticalExact, Point};
 use super::eigen::exact;
 use super::operator::check_inputs;
 use super::refine::{refine, RefineStats};
@@ -9,6 +10,7 @@ use super::{
     CheckKind, Cplx, EigenvalueComparison, ExactCheck, ModalBasis, Mode, SweepOptions,
 };
 use serde::Serialize;
+use std::f64::consts::PI;
 use std::fmt::Display;
 use std::time::Instant;
 
@@ -24,15 +26,23 @@ pub struct SweepStep {
 }
 
 /// Onset of instability of one tracked mode.
+///
+/// The onset is where the mode's Re p crosses the instability threshold `unstable_tol` × the
+/// largest |p| of the solve (the `unstable` flag of [`Mode`]; 1.6e-3 /s on the hex20 brake).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Critical {
-    /// Critical μ: bisection-refined if `bisection`, else `mu_interpolated`.
+    /// Critical μ: `exact.mu` when the exact root's crossing was found (`exact.converged`),
+    /// else `mu_located`.
     pub mu: f64,
-    /// μ where Re p crosses 0, linearly interpolated between the bracketing steps.
+    /// The crossing of the sweep's own roots (projected or exact dense) located between the
+    /// bracketing steps by Illinois regula falsi when `bisection`, else (and above the check
+    /// band of a projected sweep) `mu_interpolated`.
+    pub mu_located: f64,
+    /// μ where Re p crosses the threshold, linearly interpolated between the bracketing steps.
     pub mu_interpolated: f64,
     /// Index of the last step at which the mode was stable (the next one is unstable).
     pub step: usize,
-    /// Frequency of the mode at the onset (from the last bisection solve, or interpolated), Hz.
+    /// Frequency of the mode at the onset (exact, or located, or interpolated), Hz.
     pub frequency_hz: f64,
     /// Track id of the mode it merges with: the other mode whose frequency is nearest at the
     /// first unstable step (mode-coupling partner); `None` if it is alone.
@@ -45,8 +55,10 @@ pub struct Critical {
     pub frequency_after_hz: f64,
     /// Frequency of the partner at the first unstable step, Hz.
     pub partner_frequency_after_hz: Option<f64>,
-    /// Number of eigenvalue solves spent in the bisection.
-    pub bisection_solves: usize,
+    /// Number of eigenvalue solves spent locating the crossing (`mu_located`).
+    pub locate_solves: usize,
+    /// The crossing of the exact root (projected sweeps, in-band onsets, `refine_critical`).
+    pub exact: Option<CriticalExact>,
 }
 
 /// A mode followed across the sweep by eigenvector correlation.
@@ -68,8 +80,10 @@ pub struct Track {
 pub struct SweepStats {
     /// Number of μ steps.
     pub n_steps: usize,
-    /// Number of eigenvalue solves (steps + bisection).
+    /// Number of eigenvalue solves of the sweep's method (steps + locating the crossings).
     pub n_solves: usize,
+    /// Of those, the solves spent locating the crossings (Illinois regula falsi).
+    pub n_locate_solves: usize,
     /// Number of tracks.
     pub n_tracks: usize,
     /// Number of tracks with an onset of instability.
@@ -79,6 +93,9 @@ pub struct SweepStats {
     /// Wall time spent in the eigenvalue solves (building the matrices, projecting and
     /// solving; not the exact checks), seconds.
     pub time_eigen_s: f64,
+    /// Of all the wall time, the part spent building the matrices (`build(μ)`: steady state
+    /// and tangents), seconds.
+    pub time_build_s: f64,
     /// Method that ran (`exact` or `projection`).
     pub method: CeaMethod,
     /// Number of basis modes with `projection` (0 with `exact`).
@@ -103,6 +120,20 @@ pub struct SweepStats {
     pub max_rel_eigenvalue_error: Option<f64>,
     /// Wall time of the exact checks, seconds.
     pub time_check_s: f64,
+    /// Onsets whose critical μ was moved to the crossing of the exact root (`Critical::exact`
+    /// converged): in-band onsets of a projected sweep with `refine_critical`.
+    pub n_critical_exact: usize,
+    /// In-band onsets whose exact crossing was not found (kept at the projected crossing).
+    pub n_critical_exact_failed: usize,
+    /// Exact evaluations spent on the critical μ (each a shift-invert refinement of the
+    /// tracked root: at least one complex LU of size n + ng).
+    pub n_critical_exact_solves: usize,
+    /// Largest |μ_exact − μ_projected| over the onsets refined exactly.
+    pub max_critical_mu_change: Option<f64>,
+    /// Largest |p_exact − p_projected| / |p_exact| of the tracked roots at those evaluations.
+    pub max_rel_critical_root_error: Option<f64>,
+    /// Wall time of the exact critical μ, seconds.
+    pub time_critical_exact_s: f64,
 }
 
 /// Result of [`sweep`].
@@ -136,11 +167,11 @@ impl Sweep {
     }
 }
 
-struct Solver<'a, F> {
+pub(super) struct Solver<'a, F> {
     build: F,
-    cea: CeaOptions,
+    pub(super) cea: CeaOptions,
     /// The projection basis (`None`: exact).
-    basis: Option<ModalBasis>,
+    pub(super) basis: Option<ModalBasis>,
     /// A system already built (to choose the method or the basis), used by the next solve.
     cached: Option<(f64, CeaMatrices)>,
     stats: &'a mut SweepStats,
@@ -154,21 +185,23 @@ where
     /// Builds the system at μ into the cache (if it is not there) and returns it.
     fn peek(&mut self, mu: f64) -> Result<&CeaMatrices, CeaError> {
         if self.cached.as_ref().is_none_or(|c| c.0 != mu) {
+            let t = Instant::now();
             let sys = (self.build)(mu).map_err(|e| CeaError::Build {
                 mu,
                 message: e.to_string(),
             })?;
+            self.stats.time_build_s += t.elapsed().as_secs_f64();
             self.cached = Some((mu, sys));
         }
         Ok(&self.cached.as_ref().expect("just filled").1)
     }
 
-    fn system(&mut self, mu: f64) -> Result<CeaMatrices, CeaError> {
+    pub(super) fn system(&mut self, mu: f64) -> Result<CeaMatrices, CeaError> {
         self.peek(mu)?;
         Ok(self.cached.take().expect("just filled").1)
     }
 
-    fn solve(&mut self, mu: f64) -> Result<CeaResult, CeaError> {
+    pub(super) fn solve(&mut self, mu: f64) -> Result<CeaResult, CeaError> {
         self.solve_checked(mu, None)
     }
 
@@ -217,47 +250,6 @@ where
         }
         Ok(r)
     }
-
-    /// Bisection on "a mode resembling `reference` is unstable" in (lo, hi].
-    /// Candidates at a trial μ are the modes whose MAC with the reference is at least half the
-    /// best MAC (near a coalescence both partners qualify, and the unstable one counts).
-    fn bisect(
-        &mut self,
-        mut lo: f64,
-        mut hi: f64,
-        mut reference: Vec<Cplx>,
-        opts: &SweepOptions,
-        mut freq: f64,
-    ) -> Result<(f64, f64, usize), CeaError> {
-        let mut count = 0;
-        while hi - lo > opts.bisection_tol * hi.abs().max(1.0) && count < opts.max_bisection {
-            let mid = 0.5 * (lo + hi);
-            let r = self.solve(mid)?;
-            count += 1;
-            let macs: Vec<f64> = r
-                .modes
-                .iter()
-                .map(|m| super::mac(&reference, &m.shape))
-                .collect();
-            let best = macs.iter().cloned().fold(0.0, f64::max);
-            let unstable = r
-                .modes
-                .iter()
-                .zip(&macs)
-                .filter(|(m, &x)| x >= 0.5 * best && m.unstable)
-                .max_by(|a, b| a.1.total_cmp(b.1));
-            if let Some((m, _)) = unstable {
-                hi = mid;
-                freq = m.frequency_hz;
-            } else {
-                lo = mid;
-                if let Some(i) = (0..macs.len()).max_by(|&a, &b| macs[a].total_cmp(&macs[b])) {
-                    reference = r.modes[i].shape.clone();
-                }
-            }
-        }
-        Ok((0.5 * (lo + hi), freq, count))
-    }
 }
 
 /// Runs the CEA at each friction coefficient of `mus` (strictly increasing), tracks the
@@ -265,7 +257,14 @@ where
 /// and finds, per tracked mode, the first μ where Re p crosses 0.
 ///
 /// The critical μ is linearly interpolated in Re p between the bracketing steps and, when
-/// `opts.bisection`, refined by bisection (each trial μ is a new `build` + solve). The
+/// `opts.bisection`, located by Illinois regula falsi on the tracked root's Re p (each trial
+/// μ is a new `build` + solve; candidates at a trial are the modes whose MAC with the
+/// reference is at least half the best, the most unstable counting: near a coalescence both
+/// partners qualify). A projected sweep then moves each in-band onset (frequency ≤ the check
+/// band) to the crossing of the exact root when `opts.refine_critical`: a bracket search and
+/// regula falsi on the Re p of the tracked root refined exactly by shift-invert Arnoldi
+/// (exact evaluations only), as the single projected CEA
+/// refines its unstable roots ([`Critical::exact`], [`SweepStats::n_critical_exact`]). The
 /// merging partner is the tracked mode with the nearest frequency at the first unstable
 /// step (for a mode-coupling instability the two frequencies coalesce there).
 ///
@@ -404,13 +403,76 @@ where
                 };
                 let partner_before = pf(&pr.modes, s - 1);
                 let partner_after = pf(&res.modes, s);
-                let (mu_c, f_c, nb) = if opts.bisection {
-                    solver.bisect(mu0, mu1, m0.shape.clone(), opts, m1.frequency_hz)?
+                // Onsets above the check band of a projected sweep on a truncated basis are
+                // interpolated only: the projection does not resolve them (nor do the checks).
+                let truncated = solver.stats.n_basis < solver.stats.n_reduced;
+                let in_band = solver.basis.is_none()
+                    || !truncated
+                    || solver.stats.check_band_hz.is_none_or(|b| f_lin <= b);
+                let (mu_loc, f_loc, nb, located) = if opts.bisection && in_band {
+                    let thr = |r: &CeaResult| solver.cea.unstable_tol * r.stats.spectral_radius;
+                    let br = Bracket {
+                        lo: Point {
+                            mu: mu0,
+                            f: m0.real_part - thr(pr),
+                            p: m0.eigenvalue,
+                        },
+                        hi: Point {
+                            mu: mu1,
+                            f: m1.real_part - thr(&res),
+                            p: m1.eigenvalue,
+                        },
+                    };
+                    let (br, nb) = solver.locate(br, m0.shape.clone(), opts)?;
+                    let (mu_c, p_c) = br.crossing();
+                    (mu_c, p_c.im.abs() / (2.0 * PI), nb, Some(br))
                 } else {
-                    (mu_lin, f_lin, 0)
+                    (mu_lin, f_lin, 0, None)
+                };
+                solver.stats.n_locate_solves += nb;
+                let band = solver.stats.check_band_hz;
+                let exact = match (&located, band) {
+                    (Some(br), Some(band))
+                        if opts.refine_critical
+                            && solver.basis.is_some()
+                            && solver.cea.projection.refine.enabled
+                            && f_loc <= band =>
+                    {
+                        Some(solver.refine_critical(
+                            br,
+                            m0.shape.clone(),
+                            (mu0, mu1),
+                            band,
+                            opts,
+                        )?)
+                    }
+                    _ => None,
+                };
+                if let Some(x) = &exact {
+                    let st = &mut *solver.stats;
+                    st.n_critical_exact_solves += x.n_solves;
+                    st.time_critical_exact_s += x.time_s;
+                    if x.converged {
+                        st.n_critical_exact += 1;
+                        let d = x.mu_change.abs();
+                        st.max_critical_mu_change =
+                            Some(st.max_critical_mu_change.unwrap_or(0.0).max(d));
+                    } else {
+                        st.n_critical_exact_failed += 1;
+                    }
+                    st.max_rel_critical_root_error = Some(
+                        st.max_rel_critical_root_error
+                            .unwrap_or(0.0)
+                            .max(x.max_rel_root_error),
+                    );
+                }
+                let (mu_c, f_c) = match &exact {
+                    Some(x) if x.converged => (x.mu, x.frequency_hz),
+                    _ => (mu_loc, f_loc),
                 };
                 tracks[tid].critical = Some(Critical {
                     mu: mu_c,
+                    mu_located: mu_loc,
                     mu_interpolated: mu_lin,
                     step: s - 1,
                     frequency_hz: f_c,
@@ -419,7 +481,8 @@ where
                     partner_frequency_before_hz: partner_before,
                     frequency_after_hz: m1.frequency_hz,
                     partner_frequency_after_hz: partner_after,
-                    bisection_solves: nb,
+                    locate_solves: nb,
+                    exact,
                 });
             }
         }

@@ -18,6 +18,7 @@
 pub mod animation;
 pub mod outputs;
 pub mod shapes;
+pub mod steady;
 pub mod sweep;
 pub mod tangents;
 
@@ -135,6 +136,8 @@ pub struct CeaReport {
     pub cea_stats: CeaStats,
     pub sweep_stats: Option<squeal_solver::cea::SweepStats>,
     pub lowest_critical_mu: Option<Real>,
+    /// The lowest critical μ of a mode in the validity band (with a sweep and a band).
+    pub lowest_critical_mu_in_band: Option<Real>,
     /// Points of `cea_modes.vtu` (0: not written).
     pub vtu_points: usize,
     /// Full-mesh mode-shape files `cea_modes_<component>.vtu` (empty: stored matrices).
@@ -383,7 +386,7 @@ pub fn compute(
             },
             ..spec.clone()
         };
-        let (_, rep) = sweep::run_sweep(&problem, gaps, &lin, &swept, sw, &values)?;
+        let (_, rep) = sweep::run_sweep(&problem, gaps, &lin, &swept, sw, &values, band_hz)?;
         step.done(format!(
             "{} tracks, lowest critical mu {:?}",
             rep.tracks.len(),
@@ -512,6 +515,7 @@ pub fn write(
         cea_stats: c.out.stats.clone(),
         sweep_stats: c.sweep.as_ref().map(|r| r.stats.clone()),
         lowest_critical_mu: c.sweep.as_ref().and_then(|r| r.lowest_critical_mu),
+        lowest_critical_mu_in_band: c.sweep.as_ref().and_then(|r| r.lowest_critical_mu_in_band),
         vtu_points,
         full_mesh_shapes,
         // File names relative to the run folder (`files` has the paths): two runs of the same

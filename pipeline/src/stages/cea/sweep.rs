@@ -1,5 +1,6 @@
 //! Friction sweep: the CEA at each μ of the sweep, tracked by the solver's MAC tracking.
 
+use super::steady::SweepSteady;
 use super::tangents::{at_steady_state, cea_matrices, tangents, Linearisation};
 use crate::error::PipelineError;
 use crate::scene::{CeaSpec, CeaSweepSpec, SweepVary};
@@ -37,7 +38,8 @@ pub fn law_at(base: &FrictionLaw, vary: SweepVary, value: Real) -> FrictionLaw {
 }
 
 /// The matrices at one sweep value: the law replaced or scaled, the steady state solved again
-/// (if `resolve_state` and the base state is a steady state), the tangents evaluated there.
+/// (if `resolve_state` and the base state is a steady state: by `steady` when given, K
+/// factorised once for the sweep, else by the dense Newton), the tangents evaluated there.
 pub fn matrices_at(
     problem: &Problem,
     gaps: &GapSet,
@@ -45,6 +47,7 @@ pub fn matrices_at(
     spec: &CeaSpec,
     sw: &CeaSweepSpec,
     value: Real,
+    steady_cache: Option<&mut SweepSteady>,
 ) -> Result<CeaMatrices, PipelineError> {
     let law = law_at(&gaps.law, sw.vary, value);
     let g = gaps
@@ -59,7 +62,10 @@ pub fn matrices_at(
         super::tangents::StateSource::SteadyState { .. }
     );
     let lin = if sw.resolve_state && steady {
-        at_steady_state(problem, &g, &spec.steady)?
+        match steady_cache {
+            Some(c) => c.solve(problem, &g, &spec.steady)?,
+            None => at_steady_state(problem, &g, &spec.steady)?,
+        }
     } else {
         let (d, c_f) = tangents(&g, problem.m.nrows(), &base.v, &base.lambda_dot)?;
         Linearisation {
@@ -114,11 +120,32 @@ pub struct SweepReport {
     /// Critical μ per coupling, lowest first.
     pub couplings: Vec<CouplingOut>,
     pub lowest_critical_mu: Option<Real>,
+    /// The validity band of the CEA, Hz (the model's band or `max_frequency_hz`).
+    pub band_hz: Option<Real>,
+    /// The lowest critical μ of a coupling whose onset frequency is in the band (above it the
+    /// roots are not squeal, and a projected sweep does not resolve them).
+    pub lowest_critical_mu_in_band: Option<Real>,
     pub tracks: Vec<TrackOut>,
     pub stats: SweepStats,
+    /// How the steady states were solved (`None` without `resolve_state`).
+    pub steady_states: Option<SteadyStatesOut>,
 }
 
-/// Runs the sweep over `values`.
+/// How a sweep's steady states were solved.
+#[derive(Debug, Clone, Serialize)]
+pub struct SteadyStatesOut {
+    /// By Newton with K factorised once for the sweep (block elimination).
+    pub block_elimination: usize,
+    /// By the dense Newton (K singular, or the block Newton did not converge).
+    pub dense: usize,
+    /// Newton iterations of the block elimination, in total.
+    pub newton_iterations: usize,
+    /// Wall time of the LU of K and W = K⁻ᵀGᵀ, seconds.
+    pub time_setup_s: Real,
+}
+
+/// Runs the sweep over `values` (`band_hz`: the CEA's validity band, for
+/// `lowest_critical_mu_in_band`).
 pub fn run_sweep(
     problem: &Problem,
     gaps: &GapSet,
@@ -126,10 +153,18 @@ pub fn run_sweep(
     spec: &CeaSpec,
     sw: &CeaSweepSpec,
     values: &[Real],
+    band_hz: Option<Real>,
 ) -> Result<(Sweep, SweepReport), PipelineError> {
     let opts = sw.sweep_options(&spec.solver);
+    let steady = matches!(
+        base.source,
+        super::tangents::StateSource::SteadyState { .. }
+    );
+    let t = std::time::Instant::now();
+    let mut cache = (sw.resolve_state && steady).then(|| SweepSteady::new(problem));
+    let time_setup_s = t.elapsed().as_secs_f64();
     let s = sweep(
-        |mu| matrices_at(problem, gaps, base, spec, sw, mu),
+        |mu| matrices_at(problem, gaps, base, spec, sw, mu, cache.as_mut()),
         values,
         &opts,
     )
@@ -192,9 +227,20 @@ pub fn run_sweep(
         mu: values.to_vec(),
         max_frequency_hz: spec.max_frequency_hz,
         lowest_critical_mu: couplings.first().map(|c| c.mu_critical),
+        band_hz,
+        lowest_critical_mu_in_band: couplings
+            .iter()
+            .find(|c| band_hz.is_none_or(|b| c.frequency_hz <= b))
+            .map(|c| c.mu_critical),
         couplings,
         tracks,
         stats: s.stats.clone(),
+        steady_states: cache.map(|c| SteadyStatesOut {
+            block_elimination: c.n_fast,
+            dense: c.n_dense,
+            newton_iterations: c.newton_iterations,
+            time_setup_s,
+        }),
     };
     Ok((s, report))
 }

@@ -1,0 +1,155 @@
+//! The critical μ of a friction sweep against an independent reference: a bisection on the
+//! largest Re p of the dense exact CEA (`method = "exact"`), on a small random constrained
+//! model (`common::random`). The projected sweep's critical μ is moved to the crossing of the
+//! exact root (`refine_critical`), the exact sweep's is located by regula falsi; both must
+//! equal the dense bisection to the sweep's `bisection_tol`.
+
+use squeal_solver::cea::{
+    complex_eigen, sweep, CeaError, CeaMethod, CeaOptions, Critical, ProjectionOptions, Sweep,
+    SweepOptions,
+};
+
+mod common;
+use common::random::RandomConstrained;
+
+/// The test model: 40 DOFs, 4 constraints.
+fn model() -> RandomConstrained {
+    RandomConstrained::new(40, 4, 7)
+}
+
+/// Every root computed, unstable when Re p > 0 (no threshold: the reference is Re p = 0).
+fn exact_opts() -> CeaOptions {
+    CeaOptions {
+        unstable_tol: 0.0,
+        method: CeaMethod::Exact,
+        ..CeaOptions::default()
+    }
+}
+
+/// Largest Re p of the dense exact roots with frequency ≤ `band` Hz at μ.
+fn dense_max_re(m: &RandomConstrained, mu: f64, band: f64) -> f64 {
+    let r = complex_eigen(&m.at(mu), &exact_opts()).unwrap();
+    r.modes
+        .iter()
+        .filter(|x| x.frequency_hz <= band)
+        .map(|x| x.real_part)
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// The lowest μ in `mus` at which an in-band dense root turns unstable: the first sign change
+/// of [`dense_max_re`] over the grid, then plain bisection to 1e-12.
+fn dense_bisection(m: &RandomConstrained, mus: &[f64], band: f64) -> f64 {
+    let k = mus
+        .windows(2)
+        .position(|w| dense_max_re(m, w[0], band) <= 0.0 && dense_max_re(m, w[1], band) > 0.0)
+        .expect("an in-band onset on the grid");
+    let (mut lo, mut hi) = (mus[k], mus[k + 1]);
+    while hi - lo > 1e-12 {
+        let mid = 0.5 * (lo + hi);
+        if dense_max_re(m, mid, band) > 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The sweep's lowest onset with frequency ≤ `band`.
+fn lowest_in_band(s: &Sweep, band: f64) -> &Critical {
+    s.tracks
+        .iter()
+        .filter_map(|t| t.critical.as_ref())
+        .filter(|c| c.frequency_hz <= band)
+        .min_by(|a, b| a.mu.total_cmp(&b.mu))
+        .expect("an in-band onset in the sweep")
+}
+
+#[test]
+fn critical_mu_equals_dense_exact_bisection() {
+    let m = model();
+    let mus: Vec<f64> = (0..11).map(|i| 0.1 * i as f64).collect();
+    // Band: the lowest quarter of the spectrum at μ = 0.
+    let r0 = complex_eigen(&m.at(0.0), &exact_opts()).unwrap();
+    let band = 0.25 * r0.modes.last().unwrap().frequency_hz;
+    let reference = dense_bisection(&m, &mus, band);
+    let build = |mu: f64| Ok::<_, CeaError>(m.at(mu));
+    let tol = SweepOptions::default().bisection_tol;
+
+    // The exact sweep: regula falsi on the dense roots.
+    let exact = sweep(
+        build,
+        &mus,
+        &SweepOptions {
+            cea: exact_opts(),
+            ..SweepOptions::default()
+        },
+    )
+    .unwrap();
+    let c = lowest_in_band(&exact, band);
+    eprintln!(
+        "dense bisection {reference:.12}; exact sweep {:.12} ({} solves)",
+        c.mu, c.locate_solves
+    );
+    assert!(c.exact.is_none());
+    assert!((c.mu - reference).abs() <= tol, "{} vs {reference}", c.mu);
+
+    // The projected sweep on a truncated basis: its own crossing is off by the projection
+    // error; the exact crossing is the reference's.
+    let projection = ProjectionOptions {
+        frequency_max_hz: Some(band),
+        cutoff_factor: 1.5,
+        basis_mu: Some(0.0),
+        ..ProjectionOptions::default()
+    };
+    // The onset is a coalescence: the exact Re p is flat, then grows like √(μ − μc), where
+    // regula falsi degrades to its bisection steps (measured: 17 evaluations from 0.019 away, 4e-9 from the reference).
+    let opts = SweepOptions {
+        cea: CeaOptions {
+            method: CeaMethod::Projection,
+            projection,
+            ..exact_opts()
+        },
+        max_exact_critical: 30,
+        ..SweepOptions::default()
+    };
+    let s = sweep(build, &mus, &opts).unwrap();
+    assert!(s.stats.n_basis < 36);
+    let c = lowest_in_band(&s, band);
+    let x = c.exact.as_ref().expect("refined exactly");
+    eprintln!(
+        "projected sweep: located {:.12} ({} solves), exact {:.12} ({} exact solves, {} shifts, \
+         root error {:.2e}); stats: {} exact, {} failed, max |dmu| {:?}",
+        c.mu_located,
+        c.locate_solves,
+        c.mu,
+        x.n_solves,
+        x.n_shifts,
+        x.max_rel_root_error,
+        s.stats.n_critical_exact,
+        s.stats.n_critical_exact_failed,
+        s.stats.max_critical_mu_change
+    );
+    // The exact crossing is bracketed to `exact_critical_tol` (1e-5) and interpolated there.
+    let tol_exact = opts.exact_critical_tol;
+    assert!(x.converged);
+    let [lo, hi] = x.bracket.unwrap();
+    assert!(
+        lo < reference && reference <= hi && hi - lo <= tol_exact,
+        "{lo} {hi}"
+    );
+    assert!(
+        (c.mu - reference).abs() <= tol_exact,
+        "{} vs {reference}",
+        c.mu
+    );
+    // The projection error moved the projected crossing by much more than the tolerance.
+    assert!((c.mu_located - reference).abs() > 100.0 * tol_exact);
+    assert_eq!(s.stats.n_critical_exact_solves, {
+        let t = s.tracks.iter().filter_map(|t| t.critical.as_ref());
+        t.filter_map(|c| c.exact.as_ref())
+            .map(|x| x.n_solves)
+            .sum::<usize>()
+    });
+    assert!(s.stats.max_rel_critical_root_error.unwrap() > 0.0);
+}
