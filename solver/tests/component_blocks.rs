@@ -242,3 +242,47 @@ fn without_friction_damping_the_relative_friction_keeps_the_blocks() {
     // only then may a set-up fall back.
     assert!(stats.block_fallbacks == 0 || stats.friction_damping_after_failure > 0);
 }
+
+#[test]
+fn a_block_singular_alone_falls_back_to_the_whole_lu() {
+    use squeal_solver::bdf::DaeSystem;
+    // Pad A's normal DOF massless and uncoupled in M: ∂F/∂y' (A = M) has a singular pad-A
+    // block, while the saddle matrix [M, Gᵀ; G, 0] is regular (G holds that DOF).
+    let build = || {
+        let (mut m, b, k, g) = matrices();
+        for j in 0..N {
+            m[(1, j)] = 0.0;
+            m[(j, 1)] = 0.0;
+        }
+        BsqlSystem::new(
+            m,
+            b,
+            k,
+            g,
+            LoadHistory::default(),
+            PadFriction { relative: false },
+            BsqlOptions::default(),
+        )
+        .unwrap()
+    };
+    let mut sys = build();
+    assert!(sys.component_block_sizes().is_some());
+    let mut dense = build();
+    dense.set_modal_elimination(false);
+    let len = 2 * N + 2;
+    let y = vec![0.0; len];
+    let mut yp = vec![0.0; len];
+    yp[N] = 1.0; // λ'
+    yp[N + 1] = 0.5;
+    let rhs: Vec<Real> = (0..len).map(|i| (0.3 * i as Real).sin()).collect();
+    let solve = |s: &mut BsqlSystem<PadFriction>| {
+        assert!(s.setup_derivative_jacobian(0.0, &y, &yp).unwrap());
+        let mut x = rhs.clone();
+        s.solve_jacobian(&mut x).unwrap();
+        x
+    };
+    let x = solve(&mut sys);
+    assert_eq!(sys.stats().block_fallbacks, 1);
+    let want = solve(&mut dense);
+    assert!(max_rel_diff(&x, &want) < 1e-12);
+}

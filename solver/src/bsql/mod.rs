@@ -169,7 +169,7 @@ pub struct BsqlStats {
     #[serde(default)]
     pub component_blocks: u64,
     /// Factorisations of the whole matrix because it did not fit the component blocks (a
-    /// friction damping C_f coupling pad and rotor).
+    /// friction damping C_f coupling pad and rotor) or a block was singular.
     #[serde(default)]
     pub block_fallbacks: u64,
 }
@@ -399,12 +399,20 @@ impl<F: FrictionForces> BsqlSystem<F> {
     }
 
     /// Factorise the assembled saddle matrix (`lu.a`): by blocks when it fits them, else whole.
+    /// A block (or the border's Schur complement) that is singular where the whole matrix
+    /// may not be (a block with a zero pivot that the multipliers' rows would fix) also falls
+    /// back to the whole LU, which then decides.
     fn factor_saddle(&mut self, what: &'static str, t: Real) -> Result<(), SolverError> {
         self.blocks_factored = false;
         if let Some(b) = &mut self.blocks {
-            if b.factor(&self.lu.a, what, t)? {
-                self.blocks_factored = true;
-                return Ok(());
+            match b.factor(&self.lu.a, what, t) {
+                Ok(true) => {
+                    self.blocks_factored = true;
+                    return Ok(());
+                }
+                Ok(false)
+                | Err(SolverError::SingularMatrix { .. } | SolverError::NonFinite { .. }) => {}
+                Err(e) => return Err(e),
             }
             self.stats.block_fallbacks += 1;
         }
