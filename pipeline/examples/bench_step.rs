@@ -15,16 +15,20 @@
 //!   components of `components.toml`: 2153 reduced DOFs, 234 gaps) at the paper's tolerances,
 //!   the first `HEX20_STEPS` steps.
 //!
-//! For each: thread CPU seconds of the run (`/proc/thread-self/schedstat`, so that other load
-//! on the machine does not count; wall seconds too), split into the integrator and the per-step
-//! bookkeeping (energy terms, in the proportion the driver's wall clocks give), µs per step, steps, Newton iterations, residual
-//! evaluations, iteration-matrix set-ups; then the cost of each operation alone on the same
-//! system at the start state (a residual, a factorisation of the iteration matrix, a Newton
-//! solve, one energy observation), and the time those operations account for (cost × count).
-//! Each case runs twice: with the Craig–Bampton modal block eliminated before the LU (the
-//! default, `BsqlSystem::set_modal_elimination`) and with the whole system factorised (`dense`:
-//! the same binary, the path before the elimination), with the largest relative difference of
-//! the final velocities between the two (`moved_vs_dense`).
+//! For each: CPU seconds of the run, all threads of the process (`/proc/self/task/*/schedstat`,
+//! so that other load on the machine does not count and the rayon threads of the block
+//! factorisation do; wall seconds too), split into the integrator and the per-step
+//! bookkeeping (energy terms, in the proportion the driver's wall clocks give), µs per step,
+//! steps, Newton iterations, residual evaluations, iteration-matrix set-ups; then the cost of
+//! each operation alone on the same system at the start state (a residual, a factorisation of
+//! the iteration matrix, a Newton solve, one energy observation), and the time those
+//! operations account for (cost × count).
+//! Each case runs three times: with the structure used (the default: the Craig–Bampton modal
+//! block eliminated before the LU, `BsqlSystem::set_modal_elimination`, and the saddle matrix
+//! factorised by component blocks, `BsqlSystem::set_component_blocks`), with the elimination
+//! alone (`no_blocks`: the path before the blocks) and with the whole system factorised
+//! (`dense`: the path before the elimination), all in the same binary, with the largest
+//! relative difference of the final velocities (`moved_vs_no_blocks`, `moved_vs_dense`).
 //! The final state is written to `target/bench/transient_step_<case>.final.json`; when such a
 //! file exists from an earlier run, the largest relative difference of the final velocities to
 //! it is reported (how far a change moved the results).
@@ -73,7 +77,8 @@ struct Breakdown {
     integrator_other_s: f64,
 }
 
-/// The same case with the whole saddle system factorised (no modal elimination).
+/// The same case by another path: the whole saddle system factorised (no modal elimination),
+/// or the modal elimination without the component blocks.
 #[derive(Serialize)]
 struct DenseRun {
     steps: u64,
@@ -120,7 +125,8 @@ struct Row {
     convergence_failures: u64,
     /// Wall seconds of the whole run (integrator + bookkeeping).
     wall_s: f64,
-    /// Thread CPU seconds of the whole run (the machine's other load excluded).
+    /// CPU seconds of the whole run, all threads of the process (the machine's other load
+    /// excluded; the block factorisation runs its blocks on rayon's threads).
     run_cpu_s: f64,
     /// The integrator alone: run CPU × (wall − bookkeeping) / wall.
     integrator_s: f64,
@@ -139,8 +145,21 @@ struct Row {
     /// max_i |v_i − v_i,prev| / max_i |v_i,prev| against the previous run's final state (at
     /// TFINAL, or at the last step of a run stopped by its step cap; None: no previous file).
     moved_vs_previous: Option<f64>,
+    /// Component blocks of the saddle matrix on a fresh system (`component_block_sizes`: the
+    /// blocks' sizes, then the border's; None: one LU of the whole), and the run's set-ups
+    /// that fell back to the whole LU (`BsqlStats::block_fallbacks`).
+    component_blocks: Option<(Vec<usize>, usize)>,
+    block_fallbacks: u64,
+    /// The modal elimination without the component blocks (`set_component_blocks(false)`:
+    /// the path before the blocks), same binary.
+    no_blocks: DenseRun,
+    /// max_i |v_i − v_i,no_blocks| / max_i |v_i,no_blocks| of the final states.
+    moved_vs_no_blocks: f64,
     /// The whole system factorised, same binary.
     dense: DenseRun,
+    /// One Newton solve (δv) at the start state, by the structured path against the whole LU,
+    /// max |Δ| / max |δv_dense|.
+    one_solve_vs_dense: f64,
     /// max_i |v_i − v_i,dense| / max_i |v_i,dense| of the final states (at TFINAL or the cap).
     moved_vs_dense: f64,
 }
@@ -166,6 +185,7 @@ fn run_once(
     start: &squeal_pipeline::stages::transient::StartState,
     case: &str,
     eliminate: bool,
+    blocks: bool,
 ) -> Result<RunOut, Box<dyn std::error::Error>> {
     let spec = &prepared.spec;
     let method = squeal_pipeline::stages::transient::driver::Method::Bdf {
@@ -183,6 +203,7 @@ fn run_once(
         spec.tfinal,
     )?;
     if let Stepper::Bdf { sys, .. } = &mut stepper {
+        sys.set_component_blocks(blocks);
         sys.set_modal_elimination(eliminate);
     }
     let clock = Instant::now();
@@ -228,17 +249,25 @@ fn moved(a: &[f64], b: &[f64], n: usize) -> f64 {
     d / scale.max(f64::MIN_POSITIVE)
 }
 
-/// CPU seconds of this thread (`/proc/thread-self/schedstat`, Linux): time the thread ran,
-/// whatever else loads the machine. Falls back to wall time elsewhere.
+/// CPU seconds of all threads of this process (the sum of `/proc/self/task/*/schedstat`,
+/// Linux): time the process's threads ran, whatever else loads the machine; the rayon threads
+/// of the block factorisation count. Falls back to wall time elsewhere.
 fn thread_cpu_s(wall: &Instant) -> f64 {
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()
-        .and_then(|s| s.split_whitespace().next()?.parse::<u64>().ok())
-        .map(|ns| 1e-9 * ns as f64)
-        .unwrap_or_else(|| wall.elapsed().as_secs_f64())
+    let tasks = match std::fs::read_dir("/proc/self/task") {
+        Ok(t) => t,
+        Err(_) => return wall.elapsed().as_secs_f64(),
+    };
+    let mut ns = 0u64;
+    for task in tasks.flatten() {
+        ns += std::fs::read_to_string(task.path().join("schedstat"))
+            .ok()
+            .and_then(|s| s.split_whitespace().next()?.parse::<u64>().ok())
+            .unwrap_or(0);
+    }
+    1e-9 * ns as f64
 }
 
-/// Microseconds of thread CPU time per call of `f` (repeated for at least `min_s`).
+/// Microseconds of process CPU time per call of `f` (repeated for at least `min_s`).
 fn per_call_us(min_s: f64, mut f: impl FnMut()) -> f64 {
     f();
     let wall = Instant::now();
@@ -279,14 +308,16 @@ fn run_case(
     let problem = &prepared.problem;
     let start = start_state(problem, &model.gaps, spec.tolint)?;
     let (n, ng) = (model.n(), model.gaps.len());
-    let run = run_once(&prepared, &model, &start, case, true)?;
-    let dense_run = run_once(&prepared, &model, &start, case, false)?;
+    let run = run_once(&prepared, &model, &start, case, true, true)?;
+    let no_blocks_run = run_once(&prepared, &model, &start, case, true, false)?;
+    let dense_run = run_once(&prepared, &model, &start, case, false, false)?;
     let (wall_s, run_cpu_s) = (run.wall_s, run.run_cpu_s);
     let bdf = run.stats.clone();
     // Cost of each operation alone, on a fresh system at the start state (with the
     // elimination, then without).
     let mut sys = problem.system(model.gaps.clone())?;
     let (eliminated_dofs, modal_groups, schur_madds) = sys.modal_elimination();
+    let component_blocks = sys.component_block_sizes();
     let (y, yp) = (start.y0.clone(), start.yp0.clone());
     let mut res = vec![0.0; y.len()];
     let t = 0.5 * spec.tfinal;
@@ -300,11 +331,17 @@ fn run_case(
             b.copy_from_slice(&res);
             sys.solve_jacobian(&mut b).unwrap()
         });
-        (setup_us, solve_us)
+        (setup_us, solve_us, b.clone())
     };
-    let (setup_us, solve_us) = setup_solve(&mut sys);
+    let (setup_us, solve_us, x_struct) = setup_solve(&mut sys);
+    sys.set_component_blocks(false);
+    let (no_blocks_setup_us, no_blocks_solve_us, _) = setup_solve(&mut sys);
     sys.set_modal_elimination(false);
-    let (dense_setup_us, dense_solve_us) = setup_solve(&mut sys);
+    let (dense_setup_us, dense_solve_us, x_dense) = setup_solve(&mut sys);
+    // One Newton solve at the start state, the structured path against the whole LU: the
+    // round-off of the two factorisations of the same matrix.
+    let one_solve_vs_dense = moved(&x_struct, &x_dense, n);
+    sys.set_component_blocks(true);
     sys.set_modal_elimination(true);
     let observe_us = per_call_us(min_s, || {
         sys.observe(t, &y, &yp).unwrap();
@@ -431,6 +468,21 @@ fn run_case(
         },
         energy_balance_rel,
         moved_vs_previous,
+        component_blocks: component_blocks.clone(),
+        block_fallbacks: run.bsql.block_fallbacks,
+        no_blocks: DenseRun {
+            steps: no_blocks_run.stats.steps,
+            newton_iterations: no_blocks_run.stats.newton_iterations,
+            jacobian_setups: no_blocks_run.stats.jacobian_setups,
+            run_cpu_s: no_blocks_run.run_cpu_s,
+            us_per_step: 1e6 * no_blocks_run.run_cpu_s / no_blocks_run.stats.steps.max(1) as f64,
+            integrator_us_per_step: 1e6 * (no_blocks_run.run_cpu_s - no_blocks_run.bookkeeping_s)
+                / no_blocks_run.stats.steps.max(1) as f64,
+            setup_us: no_blocks_setup_us,
+            solve_us: no_blocks_solve_us,
+            energy_balance_rel: no_blocks_run.energy_balance_rel,
+        },
+        moved_vs_no_blocks: moved(&run.y, &no_blocks_run.y, n),
         dense: DenseRun {
             steps: dense_run.stats.steps,
             newton_iterations: dense_run.stats.newton_iterations,
@@ -444,14 +496,16 @@ fn run_case(
             energy_balance_rel: dense_run.energy_balance_rel,
         },
         moved_vs_dense: moved(&run.y, &dense_run.y, n),
+        one_solve_vs_dense,
     };
     println!(
         "{case:<22} n = {n}, ng = {ng}: {steps} steps, {} Newton, {} set-ups, {:.1} us/step \
          (integrator {:.1}, bookkeeping {:.1}); residual {:.1} us, set-up {:.1} us, solve {:.1} \
          us, observe {:.1} us (dense M,B,K products {:.1} us; density {:.3}); moved {:?}\n  \
          eliminated {eliminated_dofs} DOFs in {modal_groups} groups ({} re-detections, {} near-stick \
-         set-ups); whole system factorised: \
-         {} steps, {} set-ups, {:.1} us/step, set-up {:.1} us, solve {:.1} us; moved vs dense {:.2e}",
+         set-ups); component blocks {:?} ({} fall-backs); without the blocks: {} steps, {:.1} \
+         us/step, set-up {:.1} us, solve {:.1} us, moved {:.2e}; whole system factorised: \
+         {} steps, {} set-ups, {:.1} us/step, set-up {:.1} us, solve {:.1} us; moved vs dense {:.2e} (one solve {:.2e})",
         row.newton_iterations,
         row.jacobian_setups,
         row.us_per_step,
@@ -466,12 +520,20 @@ fn run_case(
         row.moved_vs_previous,
         row.modal_redetections,
         row.near_stick_factorisations,
+        component_blocks,
+        row.block_fallbacks,
+        row.no_blocks.steps,
+        row.no_blocks.us_per_step,
+        no_blocks_setup_us,
+        no_blocks_solve_us,
+        row.moved_vs_no_blocks,
         row.dense.steps,
         row.dense.jacobian_setups,
         row.dense.us_per_step,
         dense_setup_us,
         dense_solve_us,
-        row.moved_vs_dense
+        row.moved_vs_dense,
+        row.one_solve_vs_dense
     );
     Ok(row)
 }

@@ -332,16 +332,22 @@ impl<F: FrictionForces> BsqlSystem<F> {
     }
 
     /// Solves the factorised saddle system in place in `rhs` (n + ng), through the Schur
-    /// complement when the modal block is eliminated.
+    /// complement when the modal block is eliminated, and by component blocks when the last
+    /// factorisation was theirs.
     fn solve_saddle(&mut self) -> Result<(), SolverError> {
         let n = self.n;
+        let (lu, blocks) = (&mut self.lu, &mut self.blocks);
+        let mut solve = |x: &mut [Real]| match blocks {
+            Some(b) if self.blocks_factored => b.solve(x),
+            _ => lu.solve(x),
+        };
         match &mut self.modal {
-            None => self.lu.solve(&mut self.rhs),
+            None => solve(&mut self.rhs),
             Some(blk) => {
                 let nv = blk.kept.len();
                 blk.forward(&self.rhs[..n], &mut self.red_rhs[..nv]);
                 self.red_rhs[nv..].copy_from_slice(&self.rhs[n..]);
-                self.lu.solve(&mut self.red_rhs)?;
+                solve(&mut self.red_rhs)?;
                 blk.back(&self.red_rhs[..nv], &mut self.rhs[..n]);
                 self.rhs[n..].copy_from_slice(&self.red_rhs[nv..]);
                 Ok(())

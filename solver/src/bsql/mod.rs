@@ -10,7 +10,9 @@
 //! When M, B, K have a diagonal block that no constraint touches (a Craig–Bampton model's
 //! modal coordinates, found by pattern in [`BsqlSystem::new`]), it is eliminated before the
 //! LU: the factorisation and its solves are of the kept DOFs and the multipliers only
-//! ([`jacobian`], `linalg::diag_block`).
+//! ([`jacobian`], `linalg::diag_block`). When the components (pads, rotor) are coupled only by
+//! the constraint rows, each component's block is factorised apart and the multipliers through
+//! their Schur complement (`blocks`, `linalg::bordered`).
 //! Friction enters through the [`FrictionForces`] callback.
 //!
 //! - [`residual`]: F(t, y, y'), eq. (16), and the load history P(t).
@@ -20,6 +22,7 @@
 //! - [`unilateral`]: separation and re-contact of constraints (events, plastic impact).
 //! - [`compliance`]: optional normal contact compliance (a penalty spring per row).
 
+mod blocks;
 pub mod compliance;
 pub mod energy;
 pub mod jacobian;
@@ -38,6 +41,7 @@ pub use steady::{steady_state, SteadyOptions, SteadyState};
 pub use unilateral::{Unilateral, UnilateralOptions, UnilateralState, UnilateralStats};
 
 use crate::bdf::{DaeSystem, TolerancePartition, Tolerances};
+use crate::linalg::bordered::BorderedBlocks;
 use crate::linalg::diag_block::DiagBlock;
 use crate::linalg::lu::DenseLu;
 use crate::linalg::sparse::RunRows;
@@ -160,6 +164,14 @@ pub struct BsqlStats {
     /// DOF (those DOFs are kept from then on).
     #[serde(default)]
     pub modal_redetections: u64,
+    /// Component blocks the saddle matrix is factorised by (0: one LU of the whole; see
+    /// [`BsqlSystem::set_component_blocks`]).
+    #[serde(default)]
+    pub component_blocks: u64,
+    /// Factorisations of the whole matrix because it did not fit the component blocks (a
+    /// friction damping C_f coupling pad and rotor) or a block was singular.
+    #[serde(default)]
+    pub block_fallbacks: u64,
 }
 
 /// What the last factorisation holds.
@@ -202,6 +214,14 @@ pub struct BsqlSystem<F: FrictionForces> {
     pub(crate) lu: DenseLu,
     /// The eliminated diagonal block (None: the whole system is factorised).
     pub(crate) modal: Option<DiagBlock>,
+    /// The saddle matrix's component blocks (None: one LU of the whole).
+    pub(crate) blocks: Option<BorderedBlocks>,
+    /// The last factorisation is the blocks' (else `lu`'s).
+    pub(crate) blocks_factored: bool,
+    /// Component blocks allowed ([`BsqlSystem::set_component_blocks`]).
+    component_blocks: bool,
+    /// The structure is used at all (the last [`BsqlSystem::set_modal_elimination`]).
+    structured: bool,
     /// Right-hand side of the reduced saddle system (kept + ng; empty without `modal`).
     pub(crate) red_rhs: Vec<Real>,
     /// DOFs never eliminated: those the friction tangents were seen to touch.
@@ -272,6 +292,10 @@ impl<F: FrictionForces> BsqlSystem<F> {
             rhs: vec![0.0; n + ng],
             lu: DenseLu::new(0),
             modal: None,
+            blocks: None,
+            blocks_factored: false,
+            component_blocks: true,
+            structured: true,
             red_rhs: Vec::new(),
             touched: vec![false; n],
             cf_after_failure: false,
@@ -299,14 +323,26 @@ impl<F: FrictionForces> BsqlSystem<F> {
     /// M_ii > 0, B_ii ≥ 0, K_ii ≥ 0 (so cj M_ii + B_ii + K_ii/cj > 0 for every cj > 0), and
     /// no other eliminated DOF couples with it in M, B or K; at least n/10 (and 2) such DOFs
     /// are needed (fewer would not pay for the Schur complement's bookkeeping).
+    ///
+    /// On, the component blocks ([`BsqlSystem::set_component_blocks`]) are used as well when
+    /// allowed; a DOF that bridges two components (a caliper mode coupling the pads) is then
+    /// not eliminated.
     pub fn set_modal_elimination(&mut self, on: bool) {
         let (n, ng) = (self.n, self.ng);
         self.factored = Factored::None;
+        self.structured = on;
+        let with_blocks = on && self.component_blocks;
+        let bridging = if with_blocks {
+            blocks::bridging_dofs(&self.M, &self.B, &self.K, &self.G)
+        } else {
+            vec![false; n]
+        };
         self.modal = if on {
             let (M, B, K, G) = (&self.M, &self.B, &self.K, &self.G);
             let touched = &self.touched;
             let allowed = |i: usize| {
                 !touched[i]
+                    && !bridging[i]
                     && (0..ng).all(|k| G[(k, i)] == 0.0)
                     && M[(i, i)] > 0.0
                     && B[(i, i)] >= 0.0
@@ -321,6 +357,20 @@ impl<F: FrictionForces> BsqlSystem<F> {
         };
         let nv = self.modal.as_ref().map_or(n, |b| b.kept.len());
         self.stats.eliminated_dofs = (n - nv) as u64;
+        self.blocks = if with_blocks {
+            blocks::partition(
+                &self.M,
+                &self.B,
+                &self.K,
+                &self.G,
+                self.modal.as_ref(),
+                &bridging,
+            )
+        } else {
+            None
+        };
+        self.blocks_factored = false;
+        self.stats.component_blocks = self.blocks.as_ref().map_or(0, |b| b.sizes().0.len()) as u64;
         if self.lu.a.nrows() != nv + ng {
             self.lu = DenseLu::new(nv + ng);
         }
@@ -329,6 +379,44 @@ impl<F: FrictionForces> BsqlSystem<F> {
         } else {
             Vec::new()
         };
+    }
+
+    /// Factorise the saddle matrix by component blocks when the structure has them (default:
+    /// on; see `blocks`): each block's LU apart (in parallel), then the Schur complement on
+    /// the multipliers and bridging DOFs. Off, or when the matrix of a set-up couples two
+    /// blocks (C_f between pad and rotor), one LU of the whole (kept + ng) matrix. The two
+    /// differ by round-off only. Takes effect with the structure of the last
+    /// [`BsqlSystem::set_modal_elimination`] (none when that was off).
+    pub fn set_component_blocks(&mut self, on: bool) {
+        self.component_blocks = on;
+        self.set_modal_elimination(self.structured);
+    }
+
+    /// Sizes of the component blocks and of their border (multipliers and bridging DOFs);
+    /// None when the saddle matrix is factorised whole.
+    pub fn component_block_sizes(&self) -> Option<(Vec<usize>, usize)> {
+        self.blocks.as_ref().map(BorderedBlocks::sizes)
+    }
+
+    /// Factorise the assembled saddle matrix (`lu.a`): by blocks when it fits them, else whole.
+    /// A block (or the border's Schur complement) that is singular where the whole matrix
+    /// may not be (a block with a zero pivot that the multipliers' rows would fix) also falls
+    /// back to the whole LU, which then decides.
+    fn factor_saddle(&mut self, what: &'static str, t: Real) -> Result<(), SolverError> {
+        self.blocks_factored = false;
+        if let Some(b) = &mut self.blocks {
+            match b.factor(&self.lu.a, what, t) {
+                Ok(true) => {
+                    self.blocks_factored = true;
+                    return Ok(());
+                }
+                Ok(false)
+                | Err(SolverError::SingularMatrix { .. } | SolverError::NonFinite { .. }) => {}
+                Err(e) => return Err(e),
+            }
+            self.stats.block_fallbacks += 1;
+        }
+        self.lu.factor(what, t)
     }
 
     /// Number of DOFs eliminated before the LU (the diagonal block), the number of coupling
@@ -378,9 +466,11 @@ impl<F: FrictionForces> BsqlSystem<F> {
                 }
             }
         }
-        let eliminated = self.stats.eliminated_dofs;
+        let (eliminated, blocks) = (self.stats.eliminated_dofs, self.stats.component_blocks);
         self.stats = stats;
-        self.stats.eliminated_dofs = eliminated; // this system's structure, not the file's
+        // This system's structure, not the file's.
+        self.stats.eliminated_dofs = eliminated;
+        self.stats.component_blocks = blocks;
     }
 
     /// The friction model.
@@ -448,7 +538,7 @@ impl<F: FrictionForces> DaeSystem for BsqlSystem<F> {
         self.last_y.copy_from_slice(y);
         self.last_yp.copy_from_slice(yp);
         let s = self.assemble_iteration_matrix(t, y, yp, Some(cj))?;
-        self.lu.factor("BSQL iteration (eq. 18)", t)?;
+        self.factor_saddle("BSQL iteration (eq. 18)", t)?;
         self.stats.factorisations += 1;
         self.factored = Factored::Iteration { cj, s };
         Ok(())
@@ -476,7 +566,7 @@ impl<F: FrictionForces> DaeSystem for BsqlSystem<F> {
     ) -> Result<bool, SolverError> {
         self.factored = Factored::None;
         let s = self.assemble_iteration_matrix(t, y, yp, None)?;
-        self.lu.factor("BSQL ∂F/∂y'", t)?;
+        self.factor_saddle("BSQL ∂F/∂y'", t)?;
         self.stats.factorisations += 1;
         self.factored = Factored::Derivative { s };
         Ok(true)

@@ -96,4 +96,32 @@ impl DenseLu {
         solve::solve_in_place(self.a.as_ref(), self.a.as_ref(), perm, rhs, Par::Seq, stack);
         Ok(())
     }
+
+    /// Solve A X = B in place for the columns of `b` (scratch allocated per call: for the
+    /// many right-hand sides of a set-up, not for every Newton iteration).
+    pub fn solve_mat(&mut self, b: MatMut<'_, Real>) -> Result<(), SolverError> {
+        let n = self.a.nrows();
+        if !self.factored {
+            return Err(SolverError::Callback {
+                t: Real::NAN,
+                message: "solve requested before a successful factorisation".into(),
+            });
+        }
+        if b.nrows() != n {
+            return Err(SolverError::DimensionMismatch {
+                what: "right-hand sides of the dense LU solve",
+                expected: n,
+                got: b.nrows(),
+            });
+        }
+        let perm = PermRef::new_checked(&self.perm, &self.perm_inv, n);
+        let mut mem = MemBuffer::new(solve::solve_in_place_scratch::<usize, Real>(
+            n,
+            b.ncols(),
+            Par::Seq,
+        ));
+        let stack = MemStack::new(&mut mem);
+        solve::solve_in_place(self.a.as_ref(), self.a.as_ref(), perm, b, Par::Seq, stack);
+        Ok(())
+    }
 }

@@ -1,7 +1,10 @@
 //! Linear-algebra kernels shared by the integrators: dense LU on preallocated storage, the
-//! elimination of a diagonal block (Craig–Bampton modal coordinates) before it, and sparse
+//! elimination of a diagonal block (Craig–Bampton modal coordinates) before it, the
+//! factorisation of a bordered block-diagonal matrix block by block (components coupled by
+//! contact rows), and sparse
 //! products with the constant matrices of a time step.
 
+pub(crate) mod bordered;
 pub(crate) mod diag_block;
 pub(crate) mod lu;
 pub(crate) mod sparse;

@@ -137,6 +137,8 @@ pub enum Stepper {
 }
 
 /// The integrator's counters, whichever it is.
+// Counters, built once per run and serialised: the BDF variant's size does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Serialize)]
 #[serde(tag = "integrator", rename_all = "snake_case")]
 pub enum IntegratorStats {
