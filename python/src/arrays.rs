@@ -228,6 +228,7 @@ pub fn gaps_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Gap>> {
                     })
                 }
             },
+            rotor_rows: Vec::new(),
         });
     }
     Ok(gaps)
