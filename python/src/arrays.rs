@@ -124,7 +124,7 @@ pub fn dofmap_from_py(obj: &Bound<'_, PyAny>) -> PyResult<ReducedDofMap> {
             kind,
         });
     }
-    Ok(ReducedDofMap { dofs })
+    Ok(ReducedDofMap::new(dofs))
 }
 
 /// The DOF map as records.
