@@ -161,7 +161,7 @@ impl ReducedModel {
                         grid: node,
                         comp: c,
                     };
-                    !index.contains_key(&key) && !(may_recover && recovered.contains_key(&key))
+                    !(index.contains_key(&key) || may_recover && recovered.contains_key(&key))
                 }) {
                     missing.push(node);
                 }
