@@ -137,7 +137,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dir = RunDir::create(&work)?;
     let progress = Progress::quiet();
     if pipeline {
-        let out = run_pipeline(&scene, &dir, &progress, sweep, start)?;
+        let out = run_pipeline(&scene, &dir, &progress, sweep, start, &out_path)?;
         let mut out = out;
         out["scene"] = json!(scene_path
             .strip_prefix(&root)
@@ -293,6 +293,7 @@ fn run_pipeline(
     progress: &Progress,
     sweep: Option<usize>,
     start: Instant,
+    out_path: &Path,
 ) -> Result<serde_json::Value, Box<dyn std::error::Error>> {
     use squeal_pipeline::stages::cea::{self, CeaArgs};
     use squeal_pipeline::stages::model::build_from_mesh;
@@ -332,32 +333,12 @@ fn run_pipeline(
         c.modes.len(),
         unstable.len()
     );
-    let mut sweep_out = serde_json::Value::Null;
-    let mut sweep_s = None;
-    if let Some(n) = sweep {
-        let t0 = Instant::now();
-        let args = CeaArgs {
-            mu: Some((0.1, 0.9, n)),
-            ..Default::default()
-        };
-        let s = cea::compute(scene, &model, progress, &args)?;
-        let dt = t0.elapsed().as_secs_f64();
-        sweep_s = Some(dt);
-        eprintln!("CEA + {n}-point sweep: {dt:.1} s");
-        if let Some(r) = &s.sweep {
-            sweep_out = json!({
-                "n_points": n, "lowest_critical_mu": r.lowest_critical_mu,
-                "stats": r.stats, "wall_s_with_its_cea": dt,
-            });
-        }
-    }
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-    let recovered = model.dofs.recovered.len();
-    Ok(json!({
+    let mut out = json!({
         "what": "pipeline: build_from_mesh (mesh -> assembly -> Craig-Bampton of the components in parallel -> superelement assembly -> gaps), then CEA at the steady state (and a mu sweep)",
         "n_reduced_dofs": model.n(),
         "n_gaps": model.gaps.len(),
-        "n_recovered_grid_dofs": recovered,
+        "n_recovered_grid_dofs": model.dofs.recovered.len(),
         "build_s": build_s,
         "peak_rss_kib_after_build": rss_build,
         "components": components,
@@ -365,6 +346,7 @@ fn run_pipeline(
         "peak_rss_kib_after_cea": rss_cea,
         "cea_stats": c.out.stats,
         "n_modes_in_band": c.modes.len(),
+        "unstable": unstable,
         "roots_in_band": c
             .modes
             .iter()
@@ -373,13 +355,37 @@ fn run_pipeline(
         "contact_force_sum": c.lin.lambda_dot.iter().sum::<f64>(),
         "contact_force_norm": c.lin.lambda_dot.iter().map(|x| x * x).sum::<f64>().sqrt(),
         "contact_forces": c.lin.lambda_dot,
-        "unstable": unstable,
-        "sweep": sweep_out,
-        "sweep_s": sweep_s,
+        "sweep": null,
+        "sweep_s": null,
         "mesh_to_cea_s": build_s + cea_s,
         "total_s": start.elapsed().as_secs_f64(),
         "peak_rss_kib": peak_rss_kib(),
         "threads": rayon::current_num_threads(),
         "loadavg_at_end": load.trim(),
-    }))
+    });
+    // Written now and again after the sweep (a long sweep may be stopped).
+    std::fs::write(out_path, serde_json::to_string_pretty(&out)?)?;
+    drop(c);
+    if let Some(n) = sweep {
+        let t0 = Instant::now();
+        let args = CeaArgs {
+            mu: Some((0.1, 0.9, n)),
+            ..Default::default()
+        };
+        let s = cea::compute(scene, &model, progress, &args)?;
+        let dt = t0.elapsed().as_secs_f64();
+        eprintln!("CEA + {n}-point sweep: {dt:.1} s");
+        out["sweep_s"] = json!(dt);
+        if let Some(r) = &s.sweep {
+            out["sweep"] = json!({
+                "n_points": n, "lowest_critical_mu": r.lowest_critical_mu,
+                "stats": r.stats, "wall_s_with_its_cea": dt,
+            });
+        }
+        out["total_s"] = json!(start.elapsed().as_secs_f64());
+        out["peak_rss_kib"] = json!(peak_rss_kib());
+        let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
+        out["loadavg_at_end"] = json!(load.trim());
+    }
+    Ok(out)
 }
