@@ -301,6 +301,7 @@ fn run_pipeline(
     let model = build_from_mesh(scene, dir, progress)?;
     let build_s = t0.elapsed().as_secs_f64();
     let rss_build = peak_rss_kib();
+    let cpu_build = process_cpu_s();
     eprintln!(
         "model: {} reduced DOFs, {} gaps, built in {build_s:.1} s (peak {:?} KiB)",
         model.n(),
@@ -323,6 +324,7 @@ fn run_pipeline(
     let c = cea::compute(scene, &model, progress, &CeaArgs::default())?;
     let cea_s = t0.elapsed().as_secs_f64();
     let rss_cea = peak_rss_kib();
+    let cpu_cea = process_cpu_s();
     let unstable: Vec<serde_json::Value> = c
         .unstable()
         .iter()
@@ -358,6 +360,8 @@ fn run_pipeline(
         "sweep": null,
         "sweep_s": null,
         "mesh_to_cea_s": build_s + cea_s,
+        "process_cpu_s_after_build": cpu_build,
+        "process_cpu_s_after_cea": cpu_cea,
         "total_s": start.elapsed().as_secs_f64(),
         "peak_rss_kib": peak_rss_kib(),
         "threads": rayon::current_num_threads(),
@@ -383,9 +387,21 @@ fn run_pipeline(
             });
         }
         out["total_s"] = json!(start.elapsed().as_secs_f64());
+        out["process_cpu_s_after_sweep"] = json!(process_cpu_s());
         out["peak_rss_kib"] = json!(peak_rss_kib());
         let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
         out["loadavg_at_end"] = json!(load.trim());
     }
     Ok(out)
+}
+
+/// CPU seconds (user + system, all threads) of this process so far, from /proc/self/stat
+/// (fields 14 and 15, in USER_HZ = 100 ticks per second on Linux); None elsewhere. On a shared
+/// machine the wall times measure the load; this measures the work.
+fn process_cpu_s() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let rest = &s[s.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
 }
