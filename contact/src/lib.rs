@@ -35,5 +35,5 @@ pub use forces::GapOutput;
 pub use friction::{FrictionEval, FrictionLaw};
 pub use gaps::{
     match_gaps, tie_gaps, ContactNode, FaceKind, FaceTie, Gap, GapSet, MatchOptions, RotorFace,
-    TieOptions, TieOutcome, TieStats, Unmatched, FACE_SNAP,
+    RotorRow, TieOptions, TieOutcome, TieStats, Unmatched, FACE_SNAP,
 };

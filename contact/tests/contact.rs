@@ -5,7 +5,7 @@ use proptest::prelude::*;
 use squeal_contact::forces::regularisation;
 use squeal_contact::friction::FrictionTable;
 use squeal_contact::{
-    match_gaps, ContactError, ContactNode, FrictionLaw, Gap, GapSet, MatchOptions,
+    match_gaps, ContactError, ContactNode, FrictionLaw, Gap, GapSet, MatchOptions, RotorRow,
 };
 
 // ---------------------------------------------------------------- friction laws
@@ -308,6 +308,7 @@ fn three_gaps(law: FrictionLaw, vslide: f64) -> GapSet {
         p0: 2.0,
         temperature: 60.0,
         tie: None,
+        rotor_rows: Vec::new(),
     };
     GapSet::new(
         vec![
@@ -428,6 +429,7 @@ fn one_gap(mu: f64, vslide: f64) -> GapSet {
         p0: 10.0,
         temperature: 0.0,
         tie: None,
+        rotor_rows: Vec::new(),
     };
     GapSet::new(vec![gap], FrictionLaw::Constant { mu }, 1e-3).unwrap()
 }
@@ -508,4 +510,57 @@ fn constraint_matrix_is_rotor_minus_pad_along_the_normal() {
         set.add_tangents(&[0.0; 12], &[0.0; 3], &mut bad, None),
         Err(ContactError::Shape { what: "d_dlam", .. })
     ));
+}
+
+/// A rotor point given by recovery rows (an interface-reduced rotor) is the same gap in other
+/// coordinates: with the rotor DOFs 3..6 of the first gap written as u = C x (rows
+/// (3 + j, C[:, j])), forces, tangents and G equal those of the physical gap at x' = P x,
+/// transformed by P = blockdiag(I₃, C, I₆): f = Pᵀf', ∂f/∂λ̇ = Pᵀ(∂f/∂λ̇)', C_f = PᵀC_f'P,
+/// G = G'P.
+#[test]
+fn rotor_rows_are_the_physical_gap_in_other_coordinates() {
+    let law = FrictionLaw::LinearSpeed {
+        mu0: 0.6,
+        slope: -0.02,
+    };
+    let physical = three_gaps(law.clone(), 1.5);
+    let c = [[0.9, -0.2, 0.3], [0.1, 1.1, -0.4], [0.25, 0.05, 0.8]];
+    let mut rows = physical.clone();
+    rows.gaps[0].rotor_rows = (0..3)
+        .map(|j| RotorRow {
+            dof: 3 + j,
+            weights: [c[0][j], c[1][j], c[2][j]],
+        })
+        .collect();
+    rows.gaps[0].rotor_dofs = [None; 3];
+    let mut p = Mat::<f64>::identity(12, 12);
+    for i in 0..3 {
+        for j in 0..3 {
+            p[(3 + i, 3 + j)] = c[i][j];
+        }
+    }
+    let x: Vec<f64> = (0..12).map(|i| 0.3 * ((i * 5) % 7) as f64 - 0.8).collect();
+    let xp: Vec<f64> = (0..12)
+        .map(|i| (0..12).map(|j| p[(i, j)] * x[j]).sum())
+        .collect();
+    let lam = [-1.0, -0.4, -2.2];
+    let col = |v: &[f64]| Mat::from_fn(v.len(), 1, |i, _| v[i]);
+    let close = |a: &Mat<f64>, b: &Mat<f64>, what: &str| {
+        let e = (a - b).norm_max() / b.norm_max().max(1e-300);
+        assert!(e < 1e-13, "{what}: relative difference {e:e}");
+    };
+    let f = forces(&rows, &x, &lam);
+    let fp = forces(&physical, &xp, &lam);
+    close(&col(&f), &(p.transpose() * col(&fp)), "forces");
+    let (mut dl, mut cf) = (Mat::zeros(12, 3), Mat::zeros(12, 12));
+    rows.add_tangents(&x, &lam, &mut dl, Some(&mut cf)).unwrap();
+    let (mut dlp, mut cfp) = (Mat::zeros(12, 3), Mat::zeros(12, 12));
+    physical
+        .add_tangents(&xp, &lam, &mut dlp, Some(&mut cfp))
+        .unwrap();
+    close(&dl, &(p.transpose() * &dlp), "d/dlambda");
+    close(&cf, &(p.transpose() * &cfp * &p), "C_f");
+    let g = rows.constraint_matrix(12).unwrap();
+    let gp = physical.constraint_matrix(12).unwrap();
+    close(&g, &(&gp * &p), "G");
 }

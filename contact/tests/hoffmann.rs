@@ -52,6 +52,7 @@ fn gap_set(mu: f64) -> Result<GapSet, ContactError> {
         p0: 1.0,
         temperature: 0.0,
         tie: None,
+        rotor_rows: Vec::new(),
     };
     GapSet::new(vec![gap], FrictionLaw::Constant { mu }, 1e-3)
 }

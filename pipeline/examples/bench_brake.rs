@@ -7,7 +7,16 @@
 //! target/release/examples/bench_brake [SCENE.toml] [--set key=value ...] [--out FILE.json]
 //!                                     [--rotor-boundary nearest|faces] [--ordering nd|amd]
 //!                                     [--lanczos-max-dim N]
+//! target/release/examples/bench_brake --pipeline [SCENE.toml] [--set key=value ...]
+//!                                     [--sweep N] [--out FILE.json]
 //! ```
+//!
+//! `--pipeline` runs the pipeline itself instead: `stages::model::build_from_mesh` (mesh →
+//! assembly → Craig–Bampton of the components in parallel → superelement assembly → surface
+//! pairing → gaps; the scene's own contact boundary, e.g. with
+//! `--set components.0.interface.degree=6` for an interface-reduced rotor), then the CEA at
+//! the steady state (`stages::cea::compute`) and, with `--sweep N`, an N-point μ sweep
+//! (0.1…0.9) of the reduced model; each timed, with the peak memory after each.
 //!
 //! The Craig–Bampton boundary is what a pad/rotor contact pairing makes it: every node of each
 //! pad's `friction` face (one gap each), and on the rotor either (`--rotor-boundary nearest`,
@@ -103,8 +112,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut rotor_boundary = "nearest".to_string();
     let mut ordering = "nd".to_string();
     let mut lanczos_max_dim: Option<usize> = None;
+    let (mut pipeline, mut sweep) = (false, None::<usize>);
     while let Some(a) = args.next() {
         match a.as_str() {
+            "--pipeline" => pipeline = true,
+            "--sweep" => sweep = Some(args.next().ok_or("--sweep needs N")?.parse()?),
             "--set" => sets.push(args.next().ok_or("--set needs key=value")?),
             "--out" => out_path = PathBuf::from(args.next().ok_or("--out needs a file")?),
             "--lanczos-max-dim" => {
@@ -124,6 +136,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let work = std::env::temp_dir().join(format!("squeal-bench-brake-{}", std::process::id()));
     let dir = RunDir::create(&work)?;
     let progress = Progress::quiet();
+    if pipeline {
+        let out = run_pipeline(&scene, &dir, &progress, sweep, start, &out_path)?;
+        let mut out = out;
+        out["scene"] = json!(scene_path
+            .strip_prefix(&root)
+            .unwrap_or(&scene_path)
+            .display()
+            .to_string());
+        out["overrides"] = json!(sets);
+        let text = serde_json::to_string_pretty(&out)?;
+        if let Some(d) = out_path.parent() {
+            std::fs::create_dir_all(d)?;
+        }
+        std::fs::write(&out_path, &text)?;
+        println!("{text}");
+        let _ = std::fs::remove_dir_all(&work);
+        return Ok(());
+    }
 
     // Mesh every component first (the rotor's boundary depends on the pads' faces).
     let mut meshes = Vec::new();
@@ -254,4 +284,124 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("{text}");
     let _ = std::fs::remove_dir_all(&work);
     Ok(())
+}
+
+/// `--pipeline`: the reduced model as the pipeline builds it, then the CEA (and a sweep).
+fn run_pipeline(
+    scene: &Scene,
+    dir: &RunDir,
+    progress: &Progress,
+    sweep: Option<usize>,
+    start: Instant,
+    out_path: &Path,
+) -> Result<serde_json::Value, Box<dyn std::error::Error>> {
+    use squeal_pipeline::stages::cea::{self, CeaArgs};
+    use squeal_pipeline::stages::model::build_from_mesh;
+    let t0 = Instant::now();
+    let model = build_from_mesh(scene, dir, progress)?;
+    let build_s = t0.elapsed().as_secs_f64();
+    let rss_build = peak_rss_kib();
+    let cpu_build = process_cpu_s();
+    eprintln!(
+        "model: {} reduced DOFs, {} gaps, built in {build_s:.1} s (peak {:?} KiB)",
+        model.n(),
+        model.gaps.len(),
+        rss_build
+    );
+    let components: Vec<serde_json::Value> = model
+        .components
+        .iter()
+        .map(|c| {
+            json!({
+                "component": c.name, "n_free_dofs": c.n_free_dofs, "n_nodes": c.n_nodes,
+                "n_boundary_coords": c.cb_stats.n_boundary, "n_modes": c.n_modes,
+                "highest_fixed_interface_hz": c.fixed_interface_hz.last(),
+                "cb_stats": c.cb_stats,
+            })
+        })
+        .collect();
+    let t0 = Instant::now();
+    let c = cea::compute(scene, &model, progress, &CeaArgs::default())?;
+    let cea_s = t0.elapsed().as_secs_f64();
+    let rss_cea = peak_rss_kib();
+    let cpu_cea = process_cpu_s();
+    let unstable: Vec<serde_json::Value> = c
+        .unstable()
+        .iter()
+        .map(|(_, m)| json!({"frequency_hz": m.eigenvalue.im.abs() / (2.0 * std::f64::consts::PI), "real_part": m.eigenvalue.re}))
+        .collect();
+    eprintln!(
+        "CEA: {cea_s:.1} s, {} modes in the band, {} unstable",
+        c.modes.len(),
+        unstable.len()
+    );
+    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
+    let mut out = json!({
+        "what": "pipeline: build_from_mesh (mesh -> assembly -> Craig-Bampton of the components in parallel -> superelement assembly -> gaps), then CEA at the steady state (and a mu sweep)",
+        "n_reduced_dofs": model.n(),
+        "n_gaps": model.gaps.len(),
+        "n_recovered_grid_dofs": model.dofs.recovered.len(),
+        "build_s": build_s,
+        "peak_rss_kib_after_build": rss_build,
+        "components": components,
+        "cea_s": cea_s,
+        "peak_rss_kib_after_cea": rss_cea,
+        "cea_stats": c.out.stats,
+        "n_modes_in_band": c.modes.len(),
+        "unstable": unstable,
+        "roots_in_band": c
+            .modes
+            .iter()
+            .map(|m| [m.eigenvalue.im.abs() / (2.0 * std::f64::consts::PI), m.eigenvalue.re])
+            .collect::<Vec<_>>(),
+        "contact_force_sum": c.lin.lambda_dot.iter().sum::<f64>(),
+        "contact_force_norm": c.lin.lambda_dot.iter().map(|x| x * x).sum::<f64>().sqrt(),
+        "contact_forces": c.lin.lambda_dot,
+        "sweep": null,
+        "sweep_s": null,
+        "mesh_to_cea_s": build_s + cea_s,
+        "process_cpu_s_after_build": cpu_build,
+        "process_cpu_s_after_cea": cpu_cea,
+        "total_s": start.elapsed().as_secs_f64(),
+        "peak_rss_kib": peak_rss_kib(),
+        "threads": rayon::current_num_threads(),
+        "loadavg_at_end": load.trim(),
+    });
+    // Written now and again after the sweep (a long sweep may be stopped).
+    std::fs::write(out_path, serde_json::to_string_pretty(&out)?)?;
+    drop(c);
+    if let Some(n) = sweep {
+        let t0 = Instant::now();
+        let args = CeaArgs {
+            mu: Some((0.1, 0.9, n)),
+            ..Default::default()
+        };
+        let s = cea::compute(scene, &model, progress, &args)?;
+        let dt = t0.elapsed().as_secs_f64();
+        eprintln!("CEA + {n}-point sweep: {dt:.1} s");
+        out["sweep_s"] = json!(dt);
+        if let Some(r) = &s.sweep {
+            out["sweep"] = json!({
+                "n_points": n, "lowest_critical_mu": r.lowest_critical_mu,
+                "stats": r.stats, "wall_s_with_its_cea": dt,
+            });
+        }
+        out["total_s"] = json!(start.elapsed().as_secs_f64());
+        out["process_cpu_s_after_sweep"] = json!(process_cpu_s());
+        out["peak_rss_kib"] = json!(peak_rss_kib());
+        let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
+        out["loadavg_at_end"] = json!(load.trim());
+    }
+    Ok(out)
+}
+
+/// CPU seconds (user + system, all threads) of this process so far, from /proc/self/stat
+/// (fields 14 and 15, in USER_HZ = 100 ticks per second on Linux); None elsewhere. On a shared
+/// machine the wall times measure the load; this measures the work.
+fn process_cpu_s() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let rest = &s[s.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
 }

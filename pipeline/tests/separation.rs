@@ -49,6 +49,7 @@ fn gaps() -> GapSet {
         p0: P0,
         temperature: 0.0,
         tie: None,
+        rotor_rows: Vec::new(),
     };
     GapSet::new(vec![gap], FrictionLaw::Constant { mu: MU }, 1e-3).unwrap()
 }

@@ -105,12 +105,15 @@ pub fn dofmap_from_py(obj: &Bound<'_, PyAny>) -> PyResult<ReducedDofMap> {
             "modal" => DofKind::Modal {
                 index: int("index")? as usize,
             },
+            "interface" => DofKind::Interface {
+                index: int("index")? as usize,
+            },
             other => {
                 return Err(bad(
                     "dofs",
                     i,
                     "kind",
-                    format!("`{other}`: expected `grid` or `modal`"),
+                    format!("`{other}`: expected `grid`, `modal` or `interface`"),
                 ))
             }
         };
@@ -124,7 +127,7 @@ pub fn dofmap_from_py(obj: &Bound<'_, PyAny>) -> PyResult<ReducedDofMap> {
             kind,
         });
     }
-    Ok(ReducedDofMap { dofs })
+    Ok(ReducedDofMap::new(dofs))
 }
 
 /// The DOF map as records.
@@ -136,6 +139,7 @@ pub fn dofmap_to_py<'py>(py: Python<'py>, map: &ReducedDofMap) -> PyResult<Bound
         let (kind, grid, comp, index) = match d.kind {
             DofKind::Grid { grid, comp } => ("grid", Some(grid), Some(comp), None),
             DofKind::Modal { index } => ("modal", None, None, Some(index)),
+            DofKind::Interface { index } => ("interface", None, None, Some(index)),
         };
         r.set_item("kind", kind)?;
         r.set_item("grid", grid)?;
@@ -228,6 +232,7 @@ pub fn gaps_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Gap>> {
                     })
                 }
             },
+            rotor_rows: Vec::new(),
         });
     }
     Ok(gaps)

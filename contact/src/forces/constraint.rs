@@ -24,7 +24,7 @@ impl GapSet {
                 }
                 for (w, dofs) in g.rotor_terms() {
                     if let Some(d) = dofs[k] {
-                        t.push((ig, d, w * g.normal[k])); // [Paper eq. (9)]
+                        t.push((ig, d, w[k] * g.normal[k])); // [Paper eq. (9)]
                     }
                 }
                 if let Some(d) = g.pad_dofs[k] {

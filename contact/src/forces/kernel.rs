@@ -49,9 +49,9 @@ pub(crate) fn evaluate_gap(set: &GapSet, gap: &Gap, v: &[Real], lambda: Real) ->
     // The rotor point's velocity Σ_a N_a v_a (one node with weight 1 when coincident).
     let mut vr = [0.0; 3];
     for (w, dofs) in gap.rotor_terms() {
-        let va = gather(v, dofs);
+        let va = gather(v, &dofs);
         for k in 0..3 {
-            vr[k] += w * va[k];
+            vr[k] += w[k] * va[k];
         }
     }
     let dv = [
@@ -162,7 +162,7 @@ impl GapSet {
                 }
                 for (w, dofs) in gap.rotor_terms() {
                     if let Some(d) = dofs[k] {
-                        f[d] -= w * fp[k]; // [Paper eq. (7)], spread with the face weights
+                        f[d] -= w[k] * fp[k]; // [Paper eq. (7)], spread with the face weights
                     }
                 }
             }

@@ -81,7 +81,7 @@ impl GapSet {
                 }
                 for (w, dofs) in gap.rotor_terms() {
                     if let Some(d) = dofs[k] {
-                        d_dlam[(d, ig)] -= w * x;
+                        d_dlam[(d, ig)] -= w[k] * x;
                     }
                 }
             }
@@ -118,7 +118,7 @@ impl GapSet {
                     if let Some(pi) = gap.pad_dofs[i] {
                         for (wb, rb) in gap.rotor_terms() {
                             if let Some(rj) = rb[j] {
-                                cf[(pi, rj)] += wb * x;
+                                cf[(pi, rj)] += wb[j] * x;
                             }
                         }
                         if let Some(pj) = gap.pad_dofs[j] {
@@ -129,11 +129,11 @@ impl GapSet {
                         let Some(ri) = ra[i] else { continue };
                         for (wb, rb) in gap.rotor_terms() {
                             if let Some(rj) = rb[j] {
-                                cf[(ri, rj)] -= wa * wb * x;
+                                cf[(ri, rj)] -= wa[i] * wb[j] * x;
                             }
                         }
                         if let Some(pj) = gap.pad_dofs[j] {
-                            cf[(ri, pj)] += wa * x;
+                            cf[(ri, pj)] += wa[i] * x;
                         }
                     }
                 }

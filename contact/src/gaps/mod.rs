@@ -140,6 +140,20 @@ pub struct Gap {
     /// the weights of its nodes. None: the coincident pair `rotor_node` (weight 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tie: Option<FaceTie>,
+    /// The rotor point's displacement as rows over the reduced vector, when the rotor's
+    /// contact DOFs are not reduced DOFs themselves (an interface-reduced rotor): u_k =
+    /// Σ_rows weights[k] · x[dof]. When non-empty it replaces `rotor_dofs` and the tie's DOFs
+    /// in [`Gap::rotor_terms`] (the node ids and weights still say where the point is).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rotor_rows: Vec<RotorRow>,
+}
+
+/// One term of a recovered rotor point: reduced DOF `dof` moves the point by `weights`
+/// (x, y, z) per unit value.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RotorRow {
+    pub dof: usize,
+    pub weights: [Real; 3],
 }
 
 /// The rotor side of a gap tied to a rotor face: the point x(ξ*) = Σ_a N_a(ξ*) x_a.
@@ -208,21 +222,31 @@ impl Gap {
             p0: opts.p0,
             temperature: opts.temperature,
             tie,
+            rotor_rows: Vec::new(),
         }
     }
 
-    /// The rotor side of the gap as (weight, x/y/z DOFs) terms: the one coincident node with
-    /// weight 1, or the tied face's nodes of non-zero weight. The rotor point's velocity is
-    /// Σ w v_a, and a force f on it is w f on each node.
-    pub fn rotor_terms(&self) -> impl Iterator<Item = (Real, &[Option<usize>; 3])> + '_ {
-        let single = self.tie.is_none().then_some((1.0, &self.rotor_dofs));
-        single.into_iter().chain(self.tie.iter().flat_map(|t| {
+    /// The rotor side of the gap as (x/y/z weights, x/y/z DOFs) terms: the one coincident
+    /// node with weight 1, or the tied face's nodes of non-zero weight (the same weight in
+    /// every direction), or the recovery rows (`rotor_rows`: one reduced DOF per term, its
+    /// weight per direction). The rotor point's velocity component k is Σ w_k v[dofs_k], and
+    /// a force f on it is w_k f_k on DOF dofs_k.
+    pub fn rotor_terms(&self) -> impl Iterator<Item = ([Real; 3], [Option<usize>; 3])> + '_ {
+        let rows = !self.rotor_rows.is_empty();
+        let single = (self.tie.is_none() && !rows).then_some(([1.0; 3], self.rotor_dofs));
+        let tied = self.tie.iter().filter(move |_| !rows).flat_map(|t| {
             t.weights
                 .iter()
                 .copied()
                 .zip(t.dofs.iter())
                 .filter(|(w, _)| *w != 0.0)
-        }))
+                .map(|(w, d)| ([w; 3], *d))
+        });
+        single.into_iter().chain(tied).chain(
+            self.rotor_rows
+                .iter()
+                .map(|r| (r.weights, [Some(r.dof); 3])),
+        )
     }
 
     /// The rotor node ids the gap acts on (the coincident node, or the tied face's nodes of

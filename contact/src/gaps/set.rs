@@ -94,12 +94,14 @@ impl GapSet {
                 }
             }
             let tied = g.tie.iter().flat_map(|t| t.dofs.iter()).flatten();
+            let rows = g.rotor_rows.iter().map(|r| &r.dof);
             for d in g
                 .pad_dofs
                 .iter()
                 .chain(g.rotor_dofs.iter())
                 .flatten()
                 .chain(tied.flatten())
+                .chain(rows)
             {
                 if *d >= n {
                     return Err(ContactError::DofOutOfRange {

@@ -118,6 +118,24 @@ pub struct ComponentSpec {
     /// faces) turn with it, and no other component is remeshed. Any finite angle (default: 0).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub rotate_deg: Real,
+    /// Interface reduction of the component's contact boundary (opt-in; default: none, the
+    /// exact Craig–Bampton reduction with every gap node as a boundary DOF). Only for the
+    /// rotor side of `[[contact]]` pairs: README "Interface reduction of a big rotor".
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interface: Option<InterfaceSpec>,
+}
+
+/// `[components.interface]`: the component's gap nodes (those not shared with another
+/// component) are not Craig–Bampton boundary DOFs; per `[[contact]]` pair they move in an
+/// orthonormal polynomial basis of the pair's rotor patch (Legendre polynomials of total
+/// degree ≤ `degree` in the patch's principal coordinates, per direction), and the gaps see
+/// the rotor points through recovery rows over those interface coordinates.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InterfaceSpec {
+    /// Highest total polynomial degree, 1..=30 (required; a flat patch has
+    /// (degree + 1)(degree + 2)/2 functions per direction, fewer if it has fewer nodes).
+    pub degree: usize,
 }
 
 fn is_zero(x: &Real) -> bool {
@@ -354,6 +372,34 @@ impl Scene {
                     field: format!("components[{i}].rotate_deg"),
                     message: format!("{} must be finite", c.rotate_deg),
                 });
+            }
+            if let Some(f) = &c.interface {
+                if !(1..=30).contains(&f.degree) {
+                    return Err(PipelineError::Scene {
+                        field: format!("components[{i}].interface.degree"),
+                        message: format!("{} is not in 1..=30", f.degree),
+                    });
+                }
+                if let Some(j) = self.contact.iter().position(|p| p.pad == c.name) {
+                    return Err(PipelineError::Scene {
+                        field: format!("components[{i}].interface"),
+                        message: format!(
+                            "`{}` is the pad of contact[{j}]; interface reduction applies to \
+                             the rotor side of contact pairs only",
+                            c.name
+                        ),
+                    });
+                }
+                if !self.contact.iter().any(|p| p.rotor == c.name) {
+                    return Err(PipelineError::Scene {
+                        field: format!("components[{i}].interface"),
+                        message: format!(
+                            "`{}` is the rotor of no [[contact]] pair: it has no contact \
+                             boundary to reduce",
+                            c.name
+                        ),
+                    });
+                }
             }
             self.validate_brake_component(i, c)?;
             for f in &c.fixed {

@@ -19,6 +19,9 @@ pub struct ReduceReport {
     pub n_reduced_dofs: usize,
     pub n_grid_dofs: usize,
     pub n_modal_dofs: usize,
+    /// Interface coordinates of interface-reduced components (`[[components]] interface`).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub n_interface_dofs: usize,
     pub n_gaps: usize,
     pub has_damping: bool,
     /// Lowest natural frequencies of the reduced (K, M), no contact constraint, Hz.
@@ -26,6 +29,10 @@ pub struct ReduceReport {
     pub components: Vec<ComponentReport>,
     pub files: StoredFiles,
     pub total_s: f64,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 impl ReduceReport {
@@ -77,11 +84,23 @@ pub fn run(
             )
         })
         .count();
+    let n_interface = model
+        .dofs
+        .dofs
+        .iter()
+        .filter(|d| {
+            matches!(
+                d.kind,
+                squeal_reduction::superelement::DofKind::Interface { .. }
+            )
+        })
+        .count();
     let report = ReduceReport {
         source: model.source,
         n_reduced_dofs: model.n(),
-        n_grid_dofs: model.n() - n_modal,
+        n_grid_dofs: model.n() - n_modal - n_interface,
         n_modal_dofs: n_modal,
+        n_interface_dofs: n_interface,
         n_gaps: model.gaps.len(),
         has_damping: model.b.is_some(),
         frequencies_hz: model.frequencies_hz(N_REPORTED_MODES)?,

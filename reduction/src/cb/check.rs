@@ -2,6 +2,7 @@
 //! rigid-body mass and centre of gravity, free-free rigid modes, frequencies against the full model.
 
 use super::eigen::{self, LanczosParams, Want};
+use super::interface::project_blocks;
 use super::model::CbModel;
 use super::partition::{add_scaled, split, sym_spmm, to_dense, Partition, Sparse};
 use super::rigid::{rigid_body_mass, rigid_vectors, DofPoint, RigidBodyMass};
@@ -138,7 +139,7 @@ pub fn check(
     opts: &CheckOptions,
 ) -> Result<CbCheck, ReductionError> {
     opts.validate()?;
-    let nb = model.boundary.len();
+    let nb = model.n_boundary_coords();
     let nq = model.n_modes;
     let n = model.n_dofs;
     if let Some(p) = points {
@@ -159,9 +160,19 @@ pub fn check(
     let kscale = max_abs(model.k.as_ref()).max(Real::MIN_POSITIVE);
     let (mqq, kbq) = match full {
         Some((k, m)) => {
-            let part = Partition::new(n, &model.boundary)?;
-            let kp = split(k, &part);
-            let mp = split(m, &part);
+            let all: Vec<usize> = model
+                .boundary
+                .iter()
+                .chain(model.interface.iter().flat_map(|f| f.dofs.iter()))
+                .copied()
+                .collect();
+            let part = Partition::new(n, &all)?;
+            let project = |b| match &model.interface {
+                Some(f) => project_blocks(b, model.boundary.len(), f.basis.as_ref()),
+                None => b,
+            };
+            let kp = project(split(k, &part));
+            let mp = project(split(m, &part));
             let mqq = model.phi.transpose() * sym_spmm(&mp.ii, model.phi.as_ref());
             let kbq = if nq > 0 {
                 let r = sym_spmm(&kp.ii, model.psi.as_ref()) + to_dense(&kp.ib);
@@ -188,7 +199,9 @@ pub fn check(
     let hz = |l: Real| l.max(0.0).sqrt() / (2.0 * PI);
 
     // Rigid-body mass.
-    let rigid = points.map(|pts| {
+    // Rigid-body vectors in the reduced coordinates need physical boundary DOFs only: not
+    // computed with an interface basis.
+    let rigid = points.filter(|_| model.interface.is_none()).map(|pts| {
         let bpts: Vec<DofPoint> = model.boundary.iter().map(|&d| pts[d]).collect();
         let rb = rigid_vectors(&bpts);
         let mbb = model.m.submatrix(0, 0, nb, nb);

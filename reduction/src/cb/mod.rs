@@ -7,12 +7,16 @@
 //!   parallel column blocks) and, above [`CbOptions::dense_max`] interior DOFs, the shift-invert
 //!   block Lanczos for the fixed-interface modes (σ = 0: K_ii is positive definite whenever the
 //!   boundary restrains the rigid-body motions).
+//! - [`reduce_interface`]: the same with part of the boundary moving in an interface basis
+//!   u_f = L p ([`InterfaceBasis`], e.g. [`polynomial_basis`] of a contact patch): constraint
+//!   modes and products scale with the interface coordinates instead of the boundary DOFs.
 //! - [`CbModel::recover`]: full free-DOF vector from a reduced one.
 //! - [`check`]: pyyeti-`cbcheck`-like report ([`CbCheck`], Serialize + Display).
 
 mod check;
 mod eigen;
 mod factor;
+mod interface;
 mod model;
 mod options;
 mod partition;
@@ -22,8 +26,9 @@ mod rigid;
 pub use check::{check, CbCheck, CheckOptions, FrequencyRow, RigidCheck};
 pub use eigen::dense_generalized_eigen;
 pub use factor::KiiOrdering;
+pub use interface::{polynomial_basis, InterfaceBasis, InterfaceDof};
 pub use model::{peak_rss_kib, CbModel, CbStats, EigenMethod, PhaseMemory};
 pub use options::CbOptions;
 pub use partition::Sparse;
-pub use reduce::{reduce, reduce_damped, reduce_ordered};
+pub use reduce::{reduce, reduce_damped, reduce_interface, reduce_ordered};
 pub use rigid::{dof_points, rigid_body_mass, DofPoint, RigidBodyMass};

@@ -21,7 +21,12 @@ pub enum EigenMethod {
 #[derive(Debug, Clone, Serialize)]
 pub struct CbStats {
     pub n_dofs: usize,
+    /// Boundary coordinates: kept boundary DOFs + interface coordinates.
     pub n_boundary: usize,
+    /// Boundary DOFs reduced to the interface basis (0: exact Craig–Bampton).
+    pub n_interface_dofs: usize,
+    /// Interface coordinates they were reduced to.
+    pub n_interface_coords: usize,
     pub n_interior: usize,
     pub n_modes: usize,
     /// Nonzeros of the interior stiffness K_ii.
@@ -77,9 +82,9 @@ pub fn peak_rss_kib() -> Option<u64> {
 
 /// A Craig–Bampton reduced component.
 ///
-/// Reduced coordinates are ordered `[u_b (boundary DOFs, in the order given), q (modal)]`;
-/// the transformation to the component's free DOFs is
-/// u_b = u_b, u_i = Ψ u_b + Φ q.
+/// Reduced coordinates are ordered `[u_b (boundary DOFs, in the order given), p (interface
+/// coordinates, with an interface basis), q (modal)]`; the transformation to the component's
+/// free DOFs is u_b = u_b, u_f = L p, u_i = Ψ [u_b; p] + Φ q.
 #[derive(Debug, Clone)]
 pub struct CbModel {
     /// Reduced stiffness [[K_bb + K_bi Ψ, 0], [0, diag ω²]].
@@ -88,15 +93,17 @@ pub struct CbModel {
     pub m: Mat<Real>,
     /// Reduced damping Tᵀ B T, when a damping matrix was given.
     pub b: Option<Mat<Real>>,
-    /// Boundary free-DOF indices, in reduced order.
+    /// Boundary free-DOF indices kept as physical coordinates, in reduced order.
     pub boundary: Vec<usize>,
+    /// Interface DOFs reduced to a basis, u_f = L p (None: exact Craig–Bampton).
+    pub interface: Option<super::InterfaceBasis>,
     /// Interior free-DOF indices (increasing), the rows of `psi` and `phi`.
     pub interior: Vec<usize>,
     /// Number of fixed-interface modes kept.
     pub n_modes: usize,
     /// Their natural frequencies, Hz, ascending.
     pub fixed_frequencies_hz: Vec<Real>,
-    /// Constraint modes Ψ = −K_ii⁻¹ K_ib (n_interior × n_boundary).
+    /// Constraint modes Ψ = −K_ii⁻¹ K_ib L̂ (n_interior × boundary coordinates).
     pub psi: Mat<Real>,
     /// Fixed-interface modes Φ, M_ii-orthonormal (n_interior × n_modes).
     pub phi: Mat<Real>,
@@ -106,15 +113,25 @@ pub struct CbModel {
 }
 
 impl CbModel {
-    /// Size of the reduced model (boundary DOFs + modes).
+    /// Size of the reduced model (boundary coordinates + modes).
     pub fn n_reduced(&self) -> usize {
-        self.boundary.len() + self.n_modes
+        self.n_boundary_coords() + self.n_modes
     }
 
-    /// Data recovery: the full free-DOF vector of a reduced vector `[u_b, q]`:
-    /// u_b on the boundary, Ψ u_b + Φ q inside.
+    /// Boundary coordinates: kept boundary DOFs + interface coordinates (the columns of Ψ).
+    pub fn n_boundary_coords(&self) -> usize {
+        self.boundary.len() + self.n_interface()
+    }
+
+    /// Interface coordinates (0 without an interface basis).
+    pub fn n_interface(&self) -> usize {
+        self.interface.as_ref().map_or(0, |f| f.n_coords())
+    }
+
+    /// Data recovery: the full free-DOF vector of a reduced vector `[u_b, p, q]`:
+    /// u_b on the kept boundary, L p on the interface DOFs, Ψ [u_b; p] + Φ q inside.
     pub fn recover(&self, x_reduced: &[Real]) -> Result<Vec<Real>, ReductionError> {
-        let nb = self.boundary.len();
+        let nb = self.n_boundary_coords();
         if x_reduced.len() != self.n_reduced() {
             return Err(ReductionError::ShapeMismatch {
                 what: "reduced vector".into(),
@@ -128,6 +145,12 @@ impl CbModel {
         let mut full = vec![0.0; self.n_dofs];
         for (&dof, &u) in self.boundary.iter().zip(ub) {
             full[dof] = u;
+        }
+        if let Some(f) = &self.interface {
+            let p = &ub[self.boundary.len()..];
+            for (r, &dof) in f.dofs.iter().enumerate() {
+                full[dof] = (0..p.len()).map(|c| f.basis[(r, c)] * p[c]).sum();
+            }
         }
         for (r, &dof) in self.interior.iter().enumerate() {
             let mut acc = 0.0;
@@ -144,10 +167,18 @@ impl CbModel {
 
     /// The transformation T (n_dofs × n_reduced) with u_full = T x_reduced (dense; small models).
     pub fn transformation(&self) -> Mat<Real> {
-        let nb = self.boundary.len();
+        let nb = self.n_boundary_coords();
         let mut t = Mat::<Real>::zeros(self.n_dofs, self.n_reduced());
         for (c, &dof) in self.boundary.iter().enumerate() {
             t[(dof, c)] = 1.0;
+        }
+        if let Some(f) = &self.interface {
+            let c0 = self.boundary.len();
+            for (r, &dof) in f.dofs.iter().enumerate() {
+                for c in 0..f.n_coords() {
+                    t[(dof, c0 + c)] = f.basis[(r, c)];
+                }
+            }
         }
         for (r, &dof) in self.interior.iter().enumerate() {
             for c in 0..nb {

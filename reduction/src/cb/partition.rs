@@ -131,7 +131,7 @@ pub(crate) fn check_square(a: &Sparse, n: usize, what: &str) -> Result<(), Reduc
 }
 
 /// Builds a CSC matrix from per-column (row, value) lists; sorts each column.
-fn from_columns(nrows: usize, cols: Vec<Vec<(usize, Real)>>) -> Sparse {
+pub(crate) fn from_columns(nrows: usize, cols: Vec<Vec<(usize, Real)>>) -> Sparse {
     let ncols = cols.len();
     let mut col_ptr = Vec::with_capacity(ncols + 1);
     let nnz: usize = cols.iter().map(Vec::len).sum();

@@ -2,6 +2,7 @@
 
 use super::eigen::{self, LanczosParams, Want};
 use super::factor::KiiFactor;
+use super::interface::{project_blocks, InterfaceBasis};
 use super::model::{peak_rss_kib, CbModel, CbStats, EigenMethod, PhaseMemory};
 use super::options::CbOptions;
 use super::partition::{at_b, check_square, split, sym_spmm, to_dense, Blocks, Partition, Sparse};
@@ -54,7 +55,6 @@ pub fn reduce_damped(
 /// nested-dissection ordering when it has at least 20 000 DOFs (AMD otherwise, and without
 /// coordinates). Same matrices to round-off; on solid meshes the factor is smaller and every
 /// solve (constraint modes, Lanczos) faster.
-#[allow(non_snake_case)]
 pub fn reduce_ordered(
     k: &Sparse,
     m: &Sparse,
@@ -63,7 +63,33 @@ pub fn reduce_ordered(
     opts: &CbOptions,
     dof_coords: Option<&[[Real; 3]]>,
 ) -> Result<CbModel, ReductionError> {
+    reduce_interface(k, m, b, boundary, None, opts, dof_coords)
+}
+
+/// [`reduce_ordered`] with part of the boundary reduced to an interface basis: the boundary
+/// is `boundary` (kept as physical coordinates) followed by `interface.dofs`, which move as
+/// u_f = L p (`interface.basis`). `None` is the exact Craig–Bampton reduction.
+///
+/// # Derivation
+/// The boundary coordinates are x_b = [u_kept, p] with u_b = blockdiag(I, L) x_b =: L̂ x_b.
+/// Craig–Bampton on x_b is the exact one restricted to boundary motions in the range of L̂:
+/// T = [[L̂, 0], [Ψ, Φ]] with Ψ = −K_ii⁻¹ K_ib L̂ (one solve per column of L̂). Every formula
+/// of [`reduce_damped`] holds with A_ib → A_ib L̂ and A_bb → L̂ᵀA_bb L̂, which is how the
+/// blocks are transformed before the reduction. The fixed-interface modes Φ do not change.
+#[allow(non_snake_case, clippy::too_many_arguments)]
+pub fn reduce_interface(
+    k: &Sparse,
+    m: &Sparse,
+    b: Option<&Sparse>,
+    boundary: &[usize],
+    interface: Option<&InterfaceBasis>,
+    opts: &CbOptions,
+    dof_coords: Option<&[[Real; 3]]>,
+) -> Result<CbModel, ReductionError> {
     opts.validate()?;
+    if let Some(f) = interface {
+        f.validate()?;
+    }
     if let Some(c) = dof_coords {
         if c.len() != k.nrows() {
             return Err(ReductionError::InvalidOption {
@@ -80,11 +106,22 @@ pub fn reduce_ordered(
     if let Some(b) = b {
         check_square(b, n, "damping B")?;
     }
-    let part = Partition::new(n, boundary)?;
-    let (ni, nb) = (part.interior.len(), part.n_boundary);
-    let mut Kp = split(k, &part);
-    let Mp = split(m, &part);
-    let Bp = b.map(|b| split(b, &part));
+    let all_boundary: Vec<usize> = match interface {
+        Some(f) => boundary.iter().chain(&f.dofs).copied().collect(),
+        None => boundary.to_vec(),
+    };
+    let part = Partition::new(n, &all_boundary)?;
+    drop(all_boundary);
+    let ni = part.interior.len();
+    let project = |blocks: Blocks| match interface {
+        Some(f) => project_blocks(blocks, boundary.len(), f.basis.as_ref()),
+        None => blocks,
+    };
+    let mut Kp = project(split(k, &part));
+    let Mp = project(split(m, &part));
+    let Bp = b.map(|b| project(split(b, &part)));
+    // Boundary coordinates: the kept DOFs and the interface coordinates.
+    let nb = Kp.bb.nrows();
     let mut mem = PhaseMemory {
         partition: peak_rss_kib(),
         ..Default::default()
@@ -212,6 +249,8 @@ pub fn reduce_ordered(
     let stats = CbStats {
         n_dofs: n,
         n_boundary: nb,
+        n_interface_dofs: interface.map_or(0, |f| f.dofs.len()),
+        n_interface_coords: interface.map_or(0, |f| f.n_coords()),
         n_interior: ni,
         n_modes: nq,
         nnz_kii,
@@ -239,6 +278,7 @@ pub fn reduce_ordered(
         m: mr,
         b: br,
         boundary: boundary.to_vec(),
+        interface: interface.cloned(),
         interior: part.interior,
         n_modes: nq,
         fixed_frequencies_hz: lambda

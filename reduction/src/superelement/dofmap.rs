@@ -32,6 +32,22 @@ pub enum DofKind {
     Grid { grid: u64, comp: u8 },
     /// Modal coordinate `index` (0-based) of its component's fixed-interface modes.
     Modal { index: usize },
+    /// Interface coordinate `index` (0-based) of its component's interface basis: the grid
+    /// DOFs of the interface are recovered from these ([`ReducedDofMap::recovered`]).
+    Interface { index: usize },
+}
+
+/// A grid DOF that is not a reduced DOF but a combination of them (the interface DOFs of an
+/// interface-reduced component): u = Σ_k `coefs[k]` · x[`dofs[k]`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RecoveredDof {
+    pub component: String,
+    pub grid: u64,
+    pub comp: u8,
+    /// Reduced DOF indices.
+    pub dofs: Vec<usize>,
+    /// Their coefficients.
+    pub coefs: Vec<f64>,
 }
 
 /// One DOF of the assembled reduced system.
@@ -50,6 +66,9 @@ pub struct ReducedDof {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReducedDofMap {
     pub dofs: Vec<ReducedDof>,
+    /// Grid DOFs recovered from the reduced DOFs (empty without interface reduction).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub recovered: Vec<RecoveredDof>,
 }
 
 impl ReducedDofMap {
@@ -69,6 +88,13 @@ impl ReducedDofMap {
                     comp: key.comp,
                 }
         })
+    }
+    /// The map of `dofs`, with no recovered grid DOFs.
+    pub fn new(dofs: Vec<ReducedDof>) -> Self {
+        Self {
+            dofs,
+            recovered: Vec::new(),
+        }
     }
     /// JSON text of the map (to be written next to OP4 files).
     pub fn to_json(&self) -> Result<String, serde_json::Error> {

@@ -4,4 +4,4 @@ mod assemble;
 mod dofmap;
 
 pub use assemble::{assemble, Assembly, AssemblyStats, Component};
-pub use dofmap::{DofKey, DofKind, ReducedDof, ReducedDofMap};
+pub use dofmap::{DofKey, DofKind, RecoveredDof, ReducedDof, ReducedDofMap};

@@ -70,6 +70,7 @@ impl StoredModel {
         };
         w(format!("{name}.op4"), &bytes)?;
         let map = ReducedDofMap {
+            recovered: Vec::new(),
             dofs: self
                 .dofs
                 .iter()

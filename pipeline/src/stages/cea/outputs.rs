@@ -143,7 +143,7 @@ fn punch_dofs(model: &ReducedModel) -> (Vec<PunchDof>, Vec<PunchDof>) {
         .iter()
         .filter_map(|d| match d.kind {
             DofKind::Grid { grid, .. } => Some(grid),
-            DofKind::Modal { .. } => None,
+            DofKind::Modal { .. } | DofKind::Interface { .. } => None,
         })
         .max()
         .unwrap_or(0);
@@ -158,7 +158,7 @@ fn punch_dofs(model: &ReducedModel) -> (Vec<PunchDof>, Vec<PunchDof>) {
         .iter()
         .map(|d| match d.kind {
             DofKind::Grid { grid, comp } => (grid, comp),
-            DofKind::Modal { .. } => {
+            DofKind::Modal { .. } | DofKind::Interface { .. } => {
                 k += 1;
                 (base + k, 0)
             }

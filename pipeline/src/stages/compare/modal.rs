@@ -21,12 +21,14 @@ type Real = f64;
 enum DofId {
     Grid(u64, u8),
     Modal(String, usize),
+    Interface(String, usize),
 }
 
 fn id(d: &ReducedDof) -> DofId {
     match d.kind {
         DofKind::Grid { grid, comp } => DofId::Grid(grid, comp),
         DofKind::Modal { index } => DofId::Modal(d.component.clone(), index),
+        DofKind::Interface { index } => DofId::Interface(d.component.clone(), index),
     }
 }
 
@@ -34,6 +36,9 @@ fn describe(d: &ReducedDof) -> String {
     match d.kind {
         DofKind::Grid { grid, comp } => format!("grid {grid} component {comp}"),
         DofKind::Modal { index } => format!("modal coordinate {index} of `{}`", d.component),
+        DofKind::Interface { index } => {
+            format!("interface coordinate {index} of `{}`", d.component)
+        }
     }
 }
 

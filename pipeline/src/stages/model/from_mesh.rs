@@ -32,6 +32,8 @@ struct Reduced {
     cb: CbModel,
     dofs: DofMap,
     keys: Vec<DofKey>,
+    /// Keys of the interface-reduced DOFs (rows of `cb.interface`; empty without).
+    interface_keys: Vec<DofKey>,
     load: Vec<Real>,
     check: Option<CbCheck>,
     n_nodes: usize,
@@ -241,6 +243,17 @@ pub fn build_from_mesh(
         .iter()
         .flat_map(|g| std::iter::once(g.pad_node).chain(g.rotor_nodes()))
         .collect();
+    // The contact pair of each rotor gap grid (the patch of an interface basis).
+    let mut patch_of: HashMap<u64, usize> = HashMap::new();
+    let mut first = 0;
+    for (pair, &count) in gap_pairs.iter().enumerate() {
+        for g in &gaps.gaps[first..first + count] {
+            for node in g.rotor_nodes() {
+                patch_of.entry(node).or_insert(pair);
+            }
+        }
+        first += count;
+    }
     let opts = scene.reduction.clone().unwrap_or_default();
     let cb_opts = opts.cb_options();
     let damping = scene.damping.clone().unwrap_or_default();
@@ -258,6 +271,7 @@ pub fn build_from_mesh(
                 &grids,
                 &global_fixed,
                 &gap_grids,
+                &patch_of,
                 &cb_opts,
                 opts.checks,
             )
@@ -283,7 +297,12 @@ pub fn build_from_mesh(
         .zip(&reduced)
         .zip(&b_mats)
         .map(|((spec, r), b)| {
-            let mut comp = Component::from_cb(spec.name.clone(), &r.cb, r.keys.clone());
+            let mut comp = Component::from_cb_interface(
+                spec.name.clone(),
+                &r.cb,
+                r.keys.clone(),
+                r.interface_keys.clone(),
+            );
             comp.b = any_b.then(|| b.as_ref());
             comp
         })
@@ -297,6 +316,7 @@ pub fn build_from_mesh(
     let n = asm.dofs.len();
     let mut grid_index: HashMap<DofKey, usize> = HashMap::new();
     let mut modal_index: HashMap<(&str, usize), usize> = HashMap::new();
+    let mut interface_index: HashMap<(&str, usize), usize> = HashMap::new();
     for (i, d) in asm.dofs.dofs.iter().enumerate() {
         match d.kind {
             DofKind::Grid { grid, comp } => {
@@ -305,18 +325,26 @@ pub fn build_from_mesh(
             DofKind::Modal { index } => {
                 modal_index.insert((d.component.as_str(), index), i);
             }
+            DofKind::Interface { index } => {
+                interface_index.insert((d.component.as_str(), index), i);
+            }
         }
     }
+    // Assembled index of component-reduced coordinate j ([boundary, interface, modal]).
+    let assembled_index = |name: &str, r: &Reduced, j: usize| -> Option<usize> {
+        let (nb, np) = (r.keys.len(), r.cb.n_interface());
+        if j < nb {
+            grid_index.get(&r.keys[j]).copied()
+        } else if j < nb + np {
+            interface_index.get(&(name, j - nb)).copied()
+        } else {
+            modal_index.get(&(name, j - nb - np)).copied()
+        }
+    };
     let mut p_brake = vec![0.0; n];
     for (spec, r) in scene.components.iter().zip(&reduced) {
-        let nb = r.keys.len();
         for (j, &v) in r.load.iter().enumerate() {
-            let idx = if j < nb {
-                grid_index.get(&r.keys[j]).copied()
-            } else {
-                modal_index.get(&(spec.name.as_str(), j - nb)).copied()
-            };
-            if let Some(i) = idx {
+            if let Some(i) = assembled_index(&spec.name, r, j) {
                 p_brake[i] += v;
             }
         }
@@ -330,7 +358,7 @@ pub fn build_from_mesh(
             name: spec.name.clone(),
             n_nodes: r.n_nodes,
             n_free_dofs: r.cb.n_dofs,
-            n_boundary_dofs: r.cb.boundary.len(),
+            n_boundary_dofs: r.cb.boundary.len() + r.interface_keys.len(),
             n_modes: r.cb.n_modes,
             fixed_interface_hz: r.cb.fixed_frequencies_hz.clone(),
             cb_stats: r.cb.stats.clone(),
@@ -351,15 +379,8 @@ pub fn build_from_mesh(
         .zip(meshes)
         .zip(&grids.grid_of)
         .map(|(((spec, r), mesh), grid_of)| {
-            let nb = r.keys.len();
             let assembled = (0..r.cb.n_reduced())
-                .map(|j| {
-                    if j < nb {
-                        grid_index.get(&r.keys[j]).copied()
-                    } else {
-                        modal_index.get(&(spec.name.as_str(), j - nb)).copied()
-                    }
-                })
+                .map(|j| assembled_index(&spec.name, &r, j))
                 .collect();
             ComponentRecovery {
                 name: spec.name.clone(),
@@ -403,6 +424,7 @@ fn reduce_component(
     grids: &Grids,
     global_fixed: &BTreeSet<(u64, usize)>,
     gap_grids: &std::collections::HashSet<u64>,
+    patch_of: &HashMap<u64, usize>,
     cb_opts: &squeal_reduction::CbOptions,
     run_checks: bool,
 ) -> Result<Reduced, PipelineError> {
@@ -428,19 +450,44 @@ fn reduce_component(
         .zip(gid)
         .map(|(&shared, g)| shared || gap_grids.contains(g))
         .collect();
+    // With `interface`, the gap nodes not shared with another component (each in its
+    // contact pair's patch) move in the interface basis instead of being boundary DOFs.
+    let interface_patch = |node: usize| -> Option<usize> {
+        spec.interface.as_ref()?;
+        if grids.shared[c][node] {
+            return None;
+        }
+        patch_of.get(&gid[node]).copied()
+    };
     let mut boundary = Vec::new();
     let mut keys = Vec::new();
+    let (mut iface_dofs, mut iface_keys, mut iface_points) = (Vec::new(), Vec::new(), Vec::new());
     for (node, &b) in is_boundary.iter().enumerate() {
         if !b {
             continue;
         }
+        let patch = interface_patch(node);
         for k in 0..3 {
             if let Some(i) = dofs.free(node, k) {
-                boundary.push(i);
-                keys.push(DofKey {
+                let key = DofKey {
                     grid: gid[node],
                     comp: k as u8 + 1,
-                });
+                };
+                match patch {
+                    Some(p) => {
+                        iface_dofs.push(i);
+                        iface_keys.push(key);
+                        iface_points.push(cb::InterfaceDof {
+                            point: mesh.nodes[node],
+                            direction: k,
+                            patch: p,
+                        });
+                    }
+                    None => {
+                        boundary.push(i);
+                        keys.push(key);
+                    }
+                }
             }
         }
     }
@@ -450,8 +497,25 @@ fn reduce_component(
     };
     // DOF coordinates: K_ii of a large component is factorised in nested-dissection order.
     let coords = squeal_fe::dof_coordinates(mesh, &dofs);
-    let model = cb::reduce_ordered(&asm.k, &asm.m, None, &boundary, cb_opts, Some(&coords))
-        .map_err(red_err("Craig–Bampton"))?;
+    let interface = match &spec.interface {
+        Some(f) => Some(cb::InterfaceBasis {
+            basis: cb::polynomial_basis(&iface_points, f.degree)
+                .map_err(red_err("interface basis"))?,
+            dofs: iface_dofs,
+        }),
+        None => None,
+    };
+    let model = cb::reduce_interface(
+        &asm.k,
+        &asm.m,
+        None,
+        &boundary,
+        interface.as_ref(),
+        cb_opts,
+        Some(&coords),
+    )
+    .map_err(red_err("Craig–Bampton"))?;
+    drop(interface);
     drop(coords);
     let check = if run_checks {
         let points = cb::dof_points(&mesh.nodes, dofs.n_free(), |i| dofs.dof_of(i));
@@ -501,10 +565,21 @@ fn reduce_component(
             }
         }
     }
-    let nb = model.boundary.len();
+    // f_r = Tᵀ f = [f_b; Lᵀ f_f; 0] + [Ψᵀ f_i; Φᵀ f_i].
+    let nb = model.n_boundary_coords();
     let mut load = vec![0.0; model.n_reduced()];
     for (j, &d) in model.boundary.iter().enumerate() {
         load[j] = f[d];
+    }
+    if let Some(iface) = &model.interface {
+        let nk = model.boundary.len();
+        for (r, &d) in iface.dofs.iter().enumerate() {
+            if f[d] != 0.0 {
+                for c in 0..iface.n_coords() {
+                    load[nk + c] += iface.basis[(r, c)] * f[d];
+                }
+            }
+        }
     }
     for (r, &d) in model.interior.iter().enumerate() {
         let fi = f[d];
@@ -522,6 +597,7 @@ fn reduce_component(
         cb: model,
         dofs,
         keys,
+        interface_keys: iface_keys,
         load,
         check,
         n_nodes: mesh.nodes.len(),

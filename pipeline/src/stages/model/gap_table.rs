@@ -234,6 +234,7 @@ fn parse_csv(text: &str) -> Result<(Vec<Gap>, Vec<String>), String> {
             } else {
                 None
             },
+            rotor_rows: Vec::new(),
         });
         places.push(format!("line {ln}"));
     }

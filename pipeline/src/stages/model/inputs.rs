@@ -63,11 +63,52 @@ pub(crate) fn check_dofmap(map: &ReducedDofMap, path: &Path) -> Result<(), Pipel
                 (Some(d.component.as_str()), index as u64, 0),
                 format!("modal coordinate {index} of component `{}`", d.component),
             ),
+            DofKind::Interface { index } => (
+                (Some(d.component.as_str()), index as u64, 1),
+                format!(
+                    "interface coordinate {index} of component `{}`",
+                    d.component
+                ),
+            ),
         };
         if let Some(first) = seen.insert(key, i) {
             return Err(bad(
                 path,
                 format!("dofs[{first}] and dofs[{i}] are both {what}: a DOF may be listed once"),
+            ));
+        }
+    }
+    // Recovered grid DOFs: rows over existing DOFs, finite, not also a reduced DOF.
+    let n = map.dofs.len();
+    for (i, r) in map.recovered.iter().enumerate() {
+        let what = format!("recovered[{i}] (grid {} component {})", r.grid, r.comp);
+        if !(1..=6).contains(&r.comp) || seen.contains_key(&(None, r.grid, r.comp as u64)) {
+            return Err(bad(
+                path,
+                format!("{what}: component not in 1..6, or the grid DOF is also a reduced DOF"),
+            ));
+        }
+        if r.dofs.len() != r.coefs.len() {
+            return Err(bad(
+                path,
+                format!(
+                    "{what}: {} DOFs but {} coefficients",
+                    r.dofs.len(),
+                    r.coefs.len()
+                ),
+            ));
+        }
+        if let Some((&d, &c)) = r
+            .dofs
+            .iter()
+            .zip(&r.coefs)
+            .find(|(&d, c)| d >= n || !c.is_finite())
+        {
+            return Err(bad(
+                path,
+                format!(
+                    "{what}: DOF {d} (of {n}) with coefficient {c} is out of range or not finite"
+                ),
             ));
         }
     }

@@ -21,11 +21,11 @@ use crate::progress::Progress;
 use crate::scene::{ModelSource, Scene};
 use faer::Mat;
 use serde::Serialize;
-use squeal_contact::GapSet;
+use squeal_contact::{GapSet, RotorRow};
 use squeal_fe::DofMap;
 use squeal_meshes::Mesh;
 use squeal_reduction::cb::CbCheck;
-use squeal_reduction::superelement::{DofKey, DofKind, ReducedDofMap};
+use squeal_reduction::superelement::{DofKey, DofKind, RecoveredDof, ReducedDofMap};
 use squeal_reduction::CbModel;
 use std::collections::HashMap;
 
@@ -128,7 +128,7 @@ impl ReducedModel {
             .enumerate()
             .filter_map(|(i, d)| match d.kind {
                 DofKind::Grid { grid, comp } => Some((DofKey { grid, comp }, i)),
-                DofKind::Modal { .. } => None,
+                DofKind::Modal { .. } | DofKind::Interface { .. } => None,
             })
             .collect()
     }
@@ -137,14 +137,31 @@ impl ReducedModel {
     /// an error naming it.
     pub fn assign_gap_dofs(&mut self) -> Result<(), PipelineError> {
         let index = self.grid_index();
+        let recovered: HashMap<DofKey, &RecoveredDof> = self
+            .dofs
+            .recovered
+            .iter()
+            .map(|r| {
+                (
+                    DofKey {
+                        grid: r.grid,
+                        comp: r.comp,
+                    },
+                    r,
+                )
+            })
+            .collect();
         let mut missing = Vec::new();
         for g in &self.gaps.gaps {
-            for node in std::iter::once(g.pad_node).chain(g.rotor_nodes()) {
+            // A pad node must have grid DOFs; a rotor node may be recovered instead.
+            let pad = std::iter::once((g.pad_node, false));
+            for (node, may_recover) in pad.chain(g.rotor_nodes().into_iter().map(|n| (n, true))) {
                 if (1..=3).all(|c| {
-                    !index.contains_key(&DofKey {
+                    let key = DofKey {
                         grid: node,
                         comp: c,
-                    })
+                    };
+                    !(index.contains_key(&key) || may_recover && recovered.contains_key(&key))
                 }) {
                     missing.push(node);
                 }
@@ -159,6 +176,11 @@ impl ReducedModel {
         }
         self.gaps
             .assign_dofs(|grid| [1u8, 2, 3].map(|comp| index.get(&DofKey { grid, comp }).copied()));
+        if !recovered.is_empty() {
+            for g in &mut self.gaps.gaps {
+                g.rotor_rows = recovery_rows(g, &index, &recovered);
+            }
+        }
         Ok(())
     }
 
@@ -176,6 +198,51 @@ impl ReducedModel {
             .map(|&l| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
             .collect())
     }
+}
+
+/// The rotor point of gap `g` as rows over the reduced vector when any of its rotor nodes is
+/// recovered (an interface-reduced rotor), else none: u_k = Σ_a w_a u_{a,k} with u_{a,k} the
+/// grid DOF itself or its recovery row, summed per reduced DOF.
+fn recovery_rows(
+    g: &squeal_contact::Gap,
+    index: &HashMap<DofKey, usize>,
+    recovered: &HashMap<DofKey, &RecoveredDof>,
+) -> Vec<RotorRow> {
+    let nodes: Vec<(u64, Real)> = match &g.tie {
+        None => vec![(g.rotor_node, 1.0)],
+        Some(t) => t
+            .nodes
+            .iter()
+            .copied()
+            .zip(t.weights.iter().copied())
+            .filter(|&(_, w)| w != 0.0)
+            .collect(),
+    };
+    let key = |grid, k: usize| DofKey {
+        grid,
+        comp: k as u8 + 1,
+    };
+    if !nodes
+        .iter()
+        .any(|&(n, _)| (0..3).any(|k| recovered.contains_key(&key(n, k))))
+    {
+        return Vec::new();
+    }
+    let mut rows: std::collections::BTreeMap<usize, [Real; 3]> = Default::default();
+    for (n, w) in nodes {
+        for k in 0..3 {
+            if let Some(&i) = index.get(&key(n, k)) {
+                rows.entry(i).or_default()[k] += w;
+            } else if let Some(r) = recovered.get(&key(n, k)) {
+                for (&i, &c) in r.dofs.iter().zip(&r.coefs) {
+                    rows.entry(i).or_default()[k] += w * c;
+                }
+            }
+        }
+    }
+    rows.into_iter()
+        .map(|(dof, weights)| RotorRow { dof, weights })
+        .collect()
 }
 
 /// Symmetric part (A + Aᵀ)/2.

@@ -42,7 +42,7 @@ fn punch_dofs(dofs: &ReducedDofMap) -> Vec<(u64, u8)> {
         .iter()
         .filter_map(|d| match d.kind {
             DofKind::Grid { grid, .. } => Some(grid),
-            DofKind::Modal { .. } => None,
+            DofKind::Modal { .. } | DofKind::Interface { .. } => None,
         })
         .max()
         .unwrap_or(0);
@@ -55,7 +55,7 @@ fn punch_dofs(dofs: &ReducedDofMap) -> Vec<(u64, u8)> {
         .iter()
         .map(|d| match d.kind {
             DofKind::Grid { grid, comp } => (grid, comp),
-            DofKind::Modal { .. } => {
+            DofKind::Modal { .. } | DofKind::Interface { .. } => {
                 k += 1;
                 (base + k, 0)
             }

@@ -84,7 +84,7 @@ impl FaceMonitor {
             .map(|g| {
                 g.rotor_terms()
                     .flat_map(|(w, dofs)| {
-                        (0..3).filter_map(move |k| dofs[k].map(|d| (d, w * g.normal[k])))
+                        (0..3).filter_map(move |k| dofs[k].map(|d| (d, w[k] * g.normal[k])))
                     })
                     .collect()
             })
