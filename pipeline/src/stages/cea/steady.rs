@@ -254,6 +254,7 @@ mod tests {
             p0: 0.1,
             temperature: 0.0,
             tie: None,
+            rotor_rows: Vec::new(),
         };
         let gaps = GapSet::new(
             vec![gap(0, 0.0), gap(6, 1.0)],
