@@ -540,3 +540,135 @@ fn overhanging_pad_nodes_are_an_error_or_excluded_with_a_warning() {
         .to_string();
     assert!(e.contains("contact[0].extension"), "{e}");
 }
+
+// ------------------------------------------- pad position sweep: the rotor reduced once
+
+/// A block rotor (1.4 × 1.4, 5×5 hex8 cells) under a smaller block pad (1 × 1, 3×3 cells)
+/// tied by surface pairing, the rotor's whole top face its Craig–Bampton boundary
+/// (`boundary = "contact_faces"`), the pad turned by `rotate` (a `rotate_deg` line or "").
+fn turning_pad(rotate: &str) -> String {
+    format!(
+        r#"title = "pad turning on a block rotor"
+units = "consistent"
+
+[[components]]
+name = "rotor"
+element = "hex8"
+geometry = {{ kind = "block", origin = [1.8, -0.7, -0.2], lx = 1.4, ly = 1.4, lz = 0.2, nx = 5, ny = 5, nz = 1 }}
+material = {{ young = 1.0e4, poisson = 0.3, density = 1.0 }}
+fixed = [{{ set = "z0" }}]
+boundary = "contact_faces"
+
+[[components]]
+name = "pad"
+element = "hex8"
+geometry = {{ kind = "block", origin = [2.0, -0.5, 0.0], lx = 1.0, ly = 1.0, lz = 0.2, nx = 3, ny = 3, nz = 1 }}
+material = {{ young = 5.0e3, poisson = 0.3, density = 1.0 }}
+fixed = [{{ set = "x0", dofs = "xy" }}]
+{rotate}
+
+[reduction]
+n_modes = 6
+
+[[contact]]
+pad = "pad"
+pad_faces = "z0"
+rotor = "rotor"
+rotor_faces = "z1"
+pairing = "surface"
+p0 = 1.0
+
+[friction]
+law = {{ kind = "constant", mu = 0.5 }}
+
+[rotor]
+rpm = 10.0
+
+[loads]
+pmax = 2.0
+pressure = [{{ component = "pad", faces = "z1", pressure = 1.0 }}]
+
+[cea]
+at = "steady_state"
+"#
+    )
+}
+
+/// A sweep over the pad's angular position through the model cache reduces the rotor once:
+/// turning the pad (by 3°, a continuous parameter) changes the pad's reduction and the gaps
+/// but not the rotor's Craig–Bampton inputs, so the rotor's reduction is read from the
+/// component cache (hit), and the model equals, bit for bit, the one built without any cache.
+/// Angle 0 written out is the unrotated scene (same key, same model); a full turn (360°) is
+/// the unrotated model to round-off.
+#[test]
+fn pad_angle_sweep_reuses_the_rotor_reduction() {
+    use squeal_pipeline::stages::model::cache::key::ModelKey;
+    use squeal_pipeline::stages::model::ModelCache;
+    let d = tmp("turning");
+    let cache = ModelCache::new(d.join("cache"));
+    let scene = |rotate: &str| Scene::from_toml_str(&turning_pad(rotate), d.clone(), &[]).unwrap();
+    let run = RunDir::create(&d.join("run")).unwrap();
+    let q = Progress::quiet();
+    let use_of = |m: &ReducedModel, name: &str| {
+        m.components
+            .iter()
+            .find(|c| c.name == name)
+            .and_then(|c| c.reduction_cache.clone())
+            .expect("built through the cache")
+    };
+
+    let s0 = scene("");
+    let (m0, u0) = cache.get_or_build(&s0, &run, &q).unwrap();
+    assert!(!u0.hit);
+    let (r0, p0) = (use_of(&m0, "rotor"), use_of(&m0, "pad"));
+    assert!(!r0.hit && !p0.hit, "first build reduces both");
+    // The rotor's boundary is its whole top face: 6×6 nodes × 3 DOFs.
+    let rotor = m0.components.iter().find(|c| c.name == "rotor").unwrap();
+    assert_eq!(rotor.n_boundary_dofs, 36 * 3);
+
+    let s3 = scene("rotate_deg = 3.0");
+    let (m3, u3) = cache.get_or_build(&s3, &run, &q).unwrap();
+    assert!(!u3.hit, "a new pad angle is a new model");
+    let (r3, p3) = (use_of(&m3, "rotor"), use_of(&m3, "pad"));
+    assert!(r3.hit, "the rotor's reduction is read back, not recomputed");
+    assert_eq!(r3.key, r0.key);
+    assert!(
+        !p3.hit && p3.key != p0.key,
+        "the turned pad is reduced anew"
+    );
+    assert!(m3
+        .components
+        .iter()
+        .all(|c| c.cb_stats.is_none() == (c.name == "rotor")));
+    let entries = std::fs::read_dir(d.join("cache").join("components"))
+        .unwrap()
+        .filter(|e| {
+            let n = e.as_ref().unwrap().file_name();
+            !n.to_string_lossy().starts_with('.')
+        })
+        .count();
+    assert_eq!(entries, 3, "rotor once, pad at 0° and 3°");
+
+    // The same model as built without any cache, bit for bit, and the same CEA.
+    let fresh = model::build(&s3, &run, &q).unwrap();
+    assert!(fresh.k == m3.k && fresh.m == m3.m && fresh.p_brake == m3.p_brake);
+    assert_eq!(fresh.gaps.gaps, m3.gaps.gaps);
+    let (ra, rb) = (roots(&s3, &fresh), roots(&s3, &m3));
+    assert!(root_error(&ra, &rb, ra.len()) == 0.0);
+    // The gaps moved with the pad: the pad turned, the rotor points followed on its faces.
+    assert_ne!(m0.gaps.gaps[0].coords, m3.gaps.gaps[0].coords);
+
+    // Angle 0 written out is the unrotated scene.
+    let z = scene("rotate_deg = 0.0");
+    assert_eq!(ModelKey::of(&z).unwrap(), ModelKey::of(&s0).unwrap());
+    let (mz, uz) = cache.get_or_build(&z, &run, &q).unwrap();
+    assert!(uz.hit && mz.k == m0.k && mz.m == m0.m);
+    // A full turn: the unrotated model to round-off (sin 2π ≈ −2.4e-16).
+    let full = model::build(&scene("rotate_deg = 360.0"), &run, &q).unwrap();
+    let base = model::build(&s0, &run, &q).unwrap();
+    let rel = |a: &faer::Mat<f64>, b: &faer::Mat<f64>| (a - b).norm_l2() / b.norm_l2();
+    assert!(rel(&full.k, &base.k) < 1e-12 && rel(&full.m, &base.m) < 1e-12);
+    let (rf, rz) = (roots(&s0, &full), roots(&s0, &base));
+    let e = root_error(&rf, &rz, rf.len());
+    assert!(e < 1e-10, "{e}");
+}
