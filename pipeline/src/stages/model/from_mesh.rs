@@ -20,7 +20,8 @@ use crate::warning::Warning;
 use faer::Mat;
 use rayon::prelude::*;
 use squeal_contact::{
-    match_gaps, tie_gaps, ContactNode, FaceKind, FrictionLaw, GapSet, MatchOptions, RotorFace,
+    match_gaps, mortar_gaps, tie_gaps, ContactNode, FaceKind, FrictionLaw, GapSet, MatchOptions,
+    RotorFace,
 };
 use squeal_fe::{assemble, pressure_load, AssemblyOptions, DofMap};
 use squeal_meshes::{CellBlock, CellKind, Mesh};
@@ -186,7 +187,7 @@ fn match_pairs(
                     }
                 })?
             }
-            Pairing::Surface => {
+            Pairing::Surface | Pairing::Mortar => {
                 let block = rmesh.faces.get(&pair.rotor_faces).ok_or_else(no_set)?;
                 let faces = rotor_faces(block, rmesh, &grids.grid_of[cr]).map_err(|m| {
                     PipelineError::Scene {
@@ -197,13 +198,39 @@ fn match_pairs(
                         ),
                     }
                 })?;
-                let out =
-                    tie_gaps(&pad_nodes, &faces, &opts, &pair.tie_options()).map_err(|source| {
-                        PipelineError::Contact {
-                            what: what(),
-                            source,
+                let contact_err = |source| PipelineError::Contact {
+                    what: what(),
+                    source,
+                };
+                let out = if pair.pairing == Pairing::Mortar {
+                    let pmesh = &meshes[cp];
+                    let block =
+                        pmesh
+                            .faces
+                            .get(&pair.pad_faces)
+                            .ok_or_else(|| PipelineError::Scene {
+                                field: format!("contact[{i}].pad_faces"),
+                                message: format!(
+                                "mortar pairing integrates over the pad's faces: component `{}` \
+                                 has no face set `{}`",
+                                pair.pad, pair.pad_faces
+                            ),
+                            })?;
+                    let pad_faces = rotor_faces(block, pmesh, &grids.grid_of[cp]).map_err(|m| {
+                        PipelineError::Scene {
+                            field: format!("contact[{i}].pad_faces"),
+                            message: format!(
+                                "face set `{}` of `{}`: {m}",
+                                pair.pad_faces, pair.pad
+                            ),
                         }
                     })?;
+                    mortar_gaps(&pad_nodes, &pad_faces, &faces, &opts, &pair.tie_options())
+                        .map_err(contact_err)?
+                        .0
+                } else {
+                    tie_gaps(&pad_nodes, &faces, &opts, &pair.tie_options()).map_err(contact_err)?
+                };
                 if !out.unmatched.is_empty() {
                     let list: Vec<String> = out.unmatched.iter().map(|r| r.to_string()).collect();
                     warnings.push(Warning {
