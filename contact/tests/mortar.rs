@@ -163,7 +163,8 @@ fn non_matching_weights_reproduce_linear_fields_and_pressure() {
             pn[i - rn.len()].1
         }
     };
-    let motions: Vec<Box<dyn Fn([f64; 3]) -> [f64; 3]>> = vec![
+    type Motion = Box<dyn Fn([f64; 3]) -> [f64; 3]>;
+    let motions: Vec<Motion> = vec![
         Box::new(|_| [1.0, 0.0, 0.0]),
         Box::new(|_| [0.0, 1.0, 0.0]),
         Box::new(|_| [0.0, 0.0, 1.0]),

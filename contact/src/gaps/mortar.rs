@@ -180,7 +180,8 @@ fn invert4(m: [[Real; 4]; 4]) -> Option<[[Real; 4]; 4]> {
     let scale = m.iter().flatten().fold(0.0f64, |s, v| s.max(v.abs()));
     for c in 0..4 {
         let p = (c..4).max_by(|&x, &y| a[x][c].abs().total_cmp(&a[y][c].abs()))?;
-        if !(a[p][c].abs() > 1e-14 * scale) {
+        let big = a[p][c].abs() > 1e-14 * scale;
+        if !big {
             return None;
         }
         a.swap(c, p);
@@ -417,7 +418,7 @@ pub fn mortar_gaps(
             Some(p) => (p.xi, p.distance),
             None => ([Real::NAN; 2], Real::NAN),
         };
-        if !(distance <= tol) {
+        if distance.is_nan() || distance > tol {
             unmatched.push(report(format!(
                 "farther than {tol:e} from its main rotor face {} (distance {distance:.3e})",
                 f.id
