@@ -114,7 +114,8 @@ enum Verb {
         #[command(flatten)]
         run: RunArgs,
         /// The parameter: a dotted scene key as --set writes it (e.g. friction.law.mu0,
-        /// components.0.geometry.thickness, contact.0.p0, rotor.rpm).
+        /// components.0.geometry.thickness, contact.0.p0, rotor.rpm); several keys separated by
+        /// commas are all set to each value (components.1.rotate_deg,components.2.rotate_deg).
         #[arg(long, value_name = "DOTTED.KEY")]
         param: String,
         /// Values, comma-separated (TOML values: 0.4, 32, hex8).

@@ -203,12 +203,25 @@ fn damaged_cache_entries_are_rebuilt() {
     let (m, u) = cache.get_or_build(&scene, &run_dir, &quiet()).unwrap();
     assert!(u.hit && u.note.is_none(), "{u:?}");
     assert!(m.k == first.k && m.gaps == first.gaps);
-    // No temporary or discarded folders are left behind.
-    let names: Vec<String> = std::fs::read_dir(dir.join("cache"))
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    assert_eq!(names, vec![u.key], "{names:?}");
+    // No temporary or discarded folders are left behind (beside the entry, the component
+    // reductions' folder `components/`, whose entries are complete ones only).
+    let list = |d: PathBuf| -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    };
+    let names = list(dir.join("cache"));
+    let mut want = vec![u.key, "components".to_string()];
+    want.sort();
+    assert_eq!(names, want, "{names:?}");
+    let comps = list(dir.join("cache").join("components"));
+    assert!(
+        !comps.is_empty() && comps.iter().all(|n| !n.starts_with('.')),
+        "{comps:?}"
+    );
 }
 
 #[test]

@@ -34,6 +34,6 @@ pub use error::{ContactError, NodeReport};
 pub use forces::GapOutput;
 pub use friction::{FrictionEval, FrictionLaw};
 pub use gaps::{
-    match_gaps, tie_gaps, ContactNode, FaceKind, FaceTie, Gap, GapSet, MatchOptions, RotorFace,
-    RotorRow, TieOptions, TieOutcome, TieStats, Unmatched, FACE_SNAP,
+    match_gaps, mortar_gaps, tie_gaps, ContactNode, FaceKind, FaceTie, Gap, GapSet, MatchOptions,
+    MortarStats, RotorFace, RotorRow, TieOptions, TieOutcome, TieStats, Unmatched, FACE_SNAP,
 };

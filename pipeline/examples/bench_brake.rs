@@ -314,7 +314,7 @@ fn run_pipeline(
         .map(|c| {
             json!({
                 "component": c.name, "n_free_dofs": c.n_free_dofs, "n_nodes": c.n_nodes,
-                "n_boundary_coords": c.cb_stats.n_boundary, "n_modes": c.n_modes,
+                "n_boundary_coords": c.cb_stats.as_ref().map(|s| s.n_boundary), "n_modes": c.n_modes,
                 "highest_fixed_interface_hz": c.fixed_interface_hz.last(),
                 "cb_stats": c.cb_stats,
             })

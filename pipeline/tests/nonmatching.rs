@@ -10,7 +10,9 @@
 
 use faer::linalg::solvers::Solve;
 use faer::Mat;
-use squeal_contact::{tie_gaps, ContactNode, FaceKind, MatchOptions, RotorFace, TieOptions};
+use squeal_contact::{
+    mortar_gaps, tie_gaps, ContactNode, FaceKind, MatchOptions, RotorFace, TieOptions,
+};
 use squeal_fe::{assemble, face_areas, pressure_load, AssemblyOptions, DofMap, Material};
 use squeal_meshes::structured::box_mesh;
 use squeal_meshes::{CellKind, Mesh};
@@ -55,10 +57,16 @@ struct Patch {
 /// interface carries p on every point, so each pad node's multiplier is −p·A_g (A_g its
 /// consistent area ∫N_g dA) and each rotor top node receives −p ∫N_a dA.
 fn patch(nr: usize, np: usize, kind: CellKind) -> Patch {
+    patch_with(nr, np, kind, kind, false)
+}
+
+/// [`patch`] with the rotor's and the pad's cell kinds apart, tied by the node-to-surface
+/// tie or (`mortar`) by [`mortar_gaps`] over the pad's bottom faces.
+fn patch_with(nr: usize, np: usize, kind: CellKind, pad_kind: CellKind, mortar: bool) -> Patch {
     let (h, p, nu) = (0.5, 3.0, 0.3);
     let (er, ep) = (2.0, 1.0);
     let rotor = shifted(box_mesh(1.0, 1.0, h, nr, nr, 1, kind), -h);
-    let pad = box_mesh(1.0, 1.0, h, np, np, 1, kind);
+    let pad = box_mesh(1.0, 1.0, h, np, np, 1, pad_kind);
     let mat = |e: f64| Material {
         young: e,
         poisson: nu,
@@ -101,14 +109,36 @@ fn patch(nr: usize, np: usize, kind: CellKind) -> Patch {
             coords: block.cell(f).iter().map(|&i| rotor.nodes[i]).collect(),
         })
         .collect();
-    let mut gaps = tie_gaps(
-        &pad_nodes,
-        &faces,
-        &MatchOptions::default(),
-        &TieOptions::default(),
-    )
-    .unwrap()
-    .gaps;
+    let mut gaps = if mortar {
+        let pb = &pad.faces["z0"];
+        let pad_faces: Vec<RotorFace> = (0..pb.len())
+            .map(|f| RotorFace {
+                id: f as u64,
+                kind: FaceKind::Quad4,
+                nodes: pb.cell(f).iter().map(|&i| 100_000 + i as u64).collect(),
+                coords: pb.cell(f).iter().map(|&i| pad.nodes[i]).collect(),
+            })
+            .collect();
+        mortar_gaps(
+            &pad_nodes,
+            &pad_faces,
+            &faces,
+            &MatchOptions::default(),
+            &TieOptions::default(),
+        )
+        .unwrap()
+        .0
+        .gaps
+    } else {
+        tie_gaps(
+            &pad_nodes,
+            &faces,
+            &MatchOptions::default(),
+            &TieOptions::default(),
+        )
+        .unwrap()
+        .gaps
+    };
     gaps.assign_dofs(|id| {
         if id >= 100_000 {
             let i = (id - 100_000) as usize;
@@ -228,6 +258,32 @@ fn general_non_matching_interface_transmits_resultant_and_moment_exactly() {
     let r = patch(3, 2, CellKind::Hex8);
     eprintln!("2x2 pad on 3x3 rotor: {r:?} (p = 3)");
     assert!(r.resultant_err < 1e-10 && r.moment_err < 1e-10, "{r:?}");
+}
+
+/// The mortar tie (dual Lagrange multipliers on the pad's faces) passes the patch test
+/// exactly where the node-to-surface tie does not: 2×2 pad faces on 3×3 rotor faces (0.73
+/// largest displacement error with the node-to-surface tie), and 2×2 on 4×4; hex8 rotor, and a
+/// hex20 rotor under the hex8 pad (serendipity rotor faces). Reference: the exact
+/// uniform-stress solution (see [`patch`]); multipliers −p·D_j, rotor nodal forces
+/// −p ∫N_a dA, displacements, all to round-off.
+#[test]
+fn mortar_tie_passes_the_patch_test_on_any_non_matching_interface() {
+    for (nr, np, rk) in [
+        (3, 2, CellKind::Hex8),
+        (4, 2, CellKind::Hex8),
+        (3, 2, CellKind::Hex20),
+        (2, 3, CellKind::Hex8),
+    ] {
+        let r = patch_with(nr, np, rk, CellKind::Hex8, true);
+        eprintln!("mortar: {np}x{np} hex8 pad on {nr}x{nr} {rk:?} rotor: {r:?}");
+        assert!(r.pad_force_err < 1e-10, "{r:?}");
+        assert!(r.rotor_force_err < 1e-10, "{r:?}");
+        assert!(r.displacement_err < 1e-10, "{r:?}");
+        assert!(r.resultant_err < 1e-10 && r.moment_err < 1e-10, "{r:?}");
+    }
+    // The node-to-surface tie on the same 2×2-on-3×3 interface, for contrast (README: 0.73).
+    let r = patch(3, 2, CellKind::Hex8);
+    assert!(r.displacement_err > 0.1, "{r:?}");
 }
 
 // ------------------------------------------------------------- meshed scenes (gmsh)
@@ -539,4 +595,211 @@ fn overhanging_pad_nodes_are_an_error_or_excluded_with_a_warning() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("contact[0].extension"), "{e}");
+}
+
+// ------------------------------------------- pad position sweep: the rotor reduced once
+
+/// A block rotor (1.4 × 1.4, 5×5 hex8 cells) under a smaller block pad (1 × 1, 3×3 cells)
+/// tied by surface pairing, the rotor's whole top face its Craig–Bampton boundary
+/// (`boundary = "contact_faces"`), the pad turned by `rotate` (a `rotate_deg` line or "").
+fn turning_pad(rotate: &str) -> String {
+    format!(
+        r#"title = "pad turning on a block rotor"
+units = "consistent"
+
+[[components]]
+name = "rotor"
+element = "hex8"
+geometry = {{ kind = "block", origin = [1.8, -0.7, -0.2], lx = 1.4, ly = 1.4, lz = 0.2, nx = 5, ny = 5, nz = 1 }}
+material = {{ young = 1.0e4, poisson = 0.3, density = 1.0 }}
+fixed = [{{ set = "z0" }}]
+boundary = "contact_faces"
+
+[[components]]
+name = "pad"
+element = "hex8"
+geometry = {{ kind = "block", origin = [2.0, -0.5, 0.0], lx = 1.0, ly = 1.0, lz = 0.2, nx = 3, ny = 3, nz = 1 }}
+material = {{ young = 5.0e3, poisson = 0.3, density = 1.0 }}
+fixed = [{{ set = "x0", dofs = "xy" }}]
+{rotate}
+
+[reduction]
+n_modes = 6
+
+[[contact]]
+pad = "pad"
+pad_faces = "z0"
+rotor = "rotor"
+rotor_faces = "z1"
+pairing = "surface"
+p0 = 1.0
+
+[friction]
+law = {{ kind = "constant", mu = 0.5 }}
+
+[rotor]
+rpm = 10.0
+
+[loads]
+pmax = 2.0
+pressure = [{{ component = "pad", faces = "z1", pressure = 1.0 }}]
+
+[cea]
+at = "steady_state"
+"#
+    )
+}
+
+/// A sweep over the pad's angular position through the model cache reduces the rotor once:
+/// turning the pad (by 3°, a continuous parameter) changes the pad's reduction and the gaps
+/// but not the rotor's Craig–Bampton inputs, so the rotor's reduction is read from the
+/// component cache (hit), and the model equals, bit for bit, the one built without any cache.
+/// Angle 0 written out is the unrotated scene (same key, same model); a full turn (360°) is
+/// the unrotated model to round-off.
+#[test]
+fn pad_angle_sweep_reuses_the_rotor_reduction() {
+    use squeal_pipeline::stages::model::cache::key::ModelKey;
+    use squeal_pipeline::stages::model::ModelCache;
+    let d = tmp("turning");
+    let cache = ModelCache::new(d.join("cache"));
+    let scene = |rotate: &str| Scene::from_toml_str(&turning_pad(rotate), d.clone(), &[]).unwrap();
+    let run = RunDir::create(&d.join("run")).unwrap();
+    let q = Progress::quiet();
+    let use_of = |m: &ReducedModel, name: &str| {
+        m.components
+            .iter()
+            .find(|c| c.name == name)
+            .and_then(|c| c.reduction_cache.clone())
+            .expect("built through the cache")
+    };
+
+    let s0 = scene("");
+    let (m0, u0) = cache.get_or_build(&s0, &run, &q).unwrap();
+    assert!(!u0.hit);
+    let (r0, p0) = (use_of(&m0, "rotor"), use_of(&m0, "pad"));
+    assert!(!r0.hit && !p0.hit, "first build reduces both");
+    // The rotor's boundary is its whole top face: 6×6 nodes × 3 DOFs.
+    let rotor = m0.components.iter().find(|c| c.name == "rotor").unwrap();
+    assert_eq!(rotor.n_boundary_dofs, 36 * 3);
+
+    let s3 = scene("rotate_deg = 3.0");
+    let (m3, u3) = cache.get_or_build(&s3, &run, &q).unwrap();
+    assert!(!u3.hit, "a new pad angle is a new model");
+    let (r3, p3) = (use_of(&m3, "rotor"), use_of(&m3, "pad"));
+    assert!(r3.hit, "the rotor's reduction is read back, not recomputed");
+    assert_eq!(r3.key, r0.key);
+    assert!(
+        !p3.hit && p3.key != p0.key,
+        "the turned pad is reduced anew"
+    );
+    assert!(m3
+        .components
+        .iter()
+        .all(|c| c.cb_stats.is_none() == (c.name == "rotor")));
+    let entries = std::fs::read_dir(d.join("cache").join("components"))
+        .unwrap()
+        .filter(|e| {
+            let n = e.as_ref().unwrap().file_name();
+            !n.to_string_lossy().starts_with('.')
+        })
+        .count();
+    assert_eq!(entries, 3, "rotor once, pad at 0° and 3°");
+
+    // The same model as built without any cache, bit for bit, and the same CEA.
+    let fresh = model::build(&s3, &run, &q).unwrap();
+    assert!(fresh.k == m3.k && fresh.m == m3.m && fresh.p_brake == m3.p_brake);
+    assert_eq!(fresh.gaps.gaps, m3.gaps.gaps);
+    let (ra, rb) = (roots(&s3, &fresh), roots(&s3, &m3));
+    assert!(root_error(&ra, &rb, ra.len()) == 0.0);
+    // The gaps moved with the pad: the pad turned, the rotor points followed on its faces.
+    assert_ne!(m0.gaps.gaps[0].coords, m3.gaps.gaps[0].coords);
+
+    // Angle 0 written out is the unrotated scene.
+    let z = scene("rotate_deg = 0.0");
+    assert_eq!(ModelKey::of(&z).unwrap(), ModelKey::of(&s0).unwrap());
+    let (mz, uz) = cache.get_or_build(&z, &run, &q).unwrap();
+    assert!(uz.hit && mz.k == m0.k && mz.m == m0.m);
+    // A full turn: the unrotated model to round-off (sin 2π ≈ −2.4e-16).
+    let full = model::build(&scene("rotate_deg = 360.0"), &run, &q).unwrap();
+    let base = model::build(&s0, &run, &q).unwrap();
+    let rel = |a: &faer::Mat<f64>, b: &faer::Mat<f64>| (a - b).norm_l2() / b.norm_l2();
+    assert!(rel(&full.k, &base.k) < 1e-12 && rel(&full.m, &base.m) < 1e-12);
+    let (rf, rz) = (roots(&s0, &full), roots(&s0, &base));
+    let e = root_error(&rf, &rz, rf.len());
+    assert!(e < 1e-10, "{e}");
+}
+
+/// A stored surface-paired model read from `gaps.json` places every tied rotor node: the
+/// gap table records each tie's face-node coordinates, so `cea_modes.vtu` has a point for
+/// every grid of the reduced model (before: only the gaps' pad and main rotor grids, the
+/// other face nodes left out), at the meshed model's coordinates.
+#[test]
+fn stored_tied_model_writes_every_face_node_to_the_vtu() {
+    use squeal_pipeline::stages::cea::outputs::write_mode_shapes;
+    use squeal_reduction::superelement::DofKind;
+    let d = tmp("stored-vtu");
+    let (_, m) = build(&tiny_brake(2, 3, "surface"), &d);
+    let run = RunDir::create(&d.join("reduced")).unwrap();
+    model::write_stored(&m, &run).unwrap();
+    let stored = r#"title = "stored tiny brake, surface paired, gaps.json"
+units = "consistent"
+
+[model]
+from = "op4"
+matrices = "reduced/reduced.op4"
+dofmap = "reduced/dofmap.json"
+gaps = "reduced/gaps.json"
+
+[friction]
+law = { kind = "linear_speed", mu0 = 0.6, slope = -0.05 }
+
+[rotor]
+rpm = 10.0
+
+[loads]
+pmax = 2.0
+
+[cea]
+at = "steady_state"
+"#;
+    let (s2, m2) = build(stored, &d);
+    let c = cea::compute(&s2, &m2, &Progress::quiet(), &CeaArgs::default()).unwrap();
+    let out = RunDir::create(&d.join("vtu")).unwrap();
+    let n = write_mode_shapes(&out, &m2, &[(0, &c.modes[0])]).unwrap();
+    let grids: std::collections::BTreeSet<u64> = m2
+        .dofs
+        .dofs
+        .iter()
+        .filter_map(|x| match x.kind {
+            DofKind::Grid { grid, .. } => Some(grid),
+            _ => None,
+        })
+        .collect();
+    let tied_others = m
+        .gaps
+        .gaps
+        .iter()
+        .flat_map(|g| g.tie.as_ref().unwrap().nodes.clone())
+        .filter(|id| !m.gaps.gaps.iter().any(|g| g.rotor_node == *id))
+        .filter(|id| grids.contains(id))
+        .count();
+    assert!(
+        tied_others > 0,
+        "some face nodes are no gap's main rotor grid"
+    );
+    assert_eq!(
+        n,
+        grids.len(),
+        "one VTU point per grid of the reduced model"
+    );
+    let vtu = std::fs::read_to_string(d.join("vtu/cea_modes.vtu")).unwrap();
+    assert!(vtu.contains(&format!("NumberOfPoints=\"{n}\"")));
+    // Face-node coordinates as the meshed model has them.
+    for g in &m2.gaps.gaps {
+        let t = g.tie.as_ref().unwrap();
+        for (id, x) in t.nodes.iter().zip(&t.coords) {
+            let meshed = m.grids.iter().find(|gi| gi.grid == *id).unwrap().coords;
+            assert_eq!(*x, meshed, "grid {id}");
+        }
+    }
 }

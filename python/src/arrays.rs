@@ -229,6 +229,8 @@ pub fn gaps_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Gap>> {
                         weights,
                         distance: 0.0,
                         dofs: Vec::new(),
+                        mortar: false,
+                        coords: Vec::new(),
                     })
                 }
             },

@@ -3,6 +3,7 @@
 mod face;
 mod grid;
 mod matching;
+mod mortar;
 mod set;
 mod tie;
 
@@ -11,6 +12,7 @@ use serde::{Deserialize, Serialize};
 
 pub use face::{FaceKind, RotorFace, SNAP as FACE_SNAP};
 pub use matching::match_gaps;
+pub use mortar::{mortar_gaps, MortarStats};
 pub use set::GapSet;
 pub use tie::{tie_gaps, TieOptions, TieOutcome, TieStats, Unmatched};
 
@@ -176,6 +178,16 @@ pub struct FaceTie {
     /// non-zero weight need DOFs). Set by [`GapSet::assign_dofs`].
     #[serde(default)]
     pub dofs: Vec<[Option<usize>; 3]>,
+    /// Mortar pairing ([`crate::mortar_gaps`]): `nodes` are the rotor nodes of non-zero
+    /// mortar weight W_ja (on one or more faces; they sum to 1 and may be negative), not the
+    /// face's nodes; `face`, `xi` and `distance` are the pad node's projection on its main
+    /// face, for reports (default: false, the node-to-surface tie).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub mortar: bool,
+    /// Coordinates of `nodes`, same order (default: empty = not known, e.g. a gap table
+    /// without them), so that a stored model can place every tied rotor node (VTU outputs).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub coords: Vec<[Real; 3]>,
 }
 
 impl ContactNode {

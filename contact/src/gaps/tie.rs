@@ -132,39 +132,8 @@ pub fn tie_gaps(
 ) -> Result<TieOutcome, ContactError> {
     opts.validate()?;
     tie.validate()?;
-    for (i, f) in faces.iter().enumerate() {
-        let n = f.kind.n_nodes();
-        if f.nodes.len() != n || f.coords.len() != n {
-            return Err(ContactError::InvalidOption {
-                field: format!("faces[{i}]"),
-                value: format!(
-                    "face {} with {} ids, {} points",
-                    f.id,
-                    f.nodes.len(),
-                    f.coords.len()
-                ),
-                reason: format!("a {:?} face has {n} nodes", f.kind),
-            });
-        }
-        if f.coords.iter().flatten().any(|x| !x.is_finite()) {
-            return Err(ContactError::InvalidOption {
-                field: format!("faces[{i}]"),
-                value: format!("face {}: {:?}", f.id, f.coords),
-                reason: "non-finite node coordinates".into(),
-            });
-        }
-    }
-    let mean_edge = if faces.is_empty() {
-        0.0
-    } else {
-        faces.iter().map(RotorFace::edge_length).sum::<Real>() / faces.len() as Real
-    };
-    let max_distance = tie.max_distance.unwrap_or(0.05 * mean_edge);
-    let tol = if max_distance > 0.0 {
-        max_distance
-    } else {
-        opts.tolerance
-    };
+    check_faces(faces, "faces")?;
+    let (tol, mean_edge) = distance_limit(faces, opts, tie);
     let mut bad: Vec<NodeReport> = Vec::new();
     let report = |n: &ContactNode, reason: String| NodeReport {
         id: n.id,
@@ -263,6 +232,8 @@ pub fn tie_gaps(
             weights,
             distance: pr.distance,
             dofs: Vec::new(),
+            mortar: false,
+            coords: f.coords.clone(),
         };
         gaps.push(Gap::at_pad_node(pn, a, f.nodes[main], opts, Some(tie)));
     }
@@ -286,4 +257,52 @@ pub fn tie_gaps(
         unmatched,
         stats,
     })
+}
+
+/// Checks each face's node count and coordinates; errors name `field[i]`.
+pub(super) fn check_faces(faces: &[RotorFace], field: &str) -> Result<(), ContactError> {
+    for (i, f) in faces.iter().enumerate() {
+        let n = f.kind.n_nodes();
+        if f.nodes.len() != n || f.coords.len() != n {
+            return Err(ContactError::InvalidOption {
+                field: format!("{field}[{i}]"),
+                value: format!(
+                    "face {} with {} ids, {} points",
+                    f.id,
+                    f.nodes.len(),
+                    f.coords.len()
+                ),
+                reason: format!("a {:?} face has {n} nodes", f.kind),
+            });
+        }
+        if f.coords.iter().flatten().any(|x| !x.is_finite()) {
+            return Err(ContactError::InvalidOption {
+                field: format!("{field}[{i}]"),
+                value: format!("face {}: {:?}", f.id, f.coords),
+                reason: "non-finite node coordinates".into(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The distance limit (`max_distance`, default 0.05 × the faces' mean edge length, or the
+/// matching tolerance when that is 0) and the mean edge length.
+pub(super) fn distance_limit(
+    faces: &[RotorFace],
+    opts: &MatchOptions,
+    tie: &TieOptions,
+) -> (Real, Real) {
+    let mean_edge = if faces.is_empty() {
+        0.0
+    } else {
+        faces.iter().map(RotorFace::edge_length).sum::<Real>() / faces.len() as Real
+    };
+    let max_distance = tie.max_distance.unwrap_or(0.05 * mean_edge);
+    let tol = if max_distance > 0.0 {
+        max_distance
+    } else {
+        opts.tolerance
+    };
+    (tol, mean_edge)
 }

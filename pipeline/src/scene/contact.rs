@@ -18,6 +18,11 @@ pub enum Pairing {
     /// faces and tied to that point (its face nodes carry the shape-function weights);
     /// meshes need not match.
     Surface,
+    /// Mortar tie (segment-to-segment, dual Lagrange multipliers on the pad's quad4 faces,
+    /// `squeal_contact::mortar_gaps`): each pad node's rotor side is the mortar average of
+    /// the rotor surface under its dual basis function; passes the flat patch test for any
+    /// pair of meshes. Needs hex8 pads; `unmatched`, `extension`, `max_distance` as `surface`.
+    Mortar,
 }
 
 /// One pad/rotor contact surface (PREBSQL's input): one gap element per pad node of the pad
@@ -149,7 +154,8 @@ impl ContactPair {
             if let Some((key, _)) = set.iter().find(|(_, on)| *on) {
                 return Err(bad(
                     key,
-                    "is read only with pairing = \"surface\" (this pair matches coincident nodes)"
+                    "is read only with pairing = \"surface\" or \"mortar\" (this pair matches \
+                     coincident nodes)"
                         .into(),
                 ));
             }

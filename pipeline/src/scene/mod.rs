@@ -123,6 +123,14 @@ pub struct ComponentSpec {
     /// rotor side of `[[contact]]` pairs: README "Interface reduction of a big rotor".
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub interface: Option<InterfaceSpec>,
+    /// Contact boundary of this component in its Craig–Bampton reduction: `gaps` (default)
+    /// the nodes its gaps act on; `contact_faces` every node of its contact sets (the
+    /// `rotor_faces` or `pad_faces` of the `[[contact]]` pairs naming it), so its reduction
+    /// does not depend on where the other side's nodes fall: a rotor with `contact_faces`
+    /// keeps one reduction, reused from the model cache, over a sweep of the pads'
+    /// `rotate_deg`. More boundary DOFs (those no gap touches stay in the reduced model).
+    #[serde(default, skip_serializing_if = "is_default_boundary")]
+    pub boundary: ContactBoundary,
 }
 
 /// `[components.interface]`: the component's gap nodes (those not shared with another
@@ -136,6 +144,21 @@ pub struct InterfaceSpec {
     /// Highest total polynomial degree, 1..=30 (required; a flat patch has
     /// (degree + 1)(degree + 2)/2 functions per direction, fewer if it has fewer nodes).
     pub degree: usize,
+}
+
+/// Which nodes of a component's contact sets are Craig–Bampton boundary nodes.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactBoundary {
+    /// The nodes the gaps act on (matched nodes; a tied face's nodes of non-zero weight).
+    #[default]
+    Gaps,
+    /// Every node of the component's contact face or node sets.
+    ContactFaces,
+}
+
+fn is_default_boundary(b: &ContactBoundary) -> bool {
+    *b == ContactBoundary::Gaps
 }
 
 fn is_zero(x: &Real) -> bool {

@@ -30,11 +30,23 @@ fn out_err(dir: &RunDir, name: &str) -> impl Fn(String) -> PipelineError {
 type GridDofs = Vec<(u64, [Real; 3], [Option<usize>; 3])>;
 
 /// The grid DOFs of the reduced model with their coordinates: the merged grid table of a
-/// meshed model, the gap coordinates of a stored one (other grids have no known position).
+/// meshed model; for a stored one the gap points, and a tied gap's rotor face nodes from the
+/// gap table (`gaps.json` stores their coordinates; other grids have no known position).
 fn grid_dofs(model: &ReducedModel) -> GridDofs {
     let mut coords: BTreeMap<u64, [Real; 3]> = BTreeMap::new();
     for g in &model.grids {
         coords.insert(g.grid, g.coords);
+    }
+    // A tied gap's rotor nodes where the gap table stores their coordinates (surface and
+    // mortar pairing), before the fallback that puts a node at its gap's point.
+    for g in &model.gaps.gaps {
+        if let Some(t) = &g.tie {
+            for (&n, &x) in t.nodes.iter().zip(&t.coords) {
+                if x.iter().all(|v| v.is_finite()) {
+                    coords.entry(n).or_insert(x);
+                }
+            }
+        }
     }
     for g in &model.gaps.gaps {
         coords.entry(g.pad_node).or_insert(g.coords);

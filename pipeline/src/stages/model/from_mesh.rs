@@ -4,11 +4,15 @@
 //! [f_b + Ψᵀ f_i; Φᵀ f_i], so loaded faces need not be boundary nodes.
 
 use super::areas::pad_areas;
+use super::cache::component::{
+    ComponentCache, ComponentCacheUse, ComponentInputs, StoredReduction,
+};
 use super::grids::{merge, Grids};
 use super::{symmetrise, ComponentRecovery, ComponentReport, ReducedModel};
 use crate::error::PipelineError;
 use crate::output::RunDir;
 use crate::progress::Progress;
+use crate::scene::ContactBoundary;
 use crate::scene::{ModelSource, Pairing, Scene};
 use crate::stages::mesh::mesh_component;
 use crate::stages::modes::fixed_dofs;
@@ -16,7 +20,8 @@ use crate::warning::Warning;
 use faer::Mat;
 use rayon::prelude::*;
 use squeal_contact::{
-    match_gaps, tie_gaps, ContactNode, FaceKind, FrictionLaw, GapSet, MatchOptions, RotorFace,
+    match_gaps, mortar_gaps, tie_gaps, ContactNode, FaceKind, FrictionLaw, GapSet, MatchOptions,
+    RotorFace,
 };
 use squeal_fe::{assemble, pressure_load, AssemblyOptions, DofMap};
 use squeal_meshes::{CellBlock, CellKind, Mesh};
@@ -29,7 +34,10 @@ type Real = f64;
 
 /// One reduced component before assembly.
 struct Reduced {
-    cb: CbModel,
+    /// The reduction, with Ψ and Φ (None: read from the component cache).
+    cb: Option<CbModel>,
+    /// The cached reduction (None: reduced here).
+    stored: Option<StoredReduction>,
     dofs: DofMap,
     keys: Vec<DofKey>,
     /// Keys of the interface-reduced DOFs (rows of `cb.interface`; empty without).
@@ -37,6 +45,43 @@ struct Reduced {
     load: Vec<Real>,
     check: Option<CbCheck>,
     n_nodes: usize,
+    cache: Option<ComponentCacheUse>,
+}
+
+impl Reduced {
+    fn k(&self) -> &Mat<Real> {
+        self.cb
+            .as_ref()
+            .map_or_else(|| &self.stored_ref().k, |c| &c.k)
+    }
+    fn m(&self) -> &Mat<Real> {
+        self.cb
+            .as_ref()
+            .map_or_else(|| &self.stored_ref().m, |c| &c.m)
+    }
+    fn stored_ref(&self) -> &StoredReduction {
+        // Invariant: exactly one of `cb` and `stored` is set (reduce_component).
+        self.stored.as_ref().expect("a reduction or a stored one")
+    }
+    fn n_modes(&self) -> usize {
+        self.cb
+            .as_ref()
+            .map_or_else(|| self.stored_ref().n_modes, |c| c.n_modes)
+    }
+    fn n_boundary(&self) -> usize {
+        self.keys.len()
+    }
+    fn n_dofs(&self) -> usize {
+        self.cb
+            .as_ref()
+            .map_or_else(|| self.stored_ref().n_dofs, |c| c.n_dofs)
+    }
+    fn fixed_hz(&self) -> &[Real] {
+        self.cb.as_ref().map_or_else(
+            || self.stored_ref().fixed_frequencies_hz.as_slice(),
+            |c| c.fixed_frequencies_hz.as_slice(),
+        )
+    }
 }
 
 fn fe_err(component: &str) -> impl Fn(squeal_fe::FeError) -> PipelineError + '_ {
@@ -144,7 +189,7 @@ fn match_pairs(
                     }
                 })?
             }
-            Pairing::Surface => {
+            Pairing::Surface | Pairing::Mortar => {
                 let block = rmesh.faces.get(&pair.rotor_faces).ok_or_else(no_set)?;
                 let faces = rotor_faces(block, rmesh, &grids.grid_of[cr]).map_err(|m| {
                     PipelineError::Scene {
@@ -155,13 +200,39 @@ fn match_pairs(
                         ),
                     }
                 })?;
-                let out =
-                    tie_gaps(&pad_nodes, &faces, &opts, &pair.tie_options()).map_err(|source| {
-                        PipelineError::Contact {
-                            what: what(),
-                            source,
+                let contact_err = |source| PipelineError::Contact {
+                    what: what(),
+                    source,
+                };
+                let out = if pair.pairing == Pairing::Mortar {
+                    let pmesh = &meshes[cp];
+                    let block =
+                        pmesh
+                            .faces
+                            .get(&pair.pad_faces)
+                            .ok_or_else(|| PipelineError::Scene {
+                                field: format!("contact[{i}].pad_faces"),
+                                message: format!(
+                                "mortar pairing integrates over the pad's faces: component `{}` \
+                                 has no face set `{}`",
+                                pair.pad, pair.pad_faces
+                            ),
+                            })?;
+                    let pad_faces = rotor_faces(block, pmesh, &grids.grid_of[cp]).map_err(|m| {
+                        PipelineError::Scene {
+                            field: format!("contact[{i}].pad_faces"),
+                            message: format!(
+                                "face set `{}` of `{}`: {m}",
+                                pair.pad_faces, pair.pad
+                            ),
                         }
                     })?;
+                    mortar_gaps(&pad_nodes, &pad_faces, &faces, &opts, &pair.tie_options())
+                        .map_err(contact_err)?
+                        .0
+                } else {
+                    tie_gaps(&pad_nodes, &faces, &opts, &pair.tie_options()).map_err(contact_err)?
+                };
                 if !out.unmatched.is_empty() {
                     let list: Vec<String> = out.unmatched.iter().map(|r| r.to_string()).collect();
                     warnings.push(Warning {
@@ -214,6 +285,17 @@ pub fn build_from_mesh(
     dir: &RunDir,
     progress: &Progress,
 ) -> Result<ReducedModel, PipelineError> {
+    build_from_mesh_cached(scene, dir, progress, None)
+}
+
+/// [`build_from_mesh`], reading and storing each component's reduction in `cache` when given
+/// (then the model has no per-component recovery data when any component came from it).
+pub fn build_from_mesh_cached(
+    scene: &Scene,
+    dir: &RunDir,
+    progress: &Progress,
+    cache: Option<&ComponentCache>,
+) -> Result<ReducedModel, PipelineError> {
     if scene.components.is_empty() {
         return Err(PipelineError::Scene {
             field: "components".into(),
@@ -238,7 +320,7 @@ pub fn build_from_mesh(
     }
     // Contact boundary: the matched pad and rotor nodes only (not a whole rotor face); for a
     // tied gap the face nodes of non-zero weight.
-    let gap_grids: std::collections::HashSet<u64> = gaps
+    let mut gap_grids: std::collections::HashSet<u64> = gaps
         .gaps
         .iter()
         .flat_map(|g| std::iter::once(g.pad_node).chain(g.rotor_nodes()))
@@ -253,6 +335,37 @@ pub fn build_from_mesh(
             }
         }
         first += count;
+    }
+    // `boundary = "contact_faces"`: every node of the component's contact sets.
+    for (c, spec) in scene.components.iter().enumerate() {
+        if spec.boundary != ContactBoundary::ContactFaces {
+            continue;
+        }
+        for pair in &scene.contact {
+            for (side, set) in [
+                (&pair.pad, &pair.pad_faces),
+                (&pair.rotor, &pair.rotor_faces),
+            ] {
+                if *side != spec.name {
+                    continue;
+                }
+                let mesh = &meshes[c];
+                let nodes: Vec<usize> = match (mesh.faces.get(set), mesh.node_sets.get(set)) {
+                    (Some(block), _) => block.conn.clone(),
+                    (None, Some(ns)) => ns.clone(),
+                    (None, None) => {
+                        return Err(PipelineError::Scene {
+                            field: format!("components.{c}.boundary"),
+                            message: format!(
+                                "`contact_faces`: component `{}` has no face or node set `{set}`",
+                                spec.name
+                            ),
+                        })
+                    }
+                };
+                gap_grids.extend(nodes.into_iter().map(|n| grids.grid_of[c][n]));
+            }
+        }
     }
     let opts = scene.reduction.clone().unwrap_or_default();
     let cb_opts = opts.cb_options();
@@ -274,10 +387,19 @@ pub fn build_from_mesh(
                 &patch_of,
                 &cb_opts,
                 opts.checks,
+                cache,
             )
         })
         .collect::<Result<_, _>>()?;
-    step.done("reduced every component");
+    let hits = reduced
+        .iter()
+        .filter(|r| r.cache.as_ref().is_some_and(|u| u.hit))
+        .count();
+    step.done(if cache.is_some() {
+        format!("reduced every component ({hits} read from the component cache)")
+    } else {
+        "reduced every component".to_string()
+    });
 
     // Superelement assembly; element damping B_c = (GE_c/W4)·K_r,c.
     let factors: Vec<Real> = scene
@@ -288,7 +410,10 @@ pub fn build_from_mesh(
     let b_mats: Vec<Mat<Real>> = reduced
         .iter()
         .zip(&factors)
-        .map(|(r, &a)| Mat::from_fn(r.cb.k.nrows(), r.cb.k.ncols(), |i, j| a * r.cb.k[(i, j)]))
+        .map(|(r, &a)| {
+            let k = r.k();
+            Mat::from_fn(k.nrows(), k.ncols(), |i, j| a * k[(i, j)])
+        })
         .collect();
     let any_b = factors.iter().any(|&a| a != 0.0);
     let comps: Vec<Component<'_>> = scene
@@ -297,12 +422,24 @@ pub fn build_from_mesh(
         .zip(&reduced)
         .zip(&b_mats)
         .map(|((spec, r), b)| {
-            let mut comp = Component::from_cb_interface(
-                spec.name.clone(),
-                &r.cb,
-                r.keys.clone(),
-                r.interface_keys.clone(),
-            );
+            let mut comp = match &r.cb {
+                Some(cb) => Component::from_cb_interface(
+                    spec.name.clone(),
+                    cb,
+                    r.keys.clone(),
+                    r.interface_keys.clone(),
+                ),
+                // From the component cache (never an interface-reduced component).
+                None => Component {
+                    name: spec.name.clone(),
+                    k: r.k().as_ref(),
+                    m: r.m().as_ref(),
+                    b: None,
+                    boundary_keys: r.keys.clone(),
+                    interface: None,
+                    n_modes: r.n_modes(),
+                },
+            };
             comp.b = any_b.then(|| b.as_ref());
             comp
         })
@@ -332,7 +469,7 @@ pub fn build_from_mesh(
     }
     // Assembled index of component-reduced coordinate j ([boundary, interface, modal]).
     let assembled_index = |name: &str, r: &Reduced, j: usize| -> Option<usize> {
-        let (nb, np) = (r.keys.len(), r.cb.n_interface());
+        let (nb, np) = (r.keys.len(), r.cb.as_ref().map_or(0, |c| c.n_interface()));
         if j < nb {
             grid_index.get(&r.keys[j]).copied()
         } else if j < nb + np {
@@ -357,12 +494,13 @@ pub fn build_from_mesh(
         .map(|((spec, r), &f)| ComponentReport {
             name: spec.name.clone(),
             n_nodes: r.n_nodes,
-            n_free_dofs: r.cb.n_dofs,
-            n_boundary_dofs: r.cb.boundary.len() + r.interface_keys.len(),
-            n_modes: r.cb.n_modes,
-            fixed_interface_hz: r.cb.fixed_frequencies_hz.clone(),
-            cb_stats: r.cb.stats.clone(),
+            n_free_dofs: r.n_dofs(),
+            n_boundary_dofs: r.n_boundary() + r.interface_keys.len(),
+            n_modes: r.n_modes(),
+            fixed_interface_hz: r.fixed_hz().to_vec(),
+            cb_stats: r.cb.as_ref().map(|c| c.stats.clone()),
             element_damping_factor: f,
+            reduction_cache: r.cache.clone(),
         })
         .collect();
     let checks = scene
@@ -372,24 +510,28 @@ pub fn build_from_mesh(
         .filter_map(|(spec, r)| r.check.clone().map(|c| (spec.name.clone(), c)))
         .collect();
     drop(comps);
+    // Recovery needs every component's Ψ and Φ: none when one came from the component cache.
+    let recoverable = reduced.iter().all(|r| r.cb.is_some());
     let recovery = scene
         .components
         .iter()
         .zip(reduced)
         .zip(meshes)
         .zip(&grids.grid_of)
-        .map(|(((spec, r), mesh), grid_of)| {
-            let assembled = (0..r.cb.n_reduced())
+        .filter(|_| recoverable)
+        .filter_map(|(((spec, r), mesh), grid_of)| {
+            let assembled = (0..r.cb.as_ref()?.n_reduced())
                 .map(|j| assembled_index(&spec.name, &r, j))
                 .collect();
-            ComponentRecovery {
+            let cb = r.cb?;
+            Some(ComponentRecovery {
                 name: spec.name.clone(),
                 mesh,
                 dofs: r.dofs,
-                cb: r.cb,
+                cb,
                 grid_of: grid_of.clone(),
                 assembled,
-            }
+            })
         })
         .collect();
     gaps.gaps.iter_mut().for_each(|g| {
@@ -427,7 +569,9 @@ fn reduce_component(
     patch_of: &HashMap<u64, usize>,
     cb_opts: &squeal_reduction::CbOptions,
     run_checks: bool,
+    cache: Option<&ComponentCache>,
 ) -> Result<Reduced, PipelineError> {
+    let start = std::time::Instant::now();
     let spec = &scene.components[c];
     let name = spec.name.as_str();
     let gid = &grids.grid_of[c];
@@ -437,14 +581,6 @@ fn reduce_component(
         .collect();
     let dofs = DofMap::new(mesh.nodes.len(), &fixed).map_err(fe_err(name))?;
     let materials = spec.block_materials(mesh)?;
-    let asm = assemble(
-        mesh,
-        &materials,
-        &dofs,
-        &AssemblyOptions { hex8: spec.hex8 },
-    )
-    .map_err(fe_err(name))?;
-
     let is_boundary: Vec<bool> = grids.shared[c]
         .iter()
         .zip(gid)
@@ -491,6 +627,97 @@ fn reduce_component(
             }
         }
     }
+    // Brake loads on this component (projected below: f_r = Tᵀ f).
+    let mut f = vec![0.0; dofs.n_free()];
+    if let Some(loads) = &scene.loads {
+        for p in loads.pressure.iter().filter(|p| p.component == name) {
+            let v = pressure_load(mesh, &p.faces, p.pressure, &dofs).map_err(fe_err(name))?;
+            f.iter_mut().zip(&v).for_each(|(a, b)| *a += b);
+        }
+        for fs in loads.force.iter().filter(|f| f.component == name) {
+            let nodes = mesh
+                .node_sets
+                .get(&fs.nodes)
+                .ok_or_else(|| PipelineError::Scene {
+                    field: "loads.force.nodes".into(),
+                    message: format!(
+                        "component `{name}` has no node set `{}` (it has: {})",
+                        fs.nodes,
+                        mesh.node_sets
+                            .keys()
+                            .cloned()
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                })?;
+            let share = 1.0 / nodes.len().max(1) as Real;
+            for &node in nodes {
+                for k in 0..3 {
+                    if let Some(i) = dofs.free(node, k) {
+                        f[i] += share * fs.force[k];
+                    }
+                }
+            }
+        }
+    }
+    // The component cache: the same inputs give the same reduction (not for an
+    // interface-reduced component: its key would need the basis too).
+    let key = match cache {
+        Some(_) if !run_checks && spec.interface.is_none() => Some(
+            ComponentInputs {
+                name,
+                mesh,
+                materials: &materials,
+                hex8: &spec.hex8,
+                fixed: &fixed,
+                boundary: &boundary,
+                keys: &keys,
+                cb: cb_opts,
+                load: &f,
+            }
+            .key()?,
+        ),
+        _ => None,
+    };
+    let mut note = None;
+    if let (Some(cache), Some(key)) = (cache, &key) {
+        match cache.read(key) {
+            Ok(Some(stored)) => {
+                let load = stored.load.clone();
+                return Ok(Reduced {
+                    cb: None,
+                    stored: Some(stored),
+                    dofs,
+                    keys,
+                    interface_keys: Vec::new(),
+                    load,
+                    check: None,
+                    n_nodes: mesh.nodes.len(),
+                    cache: Some(ComponentCacheUse {
+                        key: key.clone(),
+                        hit: true,
+                        seconds: start.elapsed().as_secs_f64(),
+                        note: None,
+                    }),
+                });
+            }
+            Ok(None) => {}
+            Err(why) => {
+                cache.discard(key);
+                note = Some(format!(
+                    "component cache entry {key} of `{name}` was unusable ({why}); rebuilt"
+                ));
+            }
+        }
+    }
+    let asm = assemble(
+        mesh,
+        &materials,
+        &dofs,
+        &AssemblyOptions { hex8: spec.hex8 },
+    )
+    .map_err(fe_err(name))?;
+
     let red_err = |what: &str| {
         let what = format!("component `{name}`: {what}");
         move |source| PipelineError::Reduction { what, source }
@@ -532,39 +759,6 @@ fn reduce_component(
         None
     };
 
-    // Brake loads on this component, projected: f_r = Tᵀ f.
-    let mut f = vec![0.0; dofs.n_free()];
-    if let Some(loads) = &scene.loads {
-        for p in loads.pressure.iter().filter(|p| p.component == name) {
-            let v = pressure_load(mesh, &p.faces, p.pressure, &dofs).map_err(fe_err(name))?;
-            f.iter_mut().zip(&v).for_each(|(a, b)| *a += b);
-        }
-        for fs in loads.force.iter().filter(|f| f.component == name) {
-            let nodes = mesh
-                .node_sets
-                .get(&fs.nodes)
-                .ok_or_else(|| PipelineError::Scene {
-                    field: "loads.force.nodes".into(),
-                    message: format!(
-                        "component `{name}` has no node set `{}` (it has: {})",
-                        fs.nodes,
-                        mesh.node_sets
-                            .keys()
-                            .cloned()
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ),
-                })?;
-            let share = 1.0 / nodes.len().max(1) as Real;
-            for &node in nodes {
-                for k in 0..3 {
-                    if let Some(i) = dofs.free(node, k) {
-                        f[i] += share * fs.force[k];
-                    }
-                }
-            }
-        }
-    }
     // f_r = Tᵀ f = [f_b; Lᵀ f_f; 0] + [Ψᵀ f_i; Φᵀ f_i].
     let nb = model.n_boundary_coords();
     let mut load = vec![0.0; model.n_reduced()];
@@ -593,13 +787,43 @@ fn reduce_component(
             load[nb + q] += model.phi[(r, q)] * fi;
         }
     }
+    let cache_use = match (cache, key) {
+        (Some(cache), Some(key)) => {
+            let stored = StoredReduction {
+                k: model.k.clone(),
+                m: model.m.clone(),
+                load: load.clone(),
+                n_boundary: nb,
+                n_modes: model.n_modes,
+                n_dofs: model.n_dofs,
+                fixed_frequencies_hz: model.fixed_frequencies_hz.clone(),
+            };
+            let build_s = start.elapsed().as_secs_f64();
+            if let Err(e) = cache.store(&key, name, &stored, build_s) {
+                let msg = format!("could not store `{name}` in the component cache: {e}");
+                note = Some(match note {
+                    Some(n) => format!("{n}; {msg}"),
+                    None => msg,
+                });
+            }
+            Some(ComponentCacheUse {
+                key,
+                hit: false,
+                seconds: start.elapsed().as_secs_f64(),
+                note,
+            })
+        }
+        _ => None,
+    };
     Ok(Reduced {
-        cb: model,
+        cb: Some(model),
+        stored: None,
         dofs,
         keys,
         interface_keys: iface_keys,
         load,
         check,
         n_nodes: mesh.nodes.len(),
+        cache: cache_use,
     })
 }

@@ -78,9 +78,16 @@ pub fn gaps_csv(gaps: &[Gap]) -> String {
                 Some(t) => {
                     let ids: Vec<String> = t.nodes.iter().map(|n| n.to_string()).collect();
                     let ws: Vec<String> = t.weights.iter().map(|w| format!("{w:?}")).collect();
+                    // A mortar tie's face is written `mortar:<face>` (its grids are any
+                    // rotor grids of non-zero mortar weight).
+                    let face = if t.mortar {
+                        format!("mortar:{}", t.face)
+                    } else {
+                        t.face.to_string()
+                    };
                     out.push_str(&format!(
                         ",{},{:?},{:?},{},{}",
-                        t.face,
+                        face,
                         t.xi[0],
                         t.xi[1],
                         ids.join(" "),
@@ -249,9 +256,13 @@ fn read_tie(ln: usize, f: &[&str], column: &HashMap<&str, usize>) -> Result<Face
             .parse()
             .map_err(|_| format!("line {ln}, column `{c}`: `{}` is not a number", at(c)))
     };
-    let face = at("face").parse::<u64>().map_err(|_| {
+    let (mortar, face_text) = match at("face").strip_prefix("mortar:") {
+        Some(rest) => (true, rest),
+        None => (false, at("face")),
+    };
+    let face = face_text.parse::<u64>().map_err(|_| {
         format!(
-            "line {ln}, column `face`: `{}` is not a face index",
+            "line {ln}, column `face`: `{}` is not a face index (or `mortar:` and one)",
             at("face")
         )
     })?;
@@ -269,12 +280,16 @@ fn read_tie(ln: usize, f: &[&str], column: &HashMap<&str, usize>) -> Result<Face
                 .map_err(|_| format!("line {ln}, column `weights`: `{x}` is not a number"))
         })
         .collect::<Result<Vec<Real>, String>>()?;
-    let kind = FaceKind::from_n_nodes(nodes.len()).ok_or_else(|| {
-        format!(
-            "line {ln}, column `face_grids`: {} grids; a face has 4 (quad4) or 8 (quad8)",
-            nodes.len()
-        )
-    })?;
+    let kind = if mortar {
+        FaceKind::Quad4
+    } else {
+        FaceKind::from_n_nodes(nodes.len()).ok_or_else(|| {
+            format!(
+                "line {ln}, column `face_grids`: {} grids; a face has 4 (quad4) or 8 (quad8)",
+                nodes.len()
+            )
+        })?
+    };
     Ok(FaceTie {
         face,
         kind,
@@ -283,6 +298,8 @@ fn read_tie(ln: usize, f: &[&str], column: &HashMap<&str, usize>) -> Result<Face
         weights,
         distance: 0.0,
         dofs: Vec::new(),
+        mortar,
+        coords: Vec::new(),
     })
 }
 
@@ -290,7 +307,18 @@ fn read_tie(ln: usize, f: &[&str], column: &HashMap<&str, usize>) -> Result<Face
 /// one), `rotor_grid` the face grid of largest weight, the pad grid not on the face.
 fn check_tie(g: &Gap, t: &FaceTie, at: &str) -> Result<(), String> {
     let nn = t.kind.n_nodes();
-    if t.nodes.len() != nn || t.weights.len() != nn {
+    if t.mortar {
+        // Mortar weights: any rotor grids, finite, summing to one.
+        let sum: Real = t.weights.iter().sum();
+        if t.nodes.is_empty() || t.nodes.len() != t.weights.len() || !(sum - 1.0).abs().le(&1e-9) {
+            return Err(format!(
+                "{at}, columns `face_grids, weights`: a mortar tie needs as many weights as \
+                 grids (found {} and {}), summing to 1 (sum {sum})",
+                t.nodes.len(),
+                t.weights.len()
+            ));
+        }
+    } else if t.nodes.len() != nn || t.weights.len() != nn {
         return Err(format!(
             "{at}: a {:?} face has {nn} grids and weights, found {} grids and {} weights",
             t.kind,
@@ -305,7 +333,7 @@ fn check_tie(g: &Gap, t: &FaceTie, at: &str) -> Result<(), String> {
         ));
     }
     let (n, _) = t.kind.shape(t.xi);
-    for a in 0..nn {
+    for a in (0..nn).filter(|_| !t.mortar) {
         let diff = (t.weights[a] - n[a]).abs();
         if diff.is_nan() || diff > 1e-9 {
             return Err(format!(

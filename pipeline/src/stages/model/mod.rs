@@ -11,7 +11,7 @@ pub mod inputs;
 mod stored;
 
 pub use cache::{CacheUse, ModelCache};
-pub use from_mesh::build_from_mesh;
+pub use from_mesh::{build_from_mesh, build_from_mesh_cached};
 pub use grids::GridInfo;
 pub use stored::{load_arrays, load_stored, write_stored, StoredFiles};
 
@@ -40,9 +40,15 @@ pub struct ComponentReport {
     pub n_boundary_dofs: usize,
     pub n_modes: usize,
     pub fixed_interface_hz: Vec<Real>,
-    pub cb_stats: squeal_reduction::cb::CbStats,
+    /// Statistics of the reduction (absent when it was read from the component cache).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cb_stats: Option<squeal_reduction::cb::CbStats>,
     /// Viscous factor of this component's reduced stiffness in B (GE/W4).
     pub element_damping_factor: Real,
+    /// The component cache's use, when the model was built through the model cache
+    /// (`cache::component`): key, hit, seconds.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reduction_cache: Option<cache::component::ComponentCacheUse>,
 }
 
 /// What it takes to expand a reduced vector to one component's full mesh (meshed models only):

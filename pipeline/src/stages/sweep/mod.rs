@@ -64,7 +64,8 @@ impl Analysis {
 /// What the command line gives.
 #[derive(Debug, Clone, Default)]
 pub struct SweepArgs {
-    /// Dotted scene key, as `--set` writes it (`friction.law.mu`, `components.0.geometry.thickness`).
+    /// Dotted scene key, as `--set` writes it (`friction.law.mu`, `components.0.geometry.thickness`);
+    /// several keys separated by commas are all set to each value.
     pub param: String,
     /// The values as TOML value texts ([`values::parse_values`]).
     pub values: Vec<String>,
@@ -206,7 +207,13 @@ pub fn run(
     // Every value's scene, checked before anything runs.
     let mut scenes = Vec::with_capacity(args.values.len());
     for v in &args.values {
-        let mut s = values::scene_for(base, &args.param, v)?;
+        // `--param a,b`: keys set together to each value (e.g. both pads' `rotate_deg`).
+        let keys: Vec<(String, String)> = args
+            .param
+            .split(',')
+            .map(|k| (k.trim().to_string(), v.clone()))
+            .collect();
+        let mut s = values::scene_for_all(base, &keys)?;
         if args.analysis.cea() && s.cea.is_none() {
             s.cea = Some(Default::default());
         }

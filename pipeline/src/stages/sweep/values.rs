@@ -132,12 +132,18 @@ pub fn scene_for_all(
     let resolved = toml::Value::try_from(&scene).map_err(|e| wrap(e.to_string()))?;
     for p in &params {
         let mut node = &resolved;
-        for seg in p.split('.') {
+        let segs: Vec<&str> = p.split('.').collect();
+        for (i, seg) in segs.iter().enumerate() {
             let next = match node {
-                toml::Value::Table(t) => t.get(seg),
+                toml::Value::Table(t) => t.get(*seg),
                 toml::Value::Array(a) => seg.parse::<usize>().ok().and_then(|i| a.get(i)),
                 _ => None,
             };
+            // A key of a typed table (it was set without error) that the resolved scene
+            // omits at its default, e.g. `components.1.rotate_deg = 0`.
+            if next.is_none() && i + 1 == segs.len() && matches!(node, toml::Value::Table(_)) {
+                break;
+            }
             node = next.ok_or_else(|| {
                 wrap(format!(
                     "the resolved scene has no such value (no `{seg}` in `{p}`)"

@@ -90,6 +90,9 @@ struct PairKey<'a> {
     /// Surface pairing's options (absent for node pairing, so node-paired keys are unchanged).
     #[serde(skip_serializing_if = "Option::is_none")]
     surface: Option<squeal_contact::TieOptions>,
+    /// Mortar pairing (absent otherwise, so other keys are unchanged).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    mortar: Option<bool>,
 }
 
 #[derive(Serialize)]
@@ -171,7 +174,8 @@ impl ModelKey {
                     rotor: &p.rotor,
                     rotor_faces: &p.rotor_faces,
                     tolerance: p.tolerance,
-                    surface: (p.pairing == crate::scene::Pairing::Surface).then(|| p.tie_options()),
+                    surface: (p.pairing != crate::scene::Pairing::Nodes).then(|| p.tie_options()),
+                    mortar: (p.pairing == crate::scene::Pairing::Mortar).then_some(true),
                 })
                 .collect(),
             pressure_loads: loads.map_or(&[], |l| &l.pressure),

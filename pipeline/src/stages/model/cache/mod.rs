@@ -11,10 +11,11 @@
 //! When two processes build the same key at once, the first rename wins and the other's copy
 //! is dropped. Nothing is ever evicted: remove the folder to reclaim the space.
 
+pub mod component;
 mod entry;
 pub mod key;
 
-use super::{build_from_mesh, ReducedModel};
+use super::{build_from_mesh_cached, ReducedModel};
 use crate::error::PipelineError;
 use crate::output::RunDir;
 use crate::progress::Progress;
@@ -146,7 +147,8 @@ impl ModelCache {
         }
         let mut plain = scene.clone();
         plain.reduction.get_or_insert_with(Default::default).checks = false;
-        let mut model = build_from_mesh(&plain, dir, progress)?;
+        let components = component::ComponentCache::in_model_cache(&self.root);
+        let mut model = build_from_mesh_cached(&plain, dir, progress, Some(&components))?;
         model.recovery.clear();
         let build_s = start.elapsed().as_secs_f64();
         if let Err(e) = self.store(&key, &model, build_s) {
