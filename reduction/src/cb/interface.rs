@@ -326,25 +326,23 @@ pub(crate) fn project_blocks(blocks: Blocks, n_kept: usize, basis: MatRef<'_, Re
 mod tests {
     use super::*;
 
-    fn grid(nx: usize, ny: usize, z: Real) -> Vec<[Real; 3]> {
+    /// The three DOFs of every node of an nx × ny grid in the plane at height z, one patch.
+    fn grid_dofs(nx: usize, ny: usize, z: Real) -> Vec<InterfaceDof> {
         (0..nx * ny)
             .map(|k| [(k % nx) as Real * 0.1, (k / nx) as Real * 0.07, z])
-            .collect()
-    }
-
-    #[test]
-    fn basis_is_orthonormal_and_counts_monomials_of_a_flat_patch() {
-        let pts = grid(6, 5, 0.3);
-        let dofs: Vec<InterfaceDof> = pts
-            .iter()
-            .flat_map(|&p| {
+            .flat_map(|p| {
                 (0..3).map(move |d| InterfaceDof {
                     point: p,
                     direction: d,
                     patch: 0,
                 })
             })
-            .collect();
+            .collect()
+    }
+
+    #[test]
+    fn basis_is_orthonormal_and_counts_monomials_of_a_flat_patch() {
+        let dofs = grid_dofs(6, 5, 0.3);
         for (degree, per_dir) in [(0, 1), (1, 3), (2, 6), (3, 10)] {
             let l = polynomial_basis(&dofs, degree).unwrap();
             assert_eq!(l.ncols(), 3 * per_dir, "degree {degree}");
@@ -359,17 +357,7 @@ mod tests {
 
     #[test]
     fn degree_one_contains_rigid_rotations() {
-        let pts = grid(5, 4, 0.0);
-        let dofs: Vec<InterfaceDof> = pts
-            .iter()
-            .flat_map(|&p| {
-                (0..3).map(move |d| InterfaceDof {
-                    point: p,
-                    direction: d,
-                    patch: 0,
-                })
-            })
-            .collect();
+        let dofs = grid_dofs(5, 4, 0.0);
         let l = polynomial_basis(&dofs, 1).unwrap();
         // u = ω × x with ω = (0.3, −0.2, 0.5).
         let w = [0.3, -0.2, 0.5];
