@@ -92,6 +92,24 @@ struct DenseRun {
     energy_balance_rel: f64,
 }
 
+impl DenseRun {
+    /// A run's counts and costs, with the set-up and one solve timed apart.
+    fn of(run: &RunOut, setup_us: f64, solve_us: f64) -> Self {
+        let steps = run.stats.steps.max(1) as f64;
+        DenseRun {
+            steps: run.stats.steps,
+            newton_iterations: run.stats.newton_iterations,
+            jacobian_setups: run.stats.jacobian_setups,
+            run_cpu_s: run.run_cpu_s,
+            us_per_step: 1e6 * run.run_cpu_s / steps,
+            integrator_us_per_step: 1e6 * (run.run_cpu_s - run.bookkeeping_s) / steps,
+            setup_us,
+            solve_us,
+            energy_balance_rel: run.energy_balance_rel,
+        }
+    }
+}
+
 #[derive(Serialize)]
 struct Row {
     case: String,
@@ -470,31 +488,9 @@ fn run_case(
         moved_vs_previous,
         component_blocks: component_blocks.clone(),
         block_fallbacks: run.bsql.block_fallbacks,
-        no_blocks: DenseRun {
-            steps: no_blocks_run.stats.steps,
-            newton_iterations: no_blocks_run.stats.newton_iterations,
-            jacobian_setups: no_blocks_run.stats.jacobian_setups,
-            run_cpu_s: no_blocks_run.run_cpu_s,
-            us_per_step: 1e6 * no_blocks_run.run_cpu_s / no_blocks_run.stats.steps.max(1) as f64,
-            integrator_us_per_step: 1e6 * (no_blocks_run.run_cpu_s - no_blocks_run.bookkeeping_s)
-                / no_blocks_run.stats.steps.max(1) as f64,
-            setup_us: no_blocks_setup_us,
-            solve_us: no_blocks_solve_us,
-            energy_balance_rel: no_blocks_run.energy_balance_rel,
-        },
+        no_blocks: DenseRun::of(&no_blocks_run, no_blocks_setup_us, no_blocks_solve_us),
         moved_vs_no_blocks: moved(&run.y, &no_blocks_run.y, n),
-        dense: DenseRun {
-            steps: dense_run.stats.steps,
-            newton_iterations: dense_run.stats.newton_iterations,
-            jacobian_setups: dense_run.stats.jacobian_setups,
-            run_cpu_s: dense_run.run_cpu_s,
-            us_per_step: 1e6 * dense_run.run_cpu_s / dense_run.stats.steps.max(1) as f64,
-            integrator_us_per_step: 1e6 * (dense_run.run_cpu_s - dense_run.bookkeeping_s)
-                / dense_run.stats.steps.max(1) as f64,
-            setup_us: dense_setup_us,
-            solve_us: dense_solve_us,
-            energy_balance_rel: dense_run.energy_balance_rel,
-        },
+        dense: DenseRun::of(&dense_run, dense_setup_us, dense_solve_us),
         moved_vs_dense: moved(&run.y, &dense_run.y, n),
         one_solve_vs_dense,
     };
