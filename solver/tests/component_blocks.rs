@@ -11,11 +11,10 @@
 
 mod common;
 
+use common::max_rel_diff;
+
 use faer::Mat;
-use squeal_solver::bdf::{consistent_initial_conditions, Bdf, BdfOptions, InitialConditionOptions};
-use squeal_solver::bsql::{
-    steady_state, BsqlOptions, BsqlSystem, FrictionForces, LoadHistory, SteadyOptions,
-};
+use squeal_solver::bsql::{BsqlOptions, BsqlSystem, FrictionForces, LoadHistory};
 use squeal_solver::{Real, SolverError};
 
 /// DOFs: pad A {0: x, 1: z}, pad B {2: x, 3: z}, caliper mode {4}, rotor {5: z top, 6: z bottom,
@@ -148,34 +147,7 @@ fn system(relative: bool, include_cf: bool) -> BsqlSystem<PadFriction> {
 /// Steady state, a kick on pad A's tangential velocity, consistent y'; BDF2 to t = 2.
 /// Returns (final y, steps, Newton iterations).
 fn run<F: FrictionForces>(sys: &mut BsqlSystem<F>) -> (Vec<Real>, u64, u64) {
-    let ss = steady_state(sys, 0.0, &SteadyOptions::default()).unwrap();
-    let (mut y0, mut yp0) = ss.initial_values();
-    y0[0] = 0.05;
-    consistent_initial_conditions(
-        sys,
-        0.0,
-        &mut y0,
-        &mut yp0,
-        None,
-        &InitialConditionOptions::default(),
-    )
-    .unwrap();
-    let opts = BdfOptions {
-        tolerances: sys.tolerances(1e-7, 1e-9, 1e-7, 1e-9),
-        ..Default::default()
-    };
-    let mut bdf = Bdf::new(opts, 0.0, &y0, &yp0).unwrap();
-    assert!(bdf.integrate_to(sys, 2.0).unwrap().is_success());
-    let st = bdf.stats();
-    (bdf.y().to_vec(), st.steps, st.newton_iterations)
-}
-
-fn max_rel_diff(a: &[Real], b: &[Real]) -> Real {
-    let scale = b.iter().fold(0.0 as Real, |m, x| m.max(x.abs()));
-    a.iter()
-        .zip(b)
-        .fold(0.0 as Real, |m, (x, y)| m.max((x - y).abs()))
-        / scale
+    common::kicked_run(sys, 2.0)
 }
 
 #[test]
