@@ -153,3 +153,87 @@ fn critical_mu_equals_dense_exact_bisection() {
     });
     assert!(s.stats.max_rel_critical_root_error.unwrap() > 0.0);
 }
+
+/// `max_exact_onsets` spends the exact evaluations on the lowest in-band onsets: with 1, the
+/// lowest one is refined exactly as without the limit, the others keep their projected
+/// crossing and are counted as skipped; with 0 none is refined.
+#[test]
+fn the_exact_onset_budget_goes_to_the_lowest_onsets() {
+    let m = model();
+    let mus: Vec<f64> = (0..11).map(|i| 0.1 * i as f64).collect();
+    let r0 = complex_eigen(&m.at(0.0), &exact_opts()).unwrap();
+    // The whole spectrum is the band: several onsets to refine.
+    let band = r0.modes.last().unwrap().frequency_hz;
+    let opts = |max_exact_onsets: usize| SweepOptions {
+        cea: CeaOptions {
+            method: CeaMethod::Projection,
+            projection: ProjectionOptions {
+                frequency_max_hz: Some(band),
+                cutoff_factor: 1.0,
+                basis_mu: Some(0.0),
+                ..ProjectionOptions::default()
+            },
+            ..exact_opts()
+        },
+        max_exact_critical: 30,
+        max_exact_onsets,
+        ..SweepOptions::default()
+    };
+    let build = |mu: f64| Ok::<_, CeaError>(m.at(mu));
+    let all = sweep(build, &mus, &opts(usize::MAX)).unwrap();
+    let attempted = all.stats.n_critical_exact + all.stats.n_critical_exact_failed;
+    eprintln!(
+        "no limit: {} exact, {} failed, {} skipped",
+        all.stats.n_critical_exact,
+        all.stats.n_critical_exact_failed,
+        all.stats.n_critical_exact_skipped
+    );
+    assert!(
+        attempted >= 2,
+        "the test needs two in-band onsets: {attempted}"
+    );
+    assert_eq!(all.stats.n_critical_exact_skipped, 0);
+    // The onsets in the order the sweep meets them (step, then track).
+    let first_onset = |s: &Sweep| {
+        s.tracks
+            .iter()
+            .filter_map(|t| t.critical.as_ref().map(|c| (t.id, c)))
+            .filter(|(_, c)| c.exact.is_some())
+            .min_by(|a, b| a.1.step.cmp(&b.1.step).then(a.0.cmp(&b.0)))
+            .map(|(id, c)| (id, c.clone()))
+    };
+
+    let one = sweep(build, &mus, &opts(1)).unwrap();
+    assert_eq!(
+        one.stats.n_critical_exact + one.stats.n_critical_exact_failed,
+        1
+    );
+    assert_eq!(one.stats.n_critical_exact_skipped, attempted - 1);
+    let (id1, c1) = first_onset(&one).expect("one onset refined");
+    let (id_all, c_all) = first_onset(&all).unwrap();
+    assert_eq!(id1, id_all);
+    assert_eq!(
+        c1.mu, c_all.mu,
+        "the same exact crossing as without the limit"
+    );
+    // No in-band onset met before it, and the refined one is the only one with `exact`.
+    for t in &one.tracks {
+        if let Some(c) = &t.critical {
+            if t.id != id1 {
+                assert!(
+                    c.exact.is_none(),
+                    "track {} refined beyond the budget",
+                    t.id
+                );
+                assert_eq!(c.mu, c.mu_located);
+            }
+        }
+    }
+
+    let none = sweep(build, &mus, &opts(0)).unwrap();
+    assert_eq!(
+        none.stats.n_critical_exact + none.stats.n_critical_exact_failed,
+        0
+    );
+    assert_eq!(none.stats.n_critical_exact_skipped, attempted);
+}

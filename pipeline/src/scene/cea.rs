@@ -71,6 +71,9 @@ pub struct CeaSweepSpec {
     /// With the projection method, move each in-band critical μ to the crossing of the exact
     /// root (shift-invert refinement of the tracked root; default: true).
     pub refine_critical: bool,
+    /// With `refine_critical`: how many in-band onsets, lowest first, are moved to the exact
+    /// crossing (default: 4; the others keep the projected crossing).
+    pub max_exact_onsets: usize,
 }
 
 impl Default for CeaSweepSpec {
@@ -86,6 +89,7 @@ impl Default for CeaSweepSpec {
             exact_check: s.exact_check,
             resolve_state: true,
             refine_critical: s.refine_critical,
+            max_exact_onsets: s.max_exact_onsets,
         }
     }
 }
@@ -181,6 +185,7 @@ impl CeaSweepSpec {
             bisection_tol: self.bisection_tol,
             exact_check: self.exact_check,
             refine_critical: self.refine_critical,
+            max_exact_onsets: self.max_exact_onsets,
             ..SweepOptions::default()
         }
     }

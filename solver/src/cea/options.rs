@@ -211,6 +211,12 @@ pub struct SweepOptions {
     pub refine_critical: bool,
     /// Largest number of exact evaluations per critical μ with `refine_critical` (default: 12).
     pub max_exact_critical: usize,
+    /// Largest number of onsets moved to the exact crossing with `refine_critical`, the
+    /// lowest in-band onsets first (default: 4). Each costs up to `max_exact_critical` exact
+    /// evaluations (a steady state and a complex LU of size n + ng each, seconds on a
+    /// brake-sized model); the onsets beyond it keep their projected crossing and are counted
+    /// in [`super::SweepStats::n_critical_exact_skipped`].
+    pub max_exact_onsets: usize,
     /// The exact crossing stops when its bracket is shorter than
     /// `exact_critical_tol`·max(1, |μ|) (default: 1e-5; each evaluation costs a complex LU of
     /// size n + ng).
@@ -234,6 +240,7 @@ impl Default for SweepOptions {
             max_bisection: 60,
             refine_critical: true,
             max_exact_critical: 12,
+            max_exact_onsets: 4,
             exact_critical_tol: 1e-5,
             keep_shapes: false,
             exact_check: true,

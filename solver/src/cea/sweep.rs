@@ -125,6 +125,9 @@ pub struct SweepStats {
     pub n_critical_exact: usize,
     /// In-band onsets whose exact crossing was not found (kept at the projected crossing).
     pub n_critical_exact_failed: usize,
+    /// In-band onsets not refined because `max_exact_onsets` lower ones were (kept at the
+    /// projected crossing).
+    pub n_critical_exact_skipped: usize,
     /// Exact evaluations spent on the critical μ (each a shift-invert refinement of the
     /// tracked root: at least one complex LU of size n + ng).
     pub n_critical_exact_solves: usize,
@@ -431,13 +434,18 @@ where
                 };
                 solver.stats.n_locate_solves += nb;
                 let band = solver.stats.check_band_hz;
+                let refinable = opts.refine_critical
+                    && solver.basis.is_some()
+                    && solver.cea.projection.refine.enabled
+                    && located.is_some()
+                    && band.is_some_and(|b| f_loc <= b);
+                let attempted =
+                    solver.stats.n_critical_exact + solver.stats.n_critical_exact_failed;
+                if refinable && attempted >= opts.max_exact_onsets {
+                    solver.stats.n_critical_exact_skipped += 1;
+                }
                 let exact = match (&located, band) {
-                    (Some(br), Some(band))
-                        if opts.refine_critical
-                            && solver.basis.is_some()
-                            && solver.cea.projection.refine.enabled
-                            && f_loc <= band =>
-                    {
+                    (Some(br), Some(band)) if refinable && attempted < opts.max_exact_onsets => {
                         Some(solver.refine_critical(
                             br,
                             m0.shape.clone(),

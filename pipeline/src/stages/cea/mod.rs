@@ -86,8 +86,17 @@ pub struct OutsideBand {
     /// Highest frequency among the unstable ones (the top of the interface flutter of rigid
     /// contact with friction, docs/interface-flutter.md).
     pub max_unstable_frequency_hz: Option<Real>,
-    /// The most unstable of them (at most [`OutsideBand::LISTED`]); `index` is not used.
-    pub unstable: Vec<ModeOut>,
+    /// The most unstable of them (at most [`OutsideBand::LISTED`]).
+    pub unstable: Vec<RootOut>,
+}
+
+/// A root above the band (not in the reported list, so without an index).
+#[derive(Debug, Clone, Serialize)]
+pub struct RootOut {
+    pub frequency_hz: Real,
+    pub real_part: Real,
+    /// ζ = −2 Re p/|Im p| (null for a real root).
+    pub damping_ratio: Option<Real>,
 }
 
 impl OutsideBand {
@@ -309,15 +318,13 @@ pub fn compute(
     let fmax = band_hz.unwrap_or(Real::INFINITY);
     let (kept, above): (Vec<Mode>, Vec<Mode>) =
         res.modes.into_iter().partition(|m| m.frequency_hz <= fmax);
-    let mut above_unstable: Vec<ModeOut> = above
+    let mut above_unstable: Vec<RootOut> = above
         .iter()
         .filter(|m| m.unstable)
-        .map(|m| ModeOut {
-            index: usize::MAX,
+        .map(|m| RootOut {
             frequency_hz: m.frequency_hz,
             real_part: m.real_part,
             damping_ratio: m.damping_ratio,
-            unstable: true,
         })
         .collect();
     above_unstable.sort_by(|a, b| b.real_part.total_cmp(&a.real_part));

@@ -32,14 +32,27 @@ const K_PIVOT_RATIO_MIN: Real = 1e-12;
 /// — an ng × ng LU and one solve with K per iteration instead of a dense LU of size n + ng
 /// (O(ng² n) instead of O((n + ng)³)). The convergence test is the one of `steady_state` on
 /// the true residual, so the state is the same to within the Newton tolerance; Newton starts
-/// from the state of the previous call (a neighbouring μ). When K is singular or Newton does
-/// not converge the dense `steady_state` runs instead (counted in
-/// [`SweepSteady::n_dense`]).
+/// from the state of the previous call (a neighbouring μ).
+///
+/// K is singular when a part is held only by the contact (brake pads free normal to the
+/// rotor: their rigid motion along the normal). Then the first block row is replaced by itself
+/// plus ρGᵀ times the second (an equivalent system: the augmented Lagrangian form),
+/// ```text
+/// [K + ρGᵀG   A − ρGᵀ diag c] [δu ]   [r_u + ρGᵀ r_g]
+/// [G          −diag c       ] [δλ̇] = [r_g          ]
+/// ```
+/// whose K_ρ = K + ρGᵀG is regular when no motion is free in K and unseen by G; the same
+/// elimination runs with K_ρ, W = K_ρ⁻ᵀGᵀ, A_ρ = A − ρGᵀ diag c and r_u + ρGᵀr_g. ρ is the
+/// largest |K_ii| over the largest squared row norm of G (the added stiffness is of K's
+/// size). When K_ρ is singular too, or Newton does not converge, the dense `steady_state`
+/// runs instead (counted in [`SweepSteady::n_dense`]).
 pub struct SweepSteady {
-    /// LU of K (None: K singular, always dense).
+    /// LU of K_ρ = K + ρGᵀG (None: singular, always dense).
     k_lu: Option<PartialPivLu<Real>>,
-    /// W = K⁻ᵀGᵀ (n × ng).
+    /// W = K_ρ⁻ᵀGᵀ (n × ng).
     w: Mat<Real>,
+    /// ρ of the augmented form (0 when K itself is regular).
+    pub rho: Real,
     /// P(t) at the full-load time t.
     p: Vec<Real>,
     t: Real,
@@ -60,14 +73,32 @@ impl SweepSteady {
         let t = full_load_time(problem);
         let mut p = vec![0.0; n];
         problem.load.add_to(t, 1.0, &mut p);
-        let lu = problem.k.partial_piv_lu();
-        let u = lu.U();
-        let (mut pmin, mut pmax) = (Real::INFINITY, 0.0 as Real);
-        for i in 0..n {
-            pmin = pmin.min(u[(i, i)].abs());
-            pmax = pmax.max(u[(i, i)].abs());
+        let regular = |lu: &PartialPivLu<Real>| {
+            let u = lu.U();
+            let (mut pmin, mut pmax) = (Real::INFINITY, 0.0 as Real);
+            for i in 0..n {
+                pmin = pmin.min(u[(i, i)].abs());
+                pmax = pmax.max(u[(i, i)].abs());
+            }
+            n > 0 && pmax.is_finite() && pmin > K_PIVOT_RATIO_MIN * pmax
+        };
+        let mut rho = 0.0;
+        let mut lu = problem.k.partial_piv_lu();
+        let mut ok = regular(&lu);
+        if !ok && ng > 0 {
+            // The augmented form: K + ρGᵀG.
+            let g = &problem.g;
+            let kmax = (0..n).fold(0.0 as Real, |m, i| m.max(problem.k[(i, i)].abs()));
+            let gmax = (0..ng).fold(0.0 as Real, |m, r| {
+                m.max((0..n).map(|j| g[(r, j)] * g[(r, j)]).sum::<Real>())
+            });
+            if kmax > 0.0 && gmax > 0.0 && kmax.is_finite() && gmax.is_finite() {
+                rho = kmax / gmax;
+                let k_rho = &problem.k + (g.transpose() * g) * faer::Scale(rho);
+                lu = k_rho.partial_piv_lu();
+                ok = regular(&lu);
+            }
         }
-        let ok = n > 0 && pmax.is_finite() && pmin > K_PIVOT_RATIO_MIN * pmax;
         let w = if ok {
             let mut w = problem.g.transpose().to_owned();
             lu.solve_transpose_in_place(&mut w);
@@ -78,6 +109,7 @@ impl SweepSteady {
         SweepSteady {
             k_lu: ok.then_some(lu),
             w,
+            rho: if ok { rho } else { 0.0 },
             p,
             t,
             last: None,
@@ -197,7 +229,18 @@ impl SweepSteady {
             let mut a = Mat::<Real>::zeros(n, ng);
             gaps.add_tangents(&zero_v, &lam, &mut a, None)
                 .map_err(contact)?;
-            let a = g.transpose() - &a;
+            let mut a = g.transpose() - &a;
+            if self.rho != 0.0 {
+                // The augmented form: A_ρ = A − ρGᵀ diag c, r_u + ρGᵀr_g.
+                for (kk, &ck) in c.iter().enumerate() {
+                    if ck != 0.0 {
+                        for i in 0..n {
+                            a[(i, kk)] -= self.rho * ck * g[(kk, i)];
+                        }
+                    }
+                }
+                ru += (g.transpose() * &rg) * faer::Scale(self.rho);
+            }
             let mut s = self.w.transpose() * &a;
             for (kk, &ck) in c.iter().enumerate() {
                 s[(kk, kk)] += ck;
@@ -312,15 +355,61 @@ mod tests {
         assert_eq!((fast.n_fast, fast.n_dense), (4, 0));
     }
 
-    /// K singular (the pads free normal to the rotor): the dense Newton runs instead.
+    /// K singular (the pads free normal to the rotor, held by the contact alone): the
+    /// augmented form K + ρGᵀG is regular, and the block elimination gives the dense Newton's
+    /// state at every μ, rigid and with compliant contact rows.
     #[test]
-    fn singular_k_falls_back_to_dense_newton() {
-        let (problem, gaps) = model(0.0);
+    fn singular_k_held_by_the_contact_uses_the_augmented_form() {
+        for compliance in [Vec::new(), vec![1e-3, 2e-3]] {
+            let (mut problem, gaps) = model(0.0);
+            problem.compliance = compliance.clone();
+            let lu = problem.k.partial_piv_lu();
+            let pmin = (0..9).fold(Real::INFINITY, |m, i| m.min(lu.U()[(i, i)].abs()));
+            assert!(pmin < 1e-12, "K is singular: smallest pivot {pmin}");
+            let opts = SteadyOptions::default();
+            let mut fast = SweepSteady::new(&problem);
+            assert!(fast.rho > 0.0, "the augmented form is used");
+            for mu in [0.1, 0.4, 0.9, 0.2] {
+                let g = gaps
+                    .clone()
+                    .with_friction(FrictionLaw::Constant { mu }, gaps.vtol)
+                    .unwrap();
+                let a = fast.solve(&problem, &g, &opts).unwrap();
+                let b = at_steady_state(&problem, &g, &opts).unwrap();
+                let scale = b.lambda_dot.iter().fold(0.0 as Real, |m, x| m.max(x.abs()));
+                assert!(scale > 0.1, "the pads are pressed: {:?}", b.lambda_dot);
+                let uscale = b.u.iter().fold(0.0 as Real, |m, x| m.max(x.abs()));
+                assert!(
+                    max_diff(&a.u, &b.u) <= 1e-10 * uscale,
+                    "mu {mu}, c {compliance:?}: u {:?} vs {:?}",
+                    a.u,
+                    b.u
+                );
+                assert!(max_diff(&a.lambda_dot, &b.lambda_dot) <= 1e-10 * scale);
+            }
+            assert_eq!((fast.n_fast, fast.n_dense), (4, 0), "c {compliance:?}");
+        }
+    }
+
+    /// K singular along a motion no gap sees (a pad free in y): K + ρGᵀG is singular too, and
+    /// the dense Newton runs instead (with its own outcome).
+    #[test]
+    fn singular_k_unseen_by_the_gaps_falls_back_to_dense_newton() {
+        let (mut problem, gaps) = model(1.0);
+        for j in 0..problem.k.nrows() {
+            problem.k[(1, j)] = 0.0;
+            problem.k[(j, 1)] = 0.0;
+        }
         let opts = SteadyOptions::default();
         let mut fast = SweepSteady::new(&problem);
-        let a = fast.solve(&problem, &gaps, &opts).unwrap();
-        let b = at_steady_state(&problem, &gaps, &opts).unwrap();
+        assert_eq!(fast.rho, 0.0);
+        let a = fast.solve(&problem, &gaps, &opts);
+        let b = at_steady_state(&problem, &gaps, &opts);
         assert_eq!((fast.n_fast, fast.n_dense), (0, 1));
-        assert_eq!((a.u, a.lambda_dot), (b.u, b.lambda_dot));
+        match (a, b) {
+            (Ok(a), Ok(b)) => assert_eq!((a.u, a.lambda_dot), (b.u, b.lambda_dot)),
+            (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string()),
+            (a, b) => panic!("fast {:?} vs dense {:?}", a.is_ok(), b.is_ok()),
+        }
     }
 }
