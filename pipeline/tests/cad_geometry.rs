@@ -334,12 +334,13 @@ fn cad_brake_example_parts_mesh_independently() {
         let m = mesh(pad);
         assert_eq!(m.volumes.len(), 2, "{pad}: lining and backplate");
         let cells: usize = m.volumes.iter().map(|b| b.len()).sum();
-        assert_eq!(cells, 724, "{pad}");
+        // brake.toml's pad mesh: 24 elements along the lining, 3 + 4 + 3 across.
+        assert_eq!(cells, 2352, "{pad}");
         let pf = face_nodes(&m, "friction");
         let rf = face_nodes(&rotor, rotor_face);
         // The pads are hex8 (brake.toml: quad8 corner nodes of hex20 pads carry tensile
-        // nodal forces under a uniform pressure): a 16 × 7 face has 17·8 nodes.
-        assert_eq!(pf.len(), 136, "{pad}: 17·8 hex8 face nodes");
+        // nodal forces under a uniform pressure): a 24 × 10 face has 25·11 nodes.
+        assert_eq!(pf.len(), 275, "{pad}: 25·11 hex8 face nodes");
         let mut min_d = f64::INFINITY;
         for p in &pf {
             assert!(
