@@ -38,7 +38,8 @@
 //! target/release/examples/bench_step [--quick] [out.json]   # default docs/bench/transient_step.json
 //! ```
 //! Run from the repository root, with gmsh on PATH (the hex20 model is meshed and reduced once,
-//! then read from the model cache `target/bench/cache`). `--quick` skips the hex20 brake.
+//! then read from the model cache `target/bench/cache`). `--quick` skips the hex20 brake (its
+//! row in the output file, if there is one, is kept, marked `from_earlier_run`).
 
 use serde::Serialize;
 use squeal_pipeline::stages::model::{self, cache::ModelCache};
@@ -127,6 +128,10 @@ struct Row {
     modal_redetections: u64,
     /// Factorisations with C_f because a contact was near sticking (`BsqlStats`).
     near_stick_factorisations: u64,
+    /// Whether the products with M, B, K (residual, energy forms) and with K (Newton solve)
+    /// read the upper triangles only (`BsqlSystem::symmetric_products`: the matrices are
+    /// symmetric to round-off).
+    symmetric_products: (bool, bool),
     /// Stored entries of M, B, K (union pattern), K, G over n², n², ng·n.
     density_mbk: f64,
     density_k: f64,
@@ -448,6 +453,7 @@ fn run_case(
         schur_madds,
         modal_redetections: run.bsql.modal_redetections,
         near_stick_factorisations: run.bsql.near_stick_factorisations,
+        symmetric_products: sys.symmetric_products(),
         density_mbk: nnz_mbk as f64 / (n * n) as f64,
         density_k: nnz_k as f64 / (n * n) as f64,
         density_g: nnz_g as f64 / (n * ng).max(1) as f64,
@@ -593,7 +599,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Some(p) = out.parent() {
         std::fs::create_dir_all(p)?;
     }
-    std::fs::write(&out, serde_json::to_string_pretty(&rows)?)?;
+    let mut json: Vec<serde_json::Value> = rows
+        .iter()
+        .map(serde_json::to_value)
+        .collect::<Result<_, _>>()?;
+    if quick {
+        // The rows of the cases `--quick` skips (the hex20 brake) stay from the file it
+        // overwrites, marked `from_earlier_run`.
+        let old = std::fs::read_to_string(&out)
+            .ok()
+            .and_then(|s| serde_json::from_str::<Vec<serde_json::Value>>(&s).ok())
+            .unwrap_or_default();
+        for mut r in old {
+            let case = r.get("case").cloned();
+            if r.is_object() && !json.iter().any(|n| n.get("case") == case.as_ref()) {
+                r["from_earlier_run"] = true.into();
+                json.push(r);
+            }
+        }
+    }
+    std::fs::write(&out, serde_json::to_string_pretty(&json)?)?;
     println!("wrote {}", out.display());
     Ok(())
 }

@@ -296,7 +296,7 @@ impl<F: FrictionForces> BsqlSystem<F> {
         match cj {
             Some(c) => {
                 // r_v − K r_u / cj
-                self.k_rows.apply(0, bu, &mut self.rhs[..n], true, -1.0 / c);
+                self.k_rows.apply(bu, &mut self.rhs[..n], true, -1.0 / c);
                 for k in 0..ng {
                     self.rhs[n + k] = s * bl[k] / c;
                 }

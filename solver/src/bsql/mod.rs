@@ -45,6 +45,7 @@ use crate::linalg::bordered::BorderedBlocks;
 use crate::linalg::diag_block::DiagBlock;
 use crate::linalg::lu::DenseLu;
 use crate::linalg::sparse::RunRows;
+use crate::linalg::symmetric::Products;
 use crate::{Real, SolverError};
 
 /// Friction forces F_f(λ', v) of [Paper eq. (8)] and their tangents, supplied by the caller
@@ -232,10 +233,11 @@ pub struct BsqlSystem<F: FrictionForces> {
     last_setup: Option<(Real, Real)>,
     last_y: Vec<Real>,
     last_yp: Vec<Real>,
-    /// M, B, K on their union pattern (the residual's M v' + B v + K u, the energy forms).
-    pub(crate) mbk: RunRows,
+    /// M, B, K on their union pattern (the residual's M v' + B v + K u, the energy forms), by
+    /// the upper triangle when the three are symmetric.
+    pub(crate) mbk: Products,
     /// K alone (the Newton solve's K r_u / cj).
-    pub(crate) k_rows: RunRows,
+    pub(crate) k_rows: Products,
     /// G and Gᵀ in compressed rows.
     pub(crate) g_rows: RunRows,
     pub(crate) gt_rows: RunRows,
@@ -270,8 +272,8 @@ impl<F: FrictionForces> BsqlSystem<F> {
         } else {
             Mat::zeros(0, 0)
         };
-        let mbk = RunRows::from_dense(&[&M, &B, &K], "M, B, K union pattern")?;
-        let k_rows = RunRows::from_dense(&[&K], "K")?;
+        let mbk = Products::new(&[&M, &B, &K], "M, B, K union pattern")?;
+        let k_rows = Products::new(&[&K], "K")?;
         let g_rows = RunRows::from_dense(&[&G], "G")?;
         let gt_rows = RunRows::transpose_of_dense(&G, "G")?;
         let mut sys = Self {
@@ -438,9 +440,15 @@ impl<F: FrictionForces> BsqlSystem<F> {
         self.ng
     }
 
-    /// Stored entries of the sparse products: (M, B, K union pattern, K, G).
+    /// Non-zero entries of the sparse products: (M, B, K union pattern, K, G).
     pub fn product_nnz(&self) -> (usize, usize, usize) {
         (self.mbk.nnz(), self.k_rows.nnz(), self.g_rows.nnz())
+    }
+
+    /// Whether the products with M, B, K use their upper triangles (all three symmetric to
+    /// round-off; `linalg::symmetric`), and the same for K alone.
+    pub fn symmetric_products(&self) -> (bool, bool) {
+        (self.mbk.is_symmetric(), self.k_rows.is_symmetric())
     }
 
     /// Counters and the constraint-drift monitor.

@@ -59,6 +59,8 @@ pub(crate) struct DiagBlock {
     yd: Vec<Real>,
     /// U · W of one group.
     tmp: Mat<Real>,
+    /// A group's U y or W x (the longest of its rows and members).
+    work: Vec<Real>,
 }
 
 impl DiagBlock {
@@ -111,11 +113,12 @@ impl DiagBlock {
                 }),
             }
         }
-        let mut max_rows = 0;
+        let (mut max_rows, mut max_members) = (0, 0);
         for g in &mut groups {
             g.u = Mat::zeros(g.rows.len(), g.members.len());
             g.w = Mat::zeros(g.members.len(), g.rows.len());
             max_rows = max_rows.max(g.rows.len());
+            max_members = max_members.max(g.members.len());
         }
         Some(Self {
             n,
@@ -125,6 +128,7 @@ impl DiagBlock {
             kept,
             groups,
             tmp: Mat::zeros(max_rows, max_rows),
+            work: vec![0.0; max_rows.max(max_members)],
         })
     }
 
@@ -222,7 +226,8 @@ impl DiagBlock {
 
     /// Forward substitution: y_d = A_dd⁻¹ r_d (kept), and `reduced[p]` = r_b[p] −
     /// (A_bd y_d)[p] for the kept positions (`full` has the n DOF entries first; `reduced` the
-    /// kept positions first, both may carry further entries the caller handles).
+    /// kept positions first, both may carry further entries the caller handles). Per group,
+    /// U y_members is formed densely (column updates on a contiguous vector), then scattered.
     pub fn forward(&mut self, full: &[Real], reduced: &mut [Real]) {
         for (p, &i) in self.kept.iter().enumerate() {
             reduced[p] = full[i];
@@ -231,22 +236,23 @@ impl DiagBlock {
             self.yd[pos] = full[i] / self.diag[pos];
         }
         for g in &self.groups {
+            let t = &mut self.work[..g.rows.len()];
+            t.fill(0.0);
             for (c, &pos) in g.members.iter().enumerate() {
                 let y = self.yd[pos];
-                if y == 0.0 {
-                    continue;
+                for (tr, u) in t.iter_mut().zip(g.u.col_as_slice(c)) {
+                    *tr += u * y;
                 }
-                let col = g.u.col_as_slice(c);
-                for (r, &p) in g.rows.iter().enumerate() {
-                    reduced[p] -= col[r] * y;
-                }
+            }
+            for (&p, tr) in g.rows.iter().zip(t.iter()) {
+                reduced[p] -= tr;
             }
         }
     }
 
     /// Back substitution: from the solved kept values `reduced[p]`, `full[kept[p]]` = x_b and
-    /// `full[d]` = y_d − A_dd⁻¹ A_db x_b.
-    pub fn back(&self, reduced: &[Real], full: &mut [Real]) {
+    /// `full[d]` = y_d − A_dd⁻¹ A_db x_b (per group, W x_rows formed densely, then scattered).
+    pub fn back(&mut self, reduced: &[Real], full: &mut [Real]) {
         for (p, &i) in self.kept.iter().enumerate() {
             full[i] = reduced[p];
         }
@@ -254,15 +260,16 @@ impl DiagBlock {
             full[i] = self.yd[pos];
         }
         for g in &self.groups {
+            let t = &mut self.work[..g.members.len()];
+            t.fill(0.0);
             for (r, &p) in g.rows.iter().enumerate() {
                 let x = reduced[p];
-                if x == 0.0 {
-                    continue;
+                for (tc, w) in t.iter_mut().zip(g.w.col_as_slice(r)) {
+                    *tc += w * x;
                 }
-                let col = g.w.col_as_slice(r);
-                for (c, &pos) in g.members.iter().enumerate() {
-                    full[self.d[pos]] -= col[c] * x;
-                }
+            }
+            for (&pos, tc) in g.members.iter().zip(t.iter()) {
+                full[self.d[pos]] -= tc;
             }
         }
     }

@@ -1,4 +1,11 @@
 //! Dense LU with partial pivoting on preallocated storage (no allocation per factorisation).
+//!
+//! The factorisation is faer's. The solve with one right-hand side (every Newton iteration)
+//! is the textbook column-oriented substitution, x ← P b, then L (unit lower) forward and U
+//! backward, each column an AXPY on a contiguous slice vectorised with AVX2/FMA where the CPU
+//! has them ([`super::sparse::dispatch`]): for the ~200 unknowns of the study brake's reduced
+//! saddle system it takes a third of the time of faer's blocked solve (which is built for
+//! many right-hand sides), with the same flops in a different order (round-off).
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::lu::partial_pivoting::{factor, solve};
@@ -15,6 +22,46 @@ pub(crate) struct DenseLu {
     perm_inv: Vec<usize>,
     mem: MemBuffer,
     factored: bool,
+    /// P b during a solve.
+    work: Vec<Real>,
+}
+
+/// The substitutions of [`DenseLu::solve`], SIMD-dispatched.
+struct Substitute<'a> {
+    lu: &'a Mat<Real>,
+    perm: &'a [usize],
+    b: &'a mut [Real],
+    x: &'a mut [Real],
+}
+
+impl pulp::WithSimd for Substitute<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let n = self.x.len();
+        let x = self.x;
+        for (xi, &p) in x.iter_mut().zip(self.perm) {
+            *xi = self.b[p];
+        }
+        // L y = P b (unit diagonal), column by column.
+        for j in 0..n {
+            let xj = x[j];
+            let col = &self.lu.col_as_slice(j)[j + 1..n];
+            for (xi, l) in x[j + 1..n].iter_mut().zip(col) {
+                *xi -= l * xj;
+            }
+        }
+        // U x = y, column by column from the last.
+        for j in (0..n).rev() {
+            let col = &self.lu.col_as_slice(j)[..=j];
+            x[j] /= col[j];
+            let xj = x[j];
+            for (xi, u) in x[..j].iter_mut().zip(col) {
+                *xi -= u * xj;
+            }
+        }
+        self.b.copy_from_slice(x);
+    }
 }
 
 impl DenseLu {
@@ -27,6 +74,7 @@ impl DenseLu {
             perm_inv: vec![0; n],
             mem: MemBuffer::new(req),
             factored: false,
+            work: vec![0.0; n],
         }
     }
 
@@ -90,10 +138,12 @@ impl DenseLu {
                 got: b.len(),
             });
         }
-        let perm = PermRef::new_checked(&self.perm, &self.perm_inv, n);
-        let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
-        let stack = MemStack::new(&mut self.mem);
-        solve::solve_in_place(self.a.as_ref(), self.a.as_ref(), perm, rhs, Par::Seq, stack);
+        super::sparse::dispatch(Substitute {
+            lu: &self.a,
+            perm: &self.perm,
+            b,
+            x: &mut self.work,
+        });
         Ok(())
     }
 
@@ -123,5 +173,38 @@ impl DenseLu {
         let stack = MemStack::new(&mut mem);
         solve::solve_in_place(self.a.as_ref(), self.a.as_ref(), perm, b, Par::Seq, stack);
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The substitutions against faer's solve with the same factors, and against A x = b.
+    #[test]
+    fn solve_matches_faer_and_the_matrix() {
+        let n = 37;
+        let a = Mat::from_fn(n, n, |i, j| {
+            let x = ((i * 31 + j * 17) % 23) as Real / 23.0 - 0.5;
+            if i == j {
+                x + 0.1
+            } else {
+                x
+            }
+        });
+        let mut lu = DenseLu::new(n);
+        lu.a.copy_from(&a);
+        lu.factor("test", 0.0).unwrap();
+        let b: Vec<Real> = (0..n).map(|i| (0.3 * i as Real).sin()).collect();
+        let mut x = b.clone();
+        lu.solve(&mut x).unwrap();
+        let mut want = Mat::from_fn(n, 1, |i, _| b[i]);
+        lu.solve_mat(want.as_mut()).unwrap();
+        let scale = x.iter().fold(0.0 as Real, |m, v| m.max(v.abs()));
+        for i in 0..n {
+            assert!((x[i] - want[(i, 0)]).abs() <= 1e-13 * scale, "{i}");
+            let ax: Real = (0..n).map(|j| a[(i, j)] * x[j]).sum();
+            assert!((ax - b[i]).abs() <= 1e-12 * scale, "{i}");
+        }
     }
 }
