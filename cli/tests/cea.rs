@@ -442,6 +442,12 @@ fn sweep_finds_hoffmann_critical_mu_and_merging_pair() {
             .arg(&out));
         assert!(ok, "{stderr}");
         let (mu, c) = lowest_critical(&out);
+        // A small model is swept exactly (dense): its onsets are crossings of exact roots.
+        let sw = json(&out.join("cea.sweep.json"));
+        assert_eq!(
+            sw["lowest_critical_mu_in_band_status"], "exact_sweep",
+            "{sw}"
+        );
         assert!(
             (mu - mu_c).abs() < 1e-4,
             "c = ({c1}, {c2}): mu_c = {mu}, expected {mu_c}: {c}"

@@ -147,6 +147,9 @@ pub struct CeaReport {
     pub lowest_critical_mu: Option<Real>,
     /// The lowest critical μ of a mode in the validity band (with a sweep and a band).
     pub lowest_critical_mu_in_band: Option<Real>,
+    /// How it was found (`exact_sweep`, `exact_crossing`, `projected_not_confirmed`,
+    /// `projected`).
+    pub lowest_critical_mu_in_band_status: Option<sweep::CriticalStatus>,
     /// Points of `cea_modes.vtu` (0: not written).
     pub vtu_points: usize,
     /// Full-mesh mode-shape files `cea_modes_<component>.vtu` (empty: stored matrices).
@@ -523,6 +526,10 @@ pub fn write(
         sweep_stats: c.sweep.as_ref().map(|r| r.stats.clone()),
         lowest_critical_mu: c.sweep.as_ref().and_then(|r| r.lowest_critical_mu),
         lowest_critical_mu_in_band: c.sweep.as_ref().and_then(|r| r.lowest_critical_mu_in_band),
+        lowest_critical_mu_in_band_status: c
+            .sweep
+            .as_ref()
+            .and_then(|r| r.lowest_critical_mu_in_band_status),
         vtu_points,
         full_mesh_shapes,
         // File names relative to the run folder (`files` has the paths): two runs of the same

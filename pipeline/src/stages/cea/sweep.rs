@@ -7,7 +7,7 @@ use crate::scene::{CeaSpec, CeaSweepSpec, SweepVary};
 use crate::stages::transient::system::Problem;
 use serde::{Deserialize, Serialize};
 use squeal_contact::{FrictionLaw, GapSet};
-use squeal_solver::cea::{sweep, CeaMatrices, Sweep, SweepStats};
+use squeal_solver::cea::{sweep, CeaMatrices, CeaMethod, Sweep, SweepStats};
 
 type Real = f64;
 
@@ -125,10 +125,30 @@ pub struct SweepReport {
     /// The lowest critical μ of a coupling whose onset frequency is in the band (above it the
     /// roots are not squeal, and a projected sweep does not resolve them).
     pub lowest_critical_mu_in_band: Option<Real>,
+    /// How `lowest_critical_mu_in_band` was found (None: no in-band onset).
+    pub lowest_critical_mu_in_band_status: Option<CriticalStatus>,
     pub tracks: Vec<TrackOut>,
     pub stats: SweepStats,
     /// How the steady states were solved (`None` without `resolve_state`).
     pub steady_states: Option<SteadyStatesOut>,
+}
+
+/// How a critical μ was found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CriticalStatus {
+    /// The sweep solved every μ exactly (dense): the crossing of the exact roots.
+    ExactSweep,
+    /// A projected sweep's onset moved to the crossing of the exact root (`critical.exact`
+    /// converged).
+    ExactCrossing,
+    /// A projected sweep's onset that the exact refinement did not confirm: the exact root
+    /// does not cross within one sweep step of it (`critical.exact` not converged). The
+    /// value is the projection's; the exact onset is elsewhere or absent.
+    ProjectedNotConfirmed,
+    /// A projected sweep's onset not refined (`refine_critical` off, or beyond
+    /// `max_exact_onsets`).
+    Projected,
 }
 
 /// How a sweep's steady states were solved.
@@ -221,6 +241,11 @@ pub fn run_sweep(
         })
         .collect();
     couplings.sort_by(|a, b| a.mu_critical.total_cmp(&b.mu_critical));
+    let lowest_in_band = couplings
+        .iter()
+        .find(|c| band_hz.is_none_or(|b| c.frequency_hz <= b))
+        .cloned();
+    let lowest_in_band = lowest_in_band.as_ref();
     let report = SweepReport {
         vary: sw.vary,
         base_law: gaps.law.clone(),
@@ -228,10 +253,20 @@ pub fn run_sweep(
         max_frequency_hz: spec.max_frequency_hz,
         lowest_critical_mu: couplings.first().map(|c| c.mu_critical),
         band_hz,
-        lowest_critical_mu_in_band: couplings
-            .iter()
-            .find(|c| band_hz.is_none_or(|b| c.frequency_hz <= b))
-            .map(|c| c.mu_critical),
+        lowest_critical_mu_in_band: lowest_in_band.map(|c| c.mu_critical),
+        lowest_critical_mu_in_band_status: lowest_in_band.map(|c| {
+            let exact = tracks
+                .iter()
+                .find(|t| t.id == c.track)
+                .and_then(|t| t.critical.as_ref())
+                .and_then(|k| k.exact.as_ref());
+            match exact {
+                Some(x) if x.converged => CriticalStatus::ExactCrossing,
+                Some(_) => CriticalStatus::ProjectedNotConfirmed,
+                None if s.stats.method == CeaMethod::Exact => CriticalStatus::ExactSweep,
+                None => CriticalStatus::Projected,
+            }
+        }),
         couplings,
         tracks,
         stats: s.stats.clone(),
