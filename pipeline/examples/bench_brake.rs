@@ -381,8 +381,26 @@ fn run_pipeline(
         eprintln!("CEA + {n}-point sweep: {dt:.1} s");
         out["sweep_s"] = json!(dt);
         if let Some(r) = &s.sweep {
+            // The in-band onsets with how each was found (exact crossing or not).
+            let band = r.band_hz.unwrap_or(f64::INFINITY);
+            let onsets: Vec<_> = r
+                .tracks
+                .iter()
+                .filter_map(|t| t.critical.as_ref())
+                .filter(|c| c.frequency_hz <= band)
+                .map(|c| {
+                    json!({
+                        "mu": c.mu, "mu_located": c.mu_located, "frequency_hz": c.frequency_hz,
+                        "exact_converged": c.exact.as_ref().map(|x| x.converged),
+                        "exact_max_real_part_error": c.exact.as_ref().map(|x| x.max_real_part_error),
+                    })
+                })
+                .collect();
             out["sweep"] = json!({
                 "n_points": n, "lowest_critical_mu": r.lowest_critical_mu,
+                "lowest_critical_mu_in_band": r.lowest_critical_mu_in_band,
+                "lowest_critical_mu_in_band_status": r.lowest_critical_mu_in_band_status,
+                "in_band_onsets": onsets,
                 "stats": r.stats, "wall_s_with_its_cea": dt,
             });
         }
