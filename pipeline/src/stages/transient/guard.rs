@@ -11,7 +11,8 @@
 //! - its window is long enough to see that growth: the detectable rate ln(G)/T of a window of
 //!   length T, with G = `output.squeal_min_growth_factor` (the growth the verdict requires),
 //!   must not exceed `min_growth_rate_per_s`;
-//! - its contact stayed valid (no gap went tensile while separation is off);
+//! - its contact stayed valid (no gap went tensile after the load ramp while separation is
+//!   off; tensile gaps while the load is still being applied are reported, see `validity`);
 //! - it reached TFINAL (no step-size collapse or convergence failure, no step cap).
 //!
 //! A clear growth before any of these failures is a positive (`squeal`): the A-stable
@@ -302,7 +303,7 @@ pub fn judge(e: &Evidence<'_>) -> (VerdictState, Vec<Resolution>, Option<Real>) 
             });
         }
     }
-    if let (false, Some(ev)) = (e.separation, e.contact.first_separation) {
+    if let (false, Some(ev)) = (e.separation, e.contact.first_tensile_after_ramp) {
         reasons.push(Unresolved::ContactTensile(ev));
     }
     if !e.status.is_success() {
@@ -427,16 +428,27 @@ mod tests {
         let mut e = base(&c, &ok);
         e.window = [0.0025, 0.006];
         assert!(matches!(judge(&e).0, VerdictState::Unresolved { .. }));
+        let event = GapEvent {
+            t: 0.0171,
+            gap: 0,
+            pressure: -3.0,
+        };
         let tensile = ContactValidity {
-            first_separation: Some(GapEvent {
-                t: 0.0171,
-                gap: 0,
-                pressure: -3.0,
-            }),
+            first_separation: Some(event),
+            first_tensile_after_ramp: Some(event),
             ..Default::default()
         };
         let s = judge(&base(&tensile, &ok)).0;
         assert!(format!("{s:?}").contains("ContactTensile"), "{s:?}");
+        // Tensile only while the load was applied (the start state under P0 alone): reported,
+        // not judged.
+        let during_ramp = ContactValidity {
+            tensile_at_start: 7,
+            first_separation: Some(GapEvent { t: 0.0, ..event }),
+            judged_from: 5e-4,
+            ..Default::default()
+        };
+        assert_eq!(judge(&base(&during_ramp, &ok)).0, VerdictState::NoSqueal);
         let mut e = base(&tensile, &ok);
         e.separation = true;
         assert_eq!(judge(&e).0, VerdictState::NoSqueal);

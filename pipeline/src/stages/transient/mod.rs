@@ -409,11 +409,12 @@ impl Prepared<'_> {
         }
         let mut memory = Recorder::open_resumed(scene, model, None, opts.keep_history, records)?;
         let mut resp = Response::new(scene, model, memory.columns())?;
-        let mut contact = validity::ContactMonitor::new(&model.gaps, n);
+        let mut contact = validity::ContactMonitor::new(&model.gaps, n, self.problem.load.t_load);
         if let (Some(r), Some(c)) = (records, checkpoint) {
             resp.resume(r)?;
             if let Some(v) = &c.contact {
                 contact.validity = v.clone();
+                contact.validity.upgrade(self.problem.load.t_load);
             }
         }
         let mut origin = OriginSink {
@@ -455,11 +456,12 @@ impl Prepared<'_> {
         if !outcome.status.is_success() {
             progress.info(format!("integration stopped: {:?}", outcome.status));
         }
-        // Verdict on the response after the ramp, before any tensile contact.
+        // Verdict on the response after the ramp, before any tensile contact after the ramp
+        // (tensile gaps while the load is applied are reported, not judged: see `validity`).
         let contact = contact.validity;
         let t_after = self.problem.load.t_load.max(t_start);
         let t_stop = contact
-            .first_separation
+            .first_tensile_after_ramp
             .filter(|_| !separation)
             .map(|e| e.t);
         // The growth and frequency are fitted on the window after the ramp, up to the first
