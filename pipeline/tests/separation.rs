@@ -243,6 +243,7 @@ fn hoffmann_above_critical_mu_settles_into_a_limit_cycle_with_separation() {
         clear_growth,
         window: before.window,
         h_max_window: Some(1e-3),
+        steps_by_order: None,
         frequencies: vec![],
         contact: &contact,
         separation: true,

@@ -219,6 +219,9 @@ pub struct TransientResult {
     pub restarted_from: Option<PathBuf>,
     /// The step bound used (the scene's `h_max` and the band bound).
     pub step_bound: StepBound,
+    /// The BDF's steps after the load ramp by order, whose mean numerical decay the guard
+    /// weighs (None for generalized-α).
+    pub steps_by_order_after_ramp: Option<guard::StepsByOrder>,
     /// What the contact did: tensile gap-steps, the first separation, the smallest p_n.
     pub contact: validity::ContactValidity,
     /// Separation events (`[[contact]] separation = true`): openings, closings, impact
@@ -423,12 +426,14 @@ impl Prepared<'_> {
             initial_conditions: ic.clone(),
         };
         let mut face = limit_cycle::FaceMonitor::new(&model.gaps);
+        let mut orders = guard::OrderTally::new(t_start, self.problem.load.t_load.max(t_start));
         let outcome = {
             let mut monitor = MonitorSink(&mut contact);
             let mut all: Vec<&mut dyn Sink> = vec![
                 &mut resp as &mut dyn Sink,
                 &mut monitor as &mut dyn Sink,
                 &mut origin as &mut dyn Sink,
+                &mut orders as &mut dyn Sink,
             ];
             if separation {
                 all.push(&mut face as &mut dyn Sink);
@@ -543,6 +548,7 @@ impl Prepared<'_> {
             clear_growth,
             window: verdict.window,
             h_max_window: verdict.h_max_window,
+            steps_by_order: orders.result.as_ref(),
             frequencies,
             contact: &contact,
             separation,
@@ -616,6 +622,7 @@ impl Prepared<'_> {
             model_hash: self.model_hash.clone(),
             restarted_from,
             step_bound: self.bound.clone(),
+            steps_by_order_after_ramp: orders.result.clone(),
             contact,
             separation: separation_stats,
             limit_cycle,
