@@ -214,8 +214,8 @@ pub fn numerical_decay(
 pub struct StepsByOrder {
     /// Accepted steps at order k (index k) from `t0` to the end of the run.
     pub counts: Vec<u64>,
-    /// Where the count starts: the last chunk boundary at or before the end of the ramp (at
-    /// most one chunk of steps early, so the count errs towards more steps), or the start.
+    /// Where the count starts: the first accepted step at or after the end of the ramp (the
+    /// run's start when there is no ramp).
     pub t0: Real,
     /// The end of the run.
     pub t1: Real,
@@ -243,19 +243,30 @@ impl StepsByOrder {
 }
 
 /// A driver sink that counts the BDF's steps by order after the load ramp ([`StepsByOrder`]).
+///
+/// The count starts at the first accepted step at or after the end of the ramp: the sink asks
+/// the driver to stop there (`next_stop`; the BDF interpolates, its steps are unchanged), so
+/// the chunk that ends there ends at that same step in every run, however a restart cut it,
+/// and the order histogram is read at that point. A restart carries it over.
 pub struct OrderTally {
     t_after: Real,
-    /// (time, cumulative order histogram) at the last chunk boundary at or before `t_after`.
-    before: (Real, Vec<u64>),
+    /// (time, cumulative order histogram) at the first step at or after `t_after`.
+    at_ramp: Option<(Real, Vec<u64>)>,
+    /// The driver has stopped at `t_after`.
+    stopped: bool,
     pub result: Option<StepsByOrder>,
 }
 
 impl OrderTally {
-    /// Counts from `t_after` (the end of the ramp) in a run that started at `t_start`.
-    pub fn new(t_start: Real, t_after: Real) -> Self {
+    /// Counts from `t_after` (the end of the ramp) in a run that started at `t_start`,
+    /// continuing `resumed` (a restart checkpoint's `orders_at_ramp`).
+    pub fn new(t_start: Real, t_after: Real, resumed: Option<(Real, Vec<u64>)>) -> Self {
+        // No ramp after the start: the count starts with the run.
+        let at_ramp = resumed.or_else(|| (t_after <= t_start).then(|| (t_start, Vec::new())));
         Self {
             t_after,
-            before: (t_start, Vec::new()),
+            stopped: at_ramp.is_some(),
+            at_ramp,
             result: None,
         }
     }
@@ -272,26 +283,38 @@ impl super::driver::Sink for OrderTally {
     fn step(&mut self, _s: &super::driver::StepView<'_>) -> Result<(), crate::PipelineError> {
         Ok(())
     }
+    fn next_stop(&self) -> Option<Real> {
+        (!self.stopped).then_some(self.t_after)
+    }
+    fn stop(&mut self, _t: Real, _y: &[Real], _yp: &[Real]) -> Result<(), crate::PipelineError> {
+        self.stopped = true;
+        Ok(())
+    }
     fn chunk_end(&mut self, c: &super::driver::ChunkView<'_>) -> Result<(), crate::PipelineError> {
         let t = c.stepper.t();
-        if t <= self.t_after {
-            if let Some(h) = Self::histogram(c.stepper) {
-                self.before = (t, h);
-            }
+        if self.at_ramp.is_none() && t >= self.t_after {
+            self.at_ramp = Self::histogram(c.stepper).map(|h| (t, h));
         }
         Ok(())
     }
     fn end(&mut self, e: &super::driver::EndView<'_>) -> Result<(), crate::PipelineError> {
-        self.result = Self::histogram(e.stepper).map(|end| StepsByOrder {
-            counts: end
-                .iter()
-                .enumerate()
-                .map(|(k, &n)| n.saturating_sub(self.before.1.get(k).copied().unwrap_or(0)))
-                .collect(),
-            t0: self.before.0,
-            t1: e.stepper.t(),
+        let start = self.at_ramp.clone();
+        self.result = Self::histogram(e.stepper).and_then(|end| {
+            let (t0, before) = start?;
+            Some(StepsByOrder {
+                counts: end
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &n)| n.saturating_sub(before.get(k).copied().unwrap_or(0)))
+                    .collect(),
+                t0,
+                t1: e.stepper.t(),
+            })
         });
         Ok(())
+    }
+    fn checkpoint(&self, c: &mut super::restart::RunCheckpoint) {
+        c.orders_at_ramp = self.at_ramp.clone();
     }
 }
 

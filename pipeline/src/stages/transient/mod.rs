@@ -426,7 +426,11 @@ impl Prepared<'_> {
             initial_conditions: ic.clone(),
         };
         let mut face = limit_cycle::FaceMonitor::new(&model.gaps);
-        let mut orders = guard::OrderTally::new(t_start, self.problem.load.t_load.max(t_start));
+        let mut orders = guard::OrderTally::new(
+            t_start,
+            self.problem.load.t_load.max(t_start),
+            checkpoint.and_then(|c| c.orders_at_ramp.clone()),
+        );
         let outcome = {
             let mut monitor = MonitorSink(&mut contact);
             let mut all: Vec<&mut dyn Sink> = vec![

@@ -87,6 +87,10 @@ pub struct RunCheckpoint {
     pub bookkeeping_s: Real,
     /// Rows of each record file written up to this state.
     pub records: RecordCounts,
+    /// The BDF's order histogram at the first step at or after the end of the load ramp, and
+    /// that step's time (None: not reached yet; [`super::guard::OrderTally`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orders_at_ramp: Option<(Real, Vec<u64>)>,
 }
 
 /// Rows of the record files at a restart point (None: the run does not write that file).
