@@ -214,8 +214,8 @@ pub fn numerical_decay(
 pub struct StepsByOrder {
     /// Accepted steps at order k (index k) from `t0` to the end of the run.
     pub counts: Vec<u64>,
-    /// Where the count starts: the first accepted step at or after the end of the ramp (the
-    /// run's start when there is no ramp).
+    /// Where the count starts: the last chunk end at or before the end of the ramp (at most
+    /// one chunk of steps early: the count errs towards more steps), or the run's start.
     pub t0: Real,
     /// The end of the run.
     pub t1: Real,
@@ -244,16 +244,16 @@ impl StepsByOrder {
 
 /// A driver sink that counts the BDF's steps by order after the load ramp ([`StepsByOrder`]).
 ///
-/// The count starts at the first accepted step at or after the end of the ramp: the sink asks
-/// the driver to stop there (`next_stop`; the BDF interpolates, its steps are unchanged), so
-/// the chunk that ends there ends at that same step in every run, however a restart cut it,
-/// and the order histogram is read at that point. A restart carries it over.
+/// The order histogram is read at chunk ends (every [`super::driver::CHUNK`] steps and at
+/// restart points); the count starts at the last chunk end at or before the end of the ramp,
+/// so it may include up to one chunk of ramp steps (more steps: more decay, the conservative
+/// side). It does not stop the integrator there (a stop at a given time changes the BDF's
+/// steps). A restart carries the start point over: chunks restart at restart points in the
+/// uninterrupted run too, so a resumed run counts from the same step.
 pub struct OrderTally {
     t_after: Real,
-    /// (time, cumulative order histogram) at the first step at or after `t_after`.
-    at_ramp: Option<(Real, Vec<u64>)>,
-    /// The driver has stopped at `t_after`.
-    stopped: bool,
+    /// (time, cumulative order histogram) at the last chunk end at or before `t_after`.
+    before: (Real, Vec<u64>),
     pub result: Option<StepsByOrder>,
 }
 
@@ -261,12 +261,9 @@ impl OrderTally {
     /// Counts from `t_after` (the end of the ramp) in a run that started at `t_start`,
     /// continuing `resumed` (a restart checkpoint's `orders_at_ramp`).
     pub fn new(t_start: Real, t_after: Real, resumed: Option<(Real, Vec<u64>)>) -> Self {
-        // No ramp after the start: the count starts with the run.
-        let at_ramp = resumed.or_else(|| (t_after <= t_start).then(|| (t_start, Vec::new())));
         Self {
             t_after,
-            stopped: at_ramp.is_some(),
-            at_ramp,
+            before: resumed.unwrap_or((t_start, Vec::new())),
             result: None,
         }
     }
@@ -283,38 +280,30 @@ impl super::driver::Sink for OrderTally {
     fn step(&mut self, _s: &super::driver::StepView<'_>) -> Result<(), crate::PipelineError> {
         Ok(())
     }
-    fn next_stop(&self) -> Option<Real> {
-        (!self.stopped).then_some(self.t_after)
-    }
-    fn stop(&mut self, _t: Real, _y: &[Real], _yp: &[Real]) -> Result<(), crate::PipelineError> {
-        self.stopped = true;
-        Ok(())
-    }
     fn chunk_end(&mut self, c: &super::driver::ChunkView<'_>) -> Result<(), crate::PipelineError> {
         let t = c.stepper.t();
-        if self.at_ramp.is_none() && t >= self.t_after {
-            self.at_ramp = Self::histogram(c.stepper).map(|h| (t, h));
+        if t <= self.t_after {
+            if let Some(h) = Self::histogram(c.stepper) {
+                self.before = (t, h);
+            }
         }
         Ok(())
     }
     fn end(&mut self, e: &super::driver::EndView<'_>) -> Result<(), crate::PipelineError> {
-        let start = self.at_ramp.clone();
-        self.result = Self::histogram(e.stepper).and_then(|end| {
-            let (t0, before) = start?;
-            Some(StepsByOrder {
-                counts: end
-                    .iter()
-                    .enumerate()
-                    .map(|(k, &n)| n.saturating_sub(before.get(k).copied().unwrap_or(0)))
-                    .collect(),
-                t0,
-                t1: e.stepper.t(),
-            })
+        let (t0, before) = &self.before;
+        self.result = Self::histogram(e.stepper).map(|end| StepsByOrder {
+            counts: end
+                .iter()
+                .enumerate()
+                .map(|(k, &n)| n.saturating_sub(before.get(k).copied().unwrap_or(0)))
+                .collect(),
+            t0: *t0,
+            t1: e.stepper.t(),
         });
         Ok(())
     }
     fn checkpoint(&self, c: &mut super::restart::RunCheckpoint) {
-        c.orders_at_ramp = self.at_ramp.clone();
+        c.orders_at_ramp = Some(self.before.clone());
     }
 }
 
