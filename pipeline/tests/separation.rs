@@ -8,6 +8,9 @@
 //! pad x, DOF 1 pad z, DOF 2 a rotor point z of mass m_r on the normal spring k3 with a
 //! damper c_r (m_r = 0.05 instead of 1e-6 so that the free rotor point is integrable after
 //! separation); one gap, n = +z, A = 1, preload P0, rotor sliding at 1 along x, constant μ.
+//!
+//! Also: contact validity of a tied pad whose start state (P0 alone) is tensile and whose
+//! loaded state is not — reported, and not judged before the end of the load ramp.
 
 use faer::Mat;
 use squeal_contact::{FrictionLaw, Gap, GapSet};
@@ -240,6 +243,7 @@ fn hoffmann_above_critical_mu_settles_into_a_limit_cycle_with_separation() {
         clear_growth,
         window: before.window,
         h_max_window: Some(1e-3),
+        steps_by_order: None,
         frequencies: vec![],
         contact: &contact,
         separation: true,
@@ -268,4 +272,145 @@ fn hoffmann_above_critical_mu_settles_into_a_limit_cycle_with_separation() {
         guard::judge(&evidence(false, None)).0,
         VerdictState::NoSqueal
     );
+}
+
+/// A tied pad whose start state is tensile although its loaded state is not (the cad brake's
+/// case, on a tiny scene): a block pad (1 × 1 × 1, hex8 3×3×2, abutment face `x0` held in
+/// x, y) on a block rotor (hex8 2×2, non-matching, `pairing = "surface"`), constant μ = 0.8,
+/// P0 = 1. Under P0 alone the friction couple μ P0 A about the abutment lifts the trailing
+/// edge (p_n down to −0.18 on 2 gaps; numbers from an independent numpy solve of the exported
+/// DAE, `squeal transient --export-dae`); the brake load (pressure on the top and a force
+/// on the trailing face `y1`, ramped in TLOAD = 0.01) closes it (smallest p_n +2.66 at the
+/// end of the ramp). The run reports the tensile start, but the verdict, which judges the
+/// response after the ramp, is not voided by it; a step load (TLOAD = 0) has no ramp and its
+/// tensile first instant is judged.
+#[test]
+fn tensile_gaps_before_the_end_of_the_load_ramp_do_not_void_the_verdict() {
+    use squeal_pipeline::progress::Progress;
+    use squeal_pipeline::stages::model;
+    use squeal_pipeline::stages::transient::{self, guard::Unresolved, TransientOptions};
+    use squeal_pipeline::{RunDir, Scene};
+    let text = |tload: f64| {
+        format!(
+            r#"title = "tiny tied brake: tensile under P0 alone, compressive under the brake load"
+units = "consistent"
+
+[[components]]
+name = "rotor"
+element = "hex8"
+geometry = {{ kind = "block", origin = [2.0, -0.5, -0.2], lx = 1.0, ly = 1.0, lz = 0.2, nx = 2, ny = 2, nz = 1 }}
+material = {{ young = 1.0e4, poisson = 0.3, density = 1.0 }}
+fixed = [{{ set = "z0" }}]
+
+[[components]]
+name = "pad"
+element = "hex8"
+geometry = {{ kind = "block", origin = [2.0, -0.5, 0.0], lx = 1.0, ly = 1.0, lz = 1.0, nx = 3, ny = 3, nz = 2 }}
+material = {{ young = 5.0e3, poisson = 0.3, density = 1.0 }}
+fixed = [{{ set = "x0", dofs = "xy" }}]
+
+[reduction]
+n_modes = 6
+
+[[contact]]
+pad = "pad"
+pad_faces = "z0"
+rotor = "rotor"
+rotor_faces = "z1"
+pairing = "surface"
+p0 = 1.0
+
+[friction]
+law = {{ kind = "constant", mu = 0.8 }}
+
+[rotor]
+rpm = 10.0
+
+[loads]
+pmax = 2.0
+tload = {tload}
+pressure = [{{ component = "pad", faces = "z1", pressure = 1.0 }}]
+force = [{{ component = "pad", nodes = "y1", force = [0.0, 0.0, -1.0] }}]
+
+[damping]
+modal_ratio = 0.01
+
+[transient]
+tfinal = 0.02
+"#
+        )
+    };
+    let d = std::env::temp_dir().join(format!("squeal-ramp-tensile-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    let scene = Scene::from_toml_str(&text(0.01), d.clone(), &[]).unwrap();
+    let m = model::build(
+        &scene,
+        &RunDir::create(&d.join("run")).unwrap(),
+        &Progress::quiet(),
+    )
+    .unwrap();
+    // The two states: the sliding equilibria under P0 alone (t < 0) and under the full load.
+    let problem = transient::system::problem(&scene, &m).unwrap();
+    let min_pn = |t: Real| {
+        let mut sys = problem.system(m.gaps.clone()).unwrap();
+        let ss = steady_state(&mut sys, t, &Default::default()).unwrap();
+        m.gaps
+            .gaps
+            .iter()
+            .zip(&ss.lambda_dot)
+            .map(|(g, l)| -l / g.area + g.p0)
+            .fold(Real::INFINITY, Real::min)
+    };
+    let (before, loaded) = (min_pn(-1.0), min_pn(1.0));
+    assert!(before < -0.1 && loaded > 1.0, "{before} {loaded}");
+
+    let r =
+        transient::compute(&scene, &m, &Progress::quiet(), &TransientOptions::default()).unwrap();
+    let c = &r.contact;
+    assert_eq!(c.tensile_at_start, 2, "{c:?}");
+    let first = c.first_separation.expect("tensile at the start");
+    assert_eq!(first.t, 0.0);
+    assert!(
+        (first.pressure - before).abs() < 1e-6 * before.abs(),
+        "{first:?} {before}"
+    );
+    assert_eq!(c.judged_from, 0.01);
+    assert!(c.first_tensile_after_ramp.is_none(), "{c:?}");
+    assert!(r.verdict.valid_until.is_none());
+    let reasons = match &r.verdict.state {
+        VerdictState::Unresolved { reasons } => reasons.clone(),
+        _ => Vec::new(),
+    };
+    assert!(
+        !reasons
+            .iter()
+            .any(|x| matches!(x, Unresolved::ContactTensile(_))),
+        "{reasons:?}"
+    );
+
+    // A step load: the first instant is after the (empty) ramp, and it is tensile.
+    let step = Scene::from_toml_str(&text(0.0), d.clone(), &[]).unwrap();
+    let r = transient::compute(
+        &step,
+        &m,
+        &Progress::quiet(),
+        &TransientOptions {
+            step_cap: Some(20),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let e = r
+        .contact
+        .first_tensile_after_ramp
+        .expect("tensile at t = 0");
+    assert_eq!(e.t, 0.0);
+    assert!(
+        matches!(&r.verdict.state, VerdictState::Unresolved { reasons }
+            if reasons.iter().any(|x| matches!(x, Unresolved::ContactTensile(_)))),
+        "{:?}",
+        r.verdict.state
+    );
+    let _ = std::fs::remove_dir_all(&d);
 }

@@ -5,13 +5,15 @@
 //!   highest in-band unstable frequency of a CEA of the same state (or, without a CEA, the top
 //!   of the model's band). At a frequency f and the largest step h of the analysed window, the
 //!   integrator's own numerical decay σ_num(h, f) (BDF1/BDF2: from the principal root of the
-//!   method's characteristic equation on y' = iωy; generalized-α: its algorithmic damping) must
+//!   method's characteristic equation on y' = iωy, averaged over the orders the BDF used after
+//!   the ramp, [`StepsByOrder`]; generalized-α: its algorithmic damping) must
 //!   stay below the smallest growth that matters, `output.min_growth_rate_per_s` — otherwise a
 //!   root growing that fast would be damped away numerically;
 //! - its window is long enough to see that growth: the detectable rate ln(G)/T of a window of
 //!   length T, with G = `output.squeal_min_growth_factor` (the growth the verdict requires),
 //!   must not exceed `min_growth_rate_per_s`;
-//! - its contact stayed valid (no gap went tensile while separation is off);
+//! - its contact stayed valid (no gap went tensile after the load ramp while separation is
+//!   off; tensile gaps while the load is still being applied are reported, see `validity`);
 //! - it reached TFINAL (no step-size collapse or convergence failure, no step cap).
 //!
 //! A clear growth before any of these failures is a positive (`squeal`): the A-stable
@@ -204,6 +206,107 @@ pub fn numerical_decay(
     -ln_abs / h
 }
 
+/// The BDF steps a run took after the load ramp, by order: what the window's numerical decay
+/// is made of. The BDF lowers its order where its error estimates ask for it (the cad brake
+/// with pad damping GE = 0.1: 5 596 of 14 001 steps at order 1), and BDF1 damps an oscillation
+/// far more than BDF2 at the same step (at 5.4 kHz and h = 2.5 µs: 1 455 /s against 5 /s).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct StepsByOrder {
+    /// Accepted steps at order k (index k) from `t0` to the end of the run.
+    pub counts: Vec<u64>,
+    /// Where the count starts: the last chunk end at or before the end of the ramp (at most
+    /// one chunk of steps early: the count errs towards more steps), or the run's start.
+    pub t0: Real,
+    /// The end of the run.
+    pub t1: Real,
+}
+
+impl StepsByOrder {
+    /// The mean numerical decay rate of an undamped oscillation at `f` over these steps, each
+    /// taken at step `h` (the largest step of the window: an upper bound per step):
+    /// σ = Σ_k n_k (−ln|ξ_k(2πfh)|) / (t1 − t0). None without steps or span.
+    pub fn decay(&self, h: Real, f: Real) -> Option<Real> {
+        let span = self.t1 - self.t0;
+        let total: u64 = self.counts.iter().sum();
+        if !(span > 0.0 && total > 0 && h > 0.0) {
+            return None;
+        }
+        let per_step: Real = self
+            .counts
+            .iter()
+            .enumerate()
+            .filter(|(_, &n)| n > 0)
+            .map(|(k, &n)| n as Real * numerical_decay(Integrator::Bdf, k.max(1), 0.0, h, f) * h)
+            .sum();
+        Some(per_step / span)
+    }
+}
+
+/// A driver sink that counts the BDF's steps by order after the load ramp ([`StepsByOrder`]).
+///
+/// The order histogram is read at chunk ends (every [`super::driver::CHUNK`] steps and at
+/// restart points); the count starts at the last chunk end at or before the end of the ramp,
+/// so it may include up to one chunk of ramp steps (more steps: more decay, the conservative
+/// side). It does not stop the integrator there (a stop at a given time changes the BDF's
+/// steps). A restart carries the start point over: chunks restart at restart points in the
+/// uninterrupted run too, so a resumed run counts from the same step.
+pub struct OrderTally {
+    t_after: Real,
+    /// (time, cumulative order histogram) at the last chunk end at or before `t_after`.
+    before: (Real, Vec<u64>),
+    pub result: Option<StepsByOrder>,
+}
+
+impl OrderTally {
+    /// Counts from `t_after` (the end of the ramp) in a run that started at `t_start`,
+    /// continuing `resumed` (a restart checkpoint's `orders_at_ramp`).
+    pub fn new(t_start: Real, t_after: Real, resumed: Option<(Real, Vec<u64>)>) -> Self {
+        Self {
+            t_after,
+            before: resumed.unwrap_or((t_start, Vec::new())),
+            result: None,
+        }
+    }
+
+    fn histogram(stepper: &super::driver::Stepper) -> Option<Vec<u64>> {
+        match stepper.stats() {
+            super::driver::IntegratorStats::Bdf { bdf, .. } => Some(bdf.order_histogram),
+            _ => None,
+        }
+    }
+}
+
+impl super::driver::Sink for OrderTally {
+    fn step(&mut self, _s: &super::driver::StepView<'_>) -> Result<(), crate::PipelineError> {
+        Ok(())
+    }
+    fn chunk_end(&mut self, c: &super::driver::ChunkView<'_>) -> Result<(), crate::PipelineError> {
+        let t = c.stepper.t();
+        if t <= self.t_after {
+            if let Some(h) = Self::histogram(c.stepper) {
+                self.before = (t, h);
+            }
+        }
+        Ok(())
+    }
+    fn end(&mut self, e: &super::driver::EndView<'_>) -> Result<(), crate::PipelineError> {
+        let (t0, before) = &self.before;
+        self.result = Self::histogram(e.stepper).map(|end| StepsByOrder {
+            counts: end
+                .iter()
+                .enumerate()
+                .map(|(k, &n)| n.saturating_sub(before.get(k).copied().unwrap_or(0)))
+                .collect(),
+            t0: *t0,
+            t1: e.stepper.t(),
+        });
+        Ok(())
+    }
+    fn checkpoint(&self, c: &mut super::restart::RunCheckpoint) {
+        c.orders_at_ramp = Some(self.before.clone());
+    }
+}
+
 /// Everything the guard weighs.
 pub struct Evidence<'a> {
     /// A clear growth in the valid part of the window (the fit's verdict).
@@ -212,6 +315,9 @@ pub struct Evidence<'a> {
     pub window: [Real; 2],
     /// Largest accepted step in the window (None: no steps there).
     pub h_max_window: Option<Real>,
+    /// The BDF's steps after the ramp by order (None: not counted, e.g. generalized-α): the
+    /// numerical decay is then their mean, not that of `max_order` alone.
+    pub steps_by_order: Option<&'a StepsByOrder>,
     /// Frequencies to resolve.
     pub frequencies: Vec<(FrequencySource, Real)>,
     pub contact: &'a ContactValidity,
@@ -254,7 +360,11 @@ pub fn judge(e: &Evidence<'_>) -> (VerdictState, Vec<Resolution>, Option<Real>) 
             .iter()
             .filter(|(_, f)| f.is_finite() && *f > 0.0)
             .map(|&(source, f)| {
-                let decay = numerical_decay(e.integrator, e.max_order, e.rho_inf, h, f);
+                let decay = match (e.integrator, e.steps_by_order) {
+                    (Integrator::Bdf, Some(c)) => c.decay(h, f),
+                    _ => None,
+                }
+                .unwrap_or_else(|| numerical_decay(e.integrator, e.max_order, e.rho_inf, h, f));
                 Resolution {
                     source,
                     frequency_hz: f,
@@ -302,7 +412,7 @@ pub fn judge(e: &Evidence<'_>) -> (VerdictState, Vec<Resolution>, Option<Real>) 
             });
         }
     }
-    if let (false, Some(ev)) = (e.separation, e.contact.first_separation) {
+    if let (false, Some(ev)) = (e.separation, e.contact.first_tensile_after_ramp) {
         reasons.push(Unresolved::ContactTensile(ev));
     }
     if !e.status.is_success() {
@@ -364,6 +474,7 @@ mod tests {
             clear_growth: false,
             window: [0.0, 0.02],
             h_max_window: Some(2.5e-6),
+            steps_by_order: None,
             frequencies: vec![(FrequencySource::Dominant, 2000.0)],
             contact: c,
             separation: false,
@@ -376,6 +487,58 @@ mod tests {
             min_growth_factor: 2.0,
             limit_cycle: None,
         }
+    }
+
+    /// BDF1 steps after the ramp count in the window's numerical decay (it once said
+    /// `no_squeal` with the CEA's 5.4 kHz root at +298 /s: the cad brake with pad damping
+    /// GE = 0.1 took 5 596 of its 14 001 steps at order 1, and the guard weighed BDF2's decay
+    /// alone, 5 /s at h = 2.5 µs). Reference: BDF1 damps y' = iωy by ½ ln(1 + θ²) a step,
+    /// θ = ωh (its amplification 1/(1 − iθ)).
+    #[test]
+    fn bdf1_steps_after_the_ramp_count_in_the_numerical_decay() {
+        let (h, f) = (2.5e-6, 5437.0);
+        let th = 2.0 * std::f64::consts::PI * f * h;
+        let bdf1 = 0.5 * (1.0 + th * th).ln() / h;
+        assert!((bdf1 - 1453.6).abs() < 0.5, "{bdf1}");
+        let bdf2 = numerical_decay(Integrator::Bdf, 2, 0.9, h, f);
+        assert!(bdf2 > 4.0 && bdf2 < 6.0, "{bdf2}");
+        // Only order 2: the mean is BDF2's.
+        let only2 = StepsByOrder {
+            counts: vec![0, 0, 6000],
+            t0: 0.02,
+            t1: 0.02 + 6000.0 * h,
+        };
+        assert!((only2.decay(h, f).unwrap() - bdf2).abs() < 1e-9 * bdf2);
+        // 5 596 BDF1 steps among 6 001: the mean is theirs, weighted.
+        let mixed = StepsByOrder {
+            counts: vec![0, 5596, 405],
+            t0: 0.02,
+            t1: 0.02 + 6001.0 * h,
+        };
+        let want = (5596.0 * bdf1 + 405.0 * bdf2) / 6001.0;
+        let got = mixed.decay(h, f).unwrap();
+        assert!((got - want).abs() < 1e-9 * want, "{got} {want}");
+        let c = ContactValidity::default();
+        let ok = Status::Reached { t: 0.035 };
+        let mut e = base(&c, &ok);
+        e.window = [0.02, 0.035];
+        e.frequencies = vec![(FrequencySource::CeaUnstable, f)];
+        assert_eq!(judge(&e).0, VerdictState::NoSqueal);
+        e.steps_by_order = Some(&only2);
+        assert_eq!(judge(&e).0, VerdictState::NoSqueal);
+        e.steps_by_order = Some(&mixed);
+        let (s, r, _) = judge(&e);
+        assert!(
+            matches!(&s, VerdictState::Unresolved { reasons } if matches!(reasons[0], Unresolved::StepsTooCoarse(_))),
+            "{s:?}"
+        );
+        assert!(
+            !r[0].resolved && r[0].numerical_decay_per_s > 1000.0,
+            "{r:?}"
+        );
+        // Generalized-α runs have no order count: the scheme's own decay.
+        e.integrator = Integrator::GeneralizedAlpha;
+        assert!(judge(&e).1[0].numerical_decay_per_s < 1.0);
     }
 
     /// A reached limit cycle (separation on) with the fitted window showing no growth: its
@@ -427,16 +590,27 @@ mod tests {
         let mut e = base(&c, &ok);
         e.window = [0.0025, 0.006];
         assert!(matches!(judge(&e).0, VerdictState::Unresolved { .. }));
+        let event = GapEvent {
+            t: 0.0171,
+            gap: 0,
+            pressure: -3.0,
+        };
         let tensile = ContactValidity {
-            first_separation: Some(GapEvent {
-                t: 0.0171,
-                gap: 0,
-                pressure: -3.0,
-            }),
+            first_separation: Some(event),
+            first_tensile_after_ramp: Some(event),
             ..Default::default()
         };
         let s = judge(&base(&tensile, &ok)).0;
         assert!(format!("{s:?}").contains("ContactTensile"), "{s:?}");
+        // Tensile only while the load was applied (the start state under P0 alone): reported,
+        // not judged.
+        let during_ramp = ContactValidity {
+            tensile_at_start: 7,
+            first_separation: Some(GapEvent { t: 0.0, ..event }),
+            judged_from: 5e-4,
+            ..Default::default()
+        };
+        assert_eq!(judge(&base(&during_ramp, &ok)).0, VerdictState::NoSqueal);
         let mut e = base(&tensile, &ok);
         e.separation = true;
         assert_eq!(judge(&e).0, VerdictState::NoSqueal);

@@ -219,6 +219,9 @@ pub struct TransientResult {
     pub restarted_from: Option<PathBuf>,
     /// The step bound used (the scene's `h_max` and the band bound).
     pub step_bound: StepBound,
+    /// The BDF's steps after the load ramp by order, whose mean numerical decay the guard
+    /// weighs (None for generalized-α).
+    pub steps_by_order_after_ramp: Option<guard::StepsByOrder>,
     /// What the contact did: tensile gap-steps, the first separation, the smallest p_n.
     pub contact: validity::ContactValidity,
     /// Separation events (`[[contact]] separation = true`): openings, closings, impact
@@ -409,11 +412,12 @@ impl Prepared<'_> {
         }
         let mut memory = Recorder::open_resumed(scene, model, None, opts.keep_history, records)?;
         let mut resp = Response::new(scene, model, memory.columns())?;
-        let mut contact = validity::ContactMonitor::new(&model.gaps, n);
+        let mut contact = validity::ContactMonitor::new(&model.gaps, n, self.problem.load.t_load);
         if let (Some(r), Some(c)) = (records, checkpoint) {
             resp.resume(r)?;
             if let Some(v) = &c.contact {
                 contact.validity = v.clone();
+                contact.validity.upgrade(self.problem.load.t_load);
             }
         }
         let mut origin = OriginSink {
@@ -422,12 +426,18 @@ impl Prepared<'_> {
             initial_conditions: ic.clone(),
         };
         let mut face = limit_cycle::FaceMonitor::new(&model.gaps);
+        let mut orders = guard::OrderTally::new(
+            t_start,
+            self.problem.load.t_load.max(t_start),
+            checkpoint.and_then(|c| c.orders_at_ramp.clone()),
+        );
         let outcome = {
             let mut monitor = MonitorSink(&mut contact);
             let mut all: Vec<&mut dyn Sink> = vec![
                 &mut resp as &mut dyn Sink,
                 &mut monitor as &mut dyn Sink,
                 &mut origin as &mut dyn Sink,
+                &mut orders as &mut dyn Sink,
             ];
             if separation {
                 all.push(&mut face as &mut dyn Sink);
@@ -455,11 +465,12 @@ impl Prepared<'_> {
         if !outcome.status.is_success() {
             progress.info(format!("integration stopped: {:?}", outcome.status));
         }
-        // Verdict on the response after the ramp, before any tensile contact.
+        // Verdict on the response after the ramp, before any tensile contact after the ramp
+        // (tensile gaps while the load is applied are reported, not judged: see `validity`).
         let contact = contact.validity;
         let t_after = self.problem.load.t_load.max(t_start);
         let t_stop = contact
-            .first_separation
+            .first_tensile_after_ramp
             .filter(|_| !separation)
             .map(|e| e.t);
         // The growth and frequency are fitted on the window after the ramp, up to the first
@@ -541,6 +552,7 @@ impl Prepared<'_> {
             clear_growth,
             window: verdict.window,
             h_max_window: verdict.h_max_window,
+            steps_by_order: orders.result.as_ref(),
             frequencies,
             contact: &contact,
             separation,
@@ -614,6 +626,7 @@ impl Prepared<'_> {
             model_hash: self.model_hash.clone(),
             restarted_from,
             step_bound: self.bound.clone(),
+            steps_by_order_after_ramp: orders.result.clone(),
             contact,
             separation: separation_stats,
             limit_cycle,

@@ -87,6 +87,11 @@ pub struct RunCheckpoint {
     pub bookkeeping_s: Real,
     /// Rows of each record file written up to this state.
     pub records: RecordCounts,
+    /// The BDF's order histogram at the last chunk end at or before the end of the load ramp,
+    /// and its time, where the guard's count by order starts ([`super::guard::OrderTally`];
+    /// None in older files).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orders_at_ramp: Option<(Real, Vec<u64>)>,
 }
 
 /// Rows of the record files at a restart point (None: the run does not write that file).
