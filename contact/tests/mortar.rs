@@ -226,3 +226,63 @@ fn quad8_pad_faces_are_refused() {
         "{msg}"
     );
 }
+
+/// Pad faces that are not parallelograms (trapezoids, as on an annular-sector pad) on a
+/// non-matching rotor grid: every pad node is tied (its coverage is 1 to within the
+/// quadrature error of the non-polynomial dual function, not to round-off: the cad brake's
+/// pads were refused at a tolerance of 1e-9), and the weights still reproduce linear fields
+/// to that error.
+#[test]
+fn trapezoidal_pad_faces_are_covered_to_the_quadrature_error() {
+    let (rf, rn) = grid(3, 3, 1.0, 1.0, 0, true);
+    let (nx, ny) = (2usize, 2usize);
+    let id = |i: usize, j: usize| 100 + (j * (nx + 1) + i) as u64;
+    let x = |i: usize, j: usize| {
+        let (s, t) = (i as f64 / nx as f64, j as f64 / ny as f64);
+        // Each row is wider than the one below it: trapezoids.
+        [0.1 + 0.5 * s * (1.0 + 0.6 * t), 0.15 + 0.7 * t, 0.0]
+    };
+    let mut pn = Vec::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            pn.push((id(i, j), x(i, j)));
+        }
+    }
+    let mut pf = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            let mut c = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)];
+            c.reverse();
+            pf.push(RotorFace {
+                id: pf.len() as u64,
+                kind: FaceKind::Quad4,
+                nodes: c.iter().map(|&(a, b)| id(a, b)).collect(),
+                coords: c.iter().map(|&(a, b)| x(a, b)).collect(),
+            });
+        }
+    }
+    let pad = pad_nodes(&pf, &pn);
+    let (out, ms) = mortar_gaps(&pad, &pf, &rf, &opts(), &TieOptions::default()).expect("mortar");
+    assert_eq!(out.gaps.gaps.len(), 9, "every pad node tied");
+    eprintln!("min coverage 1 {:+.3e}", ms.min_coverage - 1.0);
+    assert!((ms.min_coverage - 1.0).abs() <= 1e-6, "{ms:?}");
+    let xr: std::collections::HashMap<u64, [f64; 3]> = rn.iter().copied().collect();
+    let mut worst: f64 = 0.0;
+    for g in &out.gaps.gaps {
+        let tie = g.tie.as_ref().unwrap();
+        let s: f64 = tie.weights.iter().sum();
+        assert!((s - 1.0).abs() < 1e-12, "weights sum {s}");
+        let xp = pn.iter().find(|n| n.0 == g.pad_node).unwrap().1;
+        for k in 0..2 {
+            let xw: f64 = tie
+                .nodes
+                .iter()
+                .zip(&tie.weights)
+                .map(|(n, w)| w * xr[n][k])
+                .sum();
+            worst = worst.max((xw - xp[k]).abs());
+        }
+    }
+    eprintln!("linear field reproduced to {worst:.3e}");
+    assert!(worst <= 1e-6, "{worst}");
+}
