@@ -78,40 +78,47 @@ impl GapSet {
 
     /// Checks that every DOF index is < `n`.
     pub fn check_dofs(&self, n: usize) -> Result<(), ContactError> {
-        for (ig, g) in self.gaps.iter().enumerate() {
-            if let Some(t) = &g.tie {
-                if t.dofs.len() != t.nodes.len() || t.weights.len() != t.nodes.len() {
-                    return Err(ContactError::Tie {
-                        gap: ig,
-                        pad_node: g.pad_node,
-                        message: format!(
-                            "{} face nodes, {} weights, {} DOF triples (DOFs not assigned?)",
-                            t.nodes.len(),
-                            t.weights.len(),
-                            t.dofs.len()
-                        ),
-                    });
-                }
+        for ig in 0..self.gaps.len() {
+            self.check_gap_dofs(ig, n)?;
+        }
+        Ok(())
+    }
+
+    /// [`GapSet::check_dofs`] for gap `ig` alone.
+    pub(crate) fn check_gap_dofs(&self, ig: usize, n: usize) -> Result<(), ContactError> {
+        let g = &self.gaps[ig];
+        if let Some(t) = &g.tie {
+            if t.dofs.len() != t.nodes.len() || t.weights.len() != t.nodes.len() {
+                return Err(ContactError::Tie {
+                    gap: ig,
+                    pad_node: g.pad_node,
+                    message: format!(
+                        "{} face nodes, {} weights, {} DOF triples (DOFs not assigned?)",
+                        t.nodes.len(),
+                        t.weights.len(),
+                        t.dofs.len()
+                    ),
+                });
             }
-            let tied = g.tie.iter().flat_map(|t| t.dofs.iter()).flatten();
-            let rows = g.rotor_rows.iter().map(|r| &r.dof);
-            for d in g
-                .pad_dofs
-                .iter()
-                .chain(g.rotor_dofs.iter())
-                .flatten()
-                .chain(tied.flatten())
-                .chain(rows)
-            {
-                if *d >= n {
-                    return Err(ContactError::DofOutOfRange {
-                        gap: ig,
-                        pad_node: g.pad_node,
-                        rotor_node: g.rotor_node,
-                        dof: *d,
-                        n,
-                    });
-                }
+        }
+        let tied = g.tie.iter().flat_map(|t| t.dofs.iter()).flatten();
+        let rows = g.rotor_rows.iter().map(|r| &r.dof);
+        for d in g
+            .pad_dofs
+            .iter()
+            .chain(g.rotor_dofs.iter())
+            .flatten()
+            .chain(tied.flatten())
+            .chain(rows)
+        {
+            if *d >= n {
+                return Err(ContactError::DofOutOfRange {
+                    gap: ig,
+                    pad_node: g.pad_node,
+                    rotor_node: g.rotor_node,
+                    dof: *d,
+                    n,
+                });
             }
         }
         Ok(())
