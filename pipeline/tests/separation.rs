@@ -284,15 +284,12 @@ fn hoffmann_above_critical_mu_settles_into_a_limit_cycle_with_separation() {
 /// end of the ramp). The run reports the tensile start, but the verdict, which judges the
 /// response after the ramp, is not voided by it; a step load (TLOAD = 0) has no ramp and its
 /// tensile first instant is judged.
-#[test]
-fn tensile_gaps_before_the_end_of_the_load_ramp_do_not_void_the_verdict() {
-    use squeal_pipeline::progress::Progress;
-    use squeal_pipeline::stages::model;
-    use squeal_pipeline::stages::transient::{self, guard::Unresolved, TransientOptions};
-    use squeal_pipeline::{RunDir, Scene};
-    let text = |tload: f64| {
-        format!(
-            r#"title = "tiny tied brake: tensile under P0 alone, compressive under the brake load"
+/// The tiny tied brake of the test below as a scene with TLOAD `tload` and the brake load
+/// scaled by `pmax` (2: the test's; 0: P0 alone, where the friction couple puts gaps in
+/// tension).
+fn tiny_tied_brake(tload: f64, pmax: f64) -> String {
+    format!(
+        r#"title = "tiny tied brake: tensile under P0 alone, compressive under the brake load"
 units = "consistent"
 
 [[components]]
@@ -327,7 +324,7 @@ law = {{ kind = "constant", mu = 0.8 }}
 rpm = 10.0
 
 [loads]
-pmax = 2.0
+pmax = {pmax}
 tload = {tload}
 pressure = [{{ component = "pad", faces = "z1", pressure = 1.0 }}]
 force = [{{ component = "pad", nodes = "y1", force = [0.0, 0.0, -1.0] }}]
@@ -338,8 +335,16 @@ modal_ratio = 0.01
 [transient]
 tfinal = 0.02
 "#
-        )
-    };
+    )
+}
+
+#[test]
+fn tensile_gaps_before_the_end_of_the_load_ramp_do_not_void_the_verdict() {
+    use squeal_pipeline::progress::Progress;
+    use squeal_pipeline::stages::model;
+    use squeal_pipeline::stages::transient::{self, guard::Unresolved, TransientOptions};
+    use squeal_pipeline::{RunDir, Scene};
+    let text = |tload: f64| tiny_tied_brake(tload, 2.0);
     let d = std::env::temp_dir().join(format!("squeal-ramp-tensile-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
@@ -412,5 +417,49 @@ tfinal = 0.02
         "{:?}",
         r.verdict.state
     );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// A CEA about a state with gaps in tension says so: `n_tensile_gaps`, `min_contact_pressure`
+/// and a warning in `summary.json` (the bilateral contact holds those gaps closed, so the roots
+/// are those of a contact the brake would not keep). The tiny tied brake under P0 alone
+/// (pmax = 0) has them; under its brake load (pmax = 2) it has none, and no warning.
+#[test]
+fn a_cea_about_tensile_gaps_warns() {
+    use squeal_pipeline::progress::Progress;
+    use squeal_pipeline::stages::{cea, model};
+    use squeal_pipeline::{RunDir, Scene};
+    let d = std::env::temp_dir().join(format!("squeal-cea-tensile-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    for (pmax, tensile) in [(0.0, true), (2.0, false)] {
+        let scene = Scene::from_toml_str(
+            &format!("{}\n[cea]\n", tiny_tied_brake(0.01, pmax)),
+            d.clone(),
+            &[],
+        )
+        .unwrap();
+        let run = RunDir::create(&d.join(format!("run-{pmax}"))).unwrap();
+        let m = model::build(&scene, &run, &Progress::quiet()).unwrap();
+        let args = cea::CeaArgs::default();
+        let c = cea::compute(&scene, &m, &Progress::quiet(), &args).unwrap();
+        let r = cea::write(&c, &m, &run, &args, None, std::time::Instant::now()).unwrap();
+        let pmin = r.min_contact_pressure.unwrap();
+        eprintln!(
+            "pmax {pmax}: {} tensile, smallest p_n {pmin}",
+            r.n_tensile_gaps
+        );
+        let warned = r
+            .warnings
+            .iter()
+            .any(|w| w.input == "contact" && w.value == pmin);
+        if tensile {
+            assert!(r.n_tensile_gaps > 0 && pmin < 0.0, "{pmin}");
+            assert!(warned, "{:?}", r.warnings);
+        } else {
+            assert_eq!(r.n_tensile_gaps, 0);
+            assert!(pmin > 0.0 && !warned, "{pmin} {:?}", r.warnings);
+        }
+    }
     let _ = std::fs::remove_dir_all(&d);
 }

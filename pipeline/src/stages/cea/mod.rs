@@ -132,6 +132,11 @@ pub struct CeaReport {
     pub n_gaps: usize,
     pub n_modes_reported: usize,
     pub n_unstable: usize,
+    /// Gaps in tension (p_n < 0) at the linearisation's state: held closed by the bilateral
+    /// contact, so the roots are those of a contact the brake would not keep (a warning too).
+    pub n_tensile_gaps: usize,
+    /// Their smallest p_n, Pa (None: no gap).
+    pub min_contact_pressure: Option<Real>,
     /// Largest Re p among the reported modes.
     pub max_real_part: Option<Real>,
     /// Frequency of the mode with the largest Re p.
@@ -503,7 +508,26 @@ pub fn write(
             files.push(format!("{stem}.svg"));
         }
     }
+    let contact = &c.out.steady_state.contact;
+    let min_contact_pressure = (contact.n_gaps > 0).then_some(contact.min_pressure);
+    let mut warnings = model.warnings.clone();
+    if contact.n_tensile > 0 {
+        warnings.push(crate::warning::Warning {
+            input: "contact".into(),
+            message: format!(
+                "the CEA's state has {} of {} gaps in tension (smallest p_n {:.4e} Pa): the \
+                 bilateral contact holds them closed, so the roots are those of a contact the \
+                 brake would not keep (a transient with `separation = true` on the pairs shows \
+                 what happens)",
+                contact.n_tensile, contact.n_gaps, contact.min_pressure
+            ),
+            value: contact.min_pressure,
+            tolerance: 0.0,
+        });
+    }
     let report = CeaReport {
+        n_tensile_gaps: contact.n_tensile,
+        min_contact_pressure,
         verb: "cea",
         version: crate::VERSION,
         wall_s: wall.elapsed().as_secs_f64(),
@@ -541,7 +565,7 @@ pub fn write(
         model_hash: c.problem.model_hash(),
         model_cache: cache_use,
         sweep: c.sweep.clone(),
-        warnings: model.warnings.clone(),
+        warnings,
     };
     dir.write_json("summary.json", &report)?;
     Ok(report)
