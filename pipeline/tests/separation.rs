@@ -274,17 +274,7 @@ fn hoffmann_above_critical_mu_settles_into_a_limit_cycle_with_separation() {
     );
 }
 
-/// A tied pad whose start state is tensile although its loaded state is not (the cad brake's
-/// case, on a tiny scene): a block pad (1 × 1 × 1, hex8 3×3×2, abutment face `x0` held in
-/// x, y) on a block rotor (hex8 2×2, non-matching, `pairing = "surface"`), constant μ = 0.8,
-/// P0 = 1. Under P0 alone the friction couple μ P0 A about the abutment lifts the trailing
-/// edge (p_n down to −0.18 on 2 gaps; numbers from an independent numpy solve of the exported
-/// DAE, `squeal transient --export-dae`); the brake load (pressure on the top and a force
-/// on the trailing face `y1`, ramped in TLOAD = 0.01) closes it (smallest p_n +2.66 at the
-/// end of the ramp). The run reports the tensile start, but the verdict, which judges the
-/// response after the ramp, is not voided by it; a step load (TLOAD = 0) has no ramp and its
-/// tensile first instant is judged.
-/// The tiny tied brake of the test below as a scene with TLOAD `tload` and the brake load
+/// The tiny tied brake of the test after it as a scene with TLOAD `tload` and the brake load
 /// scaled by `pmax` (2: the test's; 0: P0 alone, where the friction couple puts gaps in
 /// tension).
 fn tiny_tied_brake(tload: f64, pmax: f64) -> String {
@@ -338,6 +328,16 @@ tfinal = 0.02
     )
 }
 
+/// A tied pad whose start state is tensile although its loaded state is not (the cad brake's
+/// case, on a tiny scene): a block pad (1 × 1 × 1, hex8 3×3×2, abutment face `x0` held in
+/// x, y) on a block rotor (hex8 2×2, non-matching, `pairing = "surface"`), constant μ = 0.8,
+/// P0 = 1. Under P0 alone the friction couple μ P0 A about the abutment lifts the trailing
+/// edge (p_n down to −0.18 on 2 gaps; numbers from an independent numpy solve of the exported
+/// DAE, `squeal transient --export-dae`); the brake load (pressure on the top and a force
+/// on the trailing face `y1`, ramped in TLOAD = 0.01) closes it (smallest p_n +2.66 at the
+/// end of the ramp). The run reports the tensile start, but the verdict, which judges the
+/// response after the ramp, is not voided by it; a step load (TLOAD = 0) has no ramp and its
+/// tensile first instant is judged.
 #[test]
 fn tensile_gaps_before_the_end_of_the_load_ramp_do_not_void_the_verdict() {
     use squeal_pipeline::progress::Progress;

@@ -84,6 +84,11 @@ impl GapSet {
         v: &[Real],
         lambda_dot: &[Real],
     ) -> Result<(), ContactError> {
+        self.check_lambda_len(lambda_dot)?;
+        self.check_dofs(v.len())
+    }
+
+    fn check_lambda_len(&self, lambda_dot: &[Real]) -> Result<(), ContactError> {
         if lambda_dot.len() != self.gaps.len() {
             return Err(ContactError::Length {
                 what: "lambda_dot",
@@ -91,7 +96,7 @@ impl GapSet {
                 expected: self.gaps.len(),
             });
         }
-        self.check_dofs(v.len())
+        Ok(())
     }
 
     pub(crate) fn non_finite(&self, ig: usize, what: &'static str, value: Real) -> ContactError {
@@ -114,13 +119,7 @@ impl GapSet {
         // Only this gap's DOFs are checked: outputs call this per gap and step, and the
         // whole set's check is O(all terms of all gaps) (on an interface-reduced rotor it
         // made the records cost 25 ms a step).
-        if lambda_dot.len() != self.gaps.len() {
-            return Err(ContactError::Length {
-                what: "lambda_dot",
-                len: lambda_dot.len(),
-                expected: self.gaps.len(),
-            });
-        }
+        self.check_lambda_len(lambda_dot)?;
         if g >= self.gaps.len() {
             return Err(ContactError::Length {
                 what: "gap index",

@@ -526,8 +526,6 @@ pub fn write(
         });
     }
     let report = CeaReport {
-        n_tensile_gaps: contact.n_tensile,
-        min_contact_pressure,
         verb: "cea",
         version: crate::VERSION,
         wall_s: wall.elapsed().as_secs_f64(),
@@ -535,6 +533,8 @@ pub fn write(
         n_gaps: ng,
         n_modes_reported: modes.len(),
         n_unstable: unstable.len(),
+        n_tensile_gaps: contact.n_tensile,
+        min_contact_pressure,
         max_real_part: modes.iter().map(|m| m.real_part).reduce(f64::max),
         max_real_part_frequency_hz: modes
             .iter()

@@ -241,11 +241,25 @@ pub fn run_sweep(
         })
         .collect();
     couplings.sort_by(|a, b| a.mu_critical.total_cmp(&b.mu_critical));
-    let lowest_in_band = couplings
+    // The lowest in-band onset and how it was found (exact crossing or not).
+    let (lowest_mu_in_band, lowest_in_band_status) = couplings
         .iter()
         .find(|c| band_hz.is_none_or(|b| c.frequency_hz <= b))
-        .cloned();
-    let lowest_in_band = lowest_in_band.as_ref();
+        .map(|c| {
+            let exact = tracks
+                .iter()
+                .find(|t| t.id == c.track)
+                .and_then(|t| t.critical.as_ref())
+                .and_then(|k| k.exact.as_ref());
+            let status = match exact {
+                Some(x) if x.converged => CriticalStatus::ExactCrossing,
+                Some(_) => CriticalStatus::ProjectedNotConfirmed,
+                None if s.stats.method == CeaMethod::Exact => CriticalStatus::ExactSweep,
+                None => CriticalStatus::Projected,
+            };
+            (c.mu_critical, status)
+        })
+        .unzip();
     let report = SweepReport {
         vary: sw.vary,
         base_law: gaps.law.clone(),
@@ -253,20 +267,8 @@ pub fn run_sweep(
         max_frequency_hz: spec.max_frequency_hz,
         lowest_critical_mu: couplings.first().map(|c| c.mu_critical),
         band_hz,
-        lowest_critical_mu_in_band: lowest_in_band.map(|c| c.mu_critical),
-        lowest_critical_mu_in_band_status: lowest_in_band.map(|c| {
-            let exact = tracks
-                .iter()
-                .find(|t| t.id == c.track)
-                .and_then(|t| t.critical.as_ref())
-                .and_then(|k| k.exact.as_ref());
-            match exact {
-                Some(x) if x.converged => CriticalStatus::ExactCrossing,
-                Some(_) => CriticalStatus::ProjectedNotConfirmed,
-                None if s.stats.method == CeaMethod::Exact => CriticalStatus::ExactSweep,
-                None => CriticalStatus::Projected,
-            }
-        }),
+        lowest_critical_mu_in_band: lowest_mu_in_band,
+        lowest_critical_mu_in_band_status: lowest_in_band_status,
         couplings,
         tracks,
         stats: s.stats.clone(),
