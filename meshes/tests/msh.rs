@@ -411,19 +411,18 @@ fn err_text(text: &str) -> String {
 
 #[test]
 fn errors_name_file_line_and_value() {
-    // A tetrahedron: unsupported, with type, element tag and line.
-    let e =
-        err_text(&HEX8_V22.replace("3 5 2 1 1 10 11 12 13 14 15 16 17", "3 4 2 1 1 10 11 12 13"));
+    // A cubic tetrahedron (gmsh type 29): unsupported, with type, element tag and line.
+    let e = err_text(&HEX8_V22.replace(
+        "3 5 2 1 1 10 11 12 13 14 15 16 17",
+        "3 29 2 1 1 10 11 12 13",
+    ));
     assert!(
-        e.contains("bad.msh:27") && e.contains("type 4") && e.contains("element 3"),
+        e.contains("bad.msh:27") && e.contains("type 29") && e.contains("element 3"),
         "{e}"
     );
-    // A prism in 4.1 (hex27 is read as hex20: `v41_hex27_reads_as_its_hex20`).
-    let e = err_text(&HEX8_V41.replace("3 1 5 1\n", "3 1 6 1\n"));
-    assert!(
-        e.contains("type 6") && e.contains("6-node prism") && e.contains("element 3"),
-        "{e}"
-    );
+    // A cubic prism in 4.1 (type 90; hex27 is read as hex20: `v41_hex27_reads_as_its_hex20`).
+    let e = err_text(&HEX8_V41.replace("3 1 5 1\n", "3 1 90 1\n"));
+    assert!(e.contains("type 90") && e.contains("element 3"), "{e}");
     // Unknown node tag.
     let e = err_text(&HEX8_V22.replace("10 11 12 13 14 15 16 17", "10 11 12 13 14 15 16 18"));
     assert!(
