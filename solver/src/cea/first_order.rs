@@ -116,10 +116,7 @@ pub(crate) type RealEvd = (Vec<f64>, Vec<f64>, Mat<f64>, f64);
 ///
 /// # Errors
 /// Non-convergence and non-finite eigenvalues.
-pub(crate) fn real_evd(
-    a: &Mat<f64>,
-    vectors: bool,
-) -> Result<RealEvd, CeaError> {
+pub(crate) fn real_evd(a: &Mat<f64>, vectors: bool) -> Result<RealEvd, CeaError> {
     let n2 = a.nrows();
     // Small problems run sequentially: on the shared 2-core machine the projected sweep's
     // 200×200 solves took ~25 ms/step sequential vs ~30 ms with rayon (noisy, load ~4).
