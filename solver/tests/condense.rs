@@ -626,3 +626,316 @@ fn compliant_unilateral_limit_cycle_matches_an_independent_integration() {
     assert!((peak - pr).abs() < 1e-3 * pr, "peak {peak} vs {pr}");
     assert!((fb - fr_ref).abs() < 1e-4 * fr_ref, "f {fb} vs {fr_ref}");
 }
+
+/// Friction at several point contacts: gap k drags DOF `dof[k]` with μ (P0A_k − λ'_k) w/√(w² +
+/// ε²), w = V − v (as [`PointFriction`]).
+#[derive(Clone)]
+struct Points {
+    dof: Vec<usize>,
+    p0a: Vec<Real>,
+    mu: Real,
+    eps: Real,
+}
+
+impl FrictionForces for Points {
+    fn add_forces(
+        &mut self,
+        _t: Real,
+        v: &[Real],
+        lam: &[Real],
+        f: &mut [Real],
+    ) -> Result<(), SolverError> {
+        for (k, &d) in self.dof.iter().enumerate() {
+            let w = 1.0 - v[d];
+            f[d] += self.mu * (self.p0a[k] - lam[k]) * w / (w * w + self.eps * self.eps).sqrt();
+        }
+        Ok(())
+    }
+    fn add_tangents(
+        &mut self,
+        _t: Real,
+        v: &[Real],
+        lam: &[Real],
+        d_dlam: &mut Mat<Real>,
+        d_dv: Option<&mut Mat<Real>>,
+    ) -> Result<(), SolverError> {
+        let e2 = self.eps * self.eps;
+        let mut cf = d_dv;
+        for (k, &d) in self.dof.iter().enumerate() {
+            let w = 1.0 - v[d];
+            let den = (w * w + e2).sqrt();
+            d_dlam[(d, k)] += -self.mu * w / den;
+            if let Some(c) = cf.as_deref_mut() {
+                c[(d, d)] += -self.mu * (self.p0a[k] - lam[k]) * e2 / (den * den * den);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Two Hoffmann oscillators: the in-band one (DOFs 0–2, gap 0) and a copy 30 times faster
+/// (K × 900, B × 30 × `damp`, P0A × 900; DOFs 3–5, gap 1) standing for the stiff interface
+/// modes far above the band, coupled by a spring 0.05 between the pads' z (DOFs 1, 4).
+#[allow(non_snake_case)]
+fn two_speed(damp: Real) -> (Mat<Real>, Mat<Real>, Mat<Real>, Mat<Real>, Points) {
+    let (m, b, k, _, fr) = hoffmann();
+    let s = 30.0;
+    let mut M = Mat::zeros(6, 6);
+    let mut B = Mat::zeros(6, 6);
+    let mut K = Mat::zeros(6, 6);
+    for i in 0..3 {
+        for j in 0..3 {
+            M[(i, j)] = m[(i, j)];
+            B[(i, j)] = b[(i, j)];
+            K[(i, j)] = k[(i, j)];
+            M[(3 + i, 3 + j)] = m[(i, j)];
+            B[(3 + i, 3 + j)] = s * damp * b[(i, j)];
+            K[(3 + i, 3 + j)] = s * s * k[(i, j)];
+        }
+    }
+    let kc = 0.05;
+    K[(1, 1)] += kc;
+    K[(4, 4)] += kc;
+    K[(1, 4)] -= kc;
+    K[(4, 1)] -= kc;
+    let G = Mat::from_fn(2, 6, |r, j| match (r, j) {
+        (0, 1) | (1, 4) => -1.0,
+        (0, 2) | (1, 5) => 1.0,
+        _ => 0.0,
+    });
+    let pts = Points {
+        dof: vec![0, 3],
+        p0a: vec![fr.p0a, s * s * fr.p0a],
+        mu: fr.mu,
+        eps: fr.eps,
+    };
+    (M, B, K, G, pts)
+}
+
+/// The two-speed model's band system with the given cut-off, about its steady state under
+/// P0 (a load `kick` on both pads' x, ramped over `t_load` or a step), and its full BSQL
+/// system.
+#[allow(non_snake_case)]
+fn two_speed_systems(
+    damp: Real,
+    cutoff_hz: Real,
+    kick: Real,
+    t_load: Real,
+) -> (
+    BandSystem<Points>,
+    BsqlSystem<Points>,
+    Vec<squeal_solver::cea::Mode>,
+) {
+    let (M, B, K, G, pts) = two_speed(damp);
+    let load = LoadHistory {
+        p_brake: vec![kick, 0.0, 0.0, kick, 0.0, 0.0],
+        t_load,
+        ..Default::default()
+    };
+    let mut full = BsqlSystem::new(
+        M.clone(),
+        B.clone(),
+        K.clone(),
+        G.clone(),
+        load.clone(),
+        pts.clone(),
+        BsqlOptions::default(),
+    )
+    .unwrap();
+    let ss = steady_state(&mut full, -1.0, &SteadyOptions::default()).unwrap();
+    let mut d = Mat::zeros(6, 2);
+    let mut cf = Mat::zeros(6, 6);
+    pts.clone()
+        .add_tangents(-1.0, &[0.0; 6], &ss.lambda_dot, &mut d, Some(&mut cf))
+        .unwrap();
+    let mut lin = CeaMatrices::new(M, K);
+    lin.b = Some(B);
+    lin.g = Some(G.clone());
+    lin.d = Some(d);
+    lin.c_f = Some(cf);
+    let cea = complex_eigen(&lin, &CeaOptions::default()).unwrap();
+    let inputs = Inputs {
+        load: load.p_brake.clone(),
+        contact_dofs: (0..6).collect(),
+        compliant_rows: Mat::zeros(0, 6),
+    };
+    let opts = BandOptions {
+        cutoff_hz,
+        band_hz: Some(0.25),
+        tolerance: 0.05,
+        ..Default::default()
+    };
+    let model = BandModel::build(&lin, inputs, &opts).unwrap();
+    let band = BandSystem::new(
+        model,
+        pts,
+        load,
+        BandReference {
+            u: ss.u,
+            lambda_dot: ss.lambda_dot,
+            ramp: 0.0,
+        },
+        BandContact {
+            g: G,
+            compliance: vec![0.0; 2],
+            open_force: vec![None; 2],
+        },
+    )
+    .unwrap();
+    (band, full, cea.modes)
+}
+
+/// A model whose fast copy flutters far above the band: the cut-off removes that root by
+/// construction (reported: count and the root itself, the CEA's), keeps the in-band unstable
+/// root exactly, and the band-limited transient grows at the in-band rate only.
+#[test]
+fn a_flutter_far_above_the_band_is_removed_and_reported() {
+    let (mut band, mut full, modes) = two_speed_systems(1.0, 1.0, 1e-6, 0.0);
+    let unstable: Vec<_> = modes.iter().filter(|m| m.unstable).collect();
+    println!(
+        "CEA unstable: {:?}",
+        unstable
+            .iter()
+            .map(|m| (m.frequency_hz, m.real_part))
+            .collect::<Vec<_>>()
+    );
+    assert_eq!(unstable.len(), 2, "one slow, one fast flutter");
+    let fast = unstable
+        .iter()
+        .max_by(|a, b| a.frequency_hz.total_cmp(&b.frequency_hz))
+        .unwrap();
+    let slow = unstable
+        .iter()
+        .min_by(|a, b| a.frequency_hz.total_cmp(&b.frequency_hz))
+        .unwrap();
+    let st = band.model().stats.clone();
+    println!("{st:#?}");
+    assert_eq!(st.removed_unstable, 1);
+    let r = st.largest_removed_unstable.unwrap();
+    assert!((r.frequency_hz - fast.frequency_hz).abs() < 1e-9 * fast.frequency_hz);
+    assert!((r.real_part - fast.real_part).abs() < 1e-9 * fast.real_part);
+    assert_eq!(st.kept_unstable.len(), 1);
+    assert!((st.kept_unstable[0].real_part - slow.real_part).abs() < 1e-9 * slow.real_part);
+    // The transient grows like the slow root: the peaks of v_0 from t = 30 to 100.
+    let (y, yp) = band.initial_values(-1.0, 0.0).unwrap();
+    let opts = |tolerances| BdfOptions {
+        tolerances,
+        max_steps: 1_000_000,
+        ..Default::default()
+    };
+    let mut bdf = Bdf::new(opts(band.tolerances(1e-7, 1e-9, 1e-7, 1e20)), 0.0, &y, &yp).unwrap();
+    let (mut u, mut v, mut l) = (vec![0.0; 6], vec![0.0; 6], vec![0.0; 2]);
+    let (mut env, mut vmax) = ([0.0f64; 2], 0.0f64);
+    let (w0, w1) = ((60.0, 66.0), (94.0, 100.0));
+    let mut pk: Vec<(Real, Real)> = Vec::new();
+    let mut hist = [(0.0, 0.0); 2];
+    bdf.step_to(&mut band, 100.0, |s, t, y, yp| {
+        s.physical(t, y, yp, &mut u, &mut v, &mut l, None)?;
+        if hist[1].1 > hist[0].1 && hist[1].1 >= v[0] && t > 30.0 {
+            pk.push(hist[1]);
+        }
+        hist = [hist[1], (t, v[0])];
+        vmax = vmax.max(v[0].abs());
+        if (w0.0..w0.1).contains(&t) {
+            env[0] = env[0].max(v[0].abs());
+        }
+        if (w1.0..w1.1).contains(&t) {
+            env[1] = env[1].max(v[0].abs());
+        }
+        Ok(true)
+    })
+    .unwrap();
+    let _ = env;
+    // Least-squares slope of ln(peak) against the peak times.
+    let (ts, ls): (Vec<Real>, Vec<Real>) = pk.iter().map(|&(t, p)| (t, p.ln())).unzip();
+    let sigma = common::slope(&ts, &ls);
+    let steps_band = bdf.stats().steps;
+    println!(
+        "peak growth {sigma:.4} vs slow root {:.4} (fast {:.3}); largest |v_0| {vmax:.3e}; {} steps to t = 100",
+        slow.real_part, fast.real_part, steps_band
+    );
+    assert!(vmax < 0.05, "linear range");
+    assert!(
+        (sigma - slow.real_part).abs() < 0.03 * slow.real_part,
+        "σ {sigma}"
+    );
+    // The full model follows the fast flutter (the step load excites it): its steps shrink
+    // to its period, and within 40 it has grown into slip reversal.
+    let ss = steady_state(&mut full, -1.0, &SteadyOptions::default()).unwrap();
+    let (mut y, mut yp) = ss.initial_values();
+    consistent_initial_conditions(&mut full, 0.0, &mut y, &mut yp, None, &Default::default())
+        .unwrap();
+    let mut bf = Bdf::new(opts(full.tolerances(1e-7, 1e-9, 1e-7, 1e20)), 0.0, &y, &yp).unwrap();
+    let mut fast_max = 0.0f64;
+    let stf = bf
+        .step_to(&mut full, 40.0, |_, _, y, _| {
+            fast_max = fast_max.max(y[3].abs());
+            Ok(true)
+        })
+        .unwrap();
+    assert!(stf.is_success(), "{stf:?}");
+    let steps_full = bf.stats().steps;
+    println!("full to t = 40: {steps_full} steps, largest |v_3| (the fast pad) {fast_max:.3}");
+    assert!(
+        fast_max > 1.0,
+        "the fast flutter grows into slip reversal in the full model"
+    );
+    assert!(steps_full > 5 * steps_band, "{steps_full} vs {steps_band}");
+}
+
+/// With the fast copy stable (damped 20×), the band-limited transient with it condensed out
+/// follows the full BSQL transient into the nonlinear range within the estimate's order (in
+/// about as many steps: stable fast modes never limited BDF's step).
+#[test]
+fn condensing_a_stable_fast_part_follows_the_full_transient() {
+    let (mut band, mut full, _) = two_speed_systems(20.0, 1.0, 0.02, 2.0);
+    let est = band.model().stats.error_estimate;
+    let ss = steady_state(&mut full, -1.0, &SteadyOptions::default()).unwrap();
+    let (mut y, mut yp) = ss.initial_values();
+    consistent_initial_conditions(&mut full, 0.0, &mut y, &mut yp, None, &Default::default())
+        .unwrap();
+    let tol = (1e-6, 1e-8);
+    let mut bf = Bdf::new(
+        BdfOptions {
+            tolerances: full.tolerances(tol.0, tol.1, tol.0, 1e20),
+            max_steps: 1_000_000,
+            ..Default::default()
+        },
+        0.0,
+        &y,
+        &yp,
+    )
+    .unwrap();
+    let (yb, ypb) = band.initial_values(-1.0, 0.0).unwrap();
+    let mut bb = Bdf::new(
+        BdfOptions {
+            tolerances: band.tolerances(tol.0, tol.1, tol.0, 1e20),
+            max_steps: 1_000_000,
+            ..Default::default()
+        },
+        0.0,
+        &yb,
+        &ypb,
+    )
+    .unwrap();
+    let (mut u, mut v, mut l) = (vec![0.0; 6], vec![0.0; 6], vec![0.0; 2]);
+    let (mut worst, mut vmax) = (0.0f64, 0.0f64);
+    let mut t = 0.0;
+    while t < 50.0 {
+        t += 0.25;
+        assert!(bf.integrate_to(&mut full, t).unwrap().is_success());
+        assert!(bb.integrate_to(&mut band, t).unwrap().is_success());
+        let (yb, ypb) = (bb.y().to_vec(), bb.yp().to_vec());
+        band.physical(t, &yb, &ypb, &mut u, &mut v, &mut l, None)
+            .unwrap();
+        let yf = bf.y();
+        for i in 0..3 {
+            vmax = vmax.max(yf[i].abs());
+            worst = worst.max((v[i] - yf[i]).abs());
+        }
+    }
+    let (sf, sb) = (bf.stats().steps, bb.stats().steps);
+    println!("in-band DOFs: largest |v| {vmax:.4}, difference {worst:.3e} (estimate {est:.3e}); steps full {sf}, band {sb}");
+    assert!(vmax > 0.3, "nonlinear range ({vmax})");
+    assert!(worst < 10.0 * est * vmax, "{worst:e} vs estimate {est:e}");
+}
