@@ -8,6 +8,8 @@
 //! - [`cea`]: complex eigenvalue analysis, paper eqs. (19)–(24).
 //! - [`condense`]: the band-limited model (in-band contact-linearised roots plus the static
 //!   correction) and its transient.
+//! - [`hb`]: limit cycles of the band-limited model by harmonic balance (AFT, continuation from
+//!   the Hopf point, Floquet stability).
 
 pub mod bdf;
 pub mod bsql;
@@ -15,6 +17,7 @@ pub mod cea;
 pub mod condense;
 pub mod error;
 pub mod galpha;
+pub mod hb;
 mod linalg;
 
 pub use error::SolverError;

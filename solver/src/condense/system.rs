@@ -112,6 +112,9 @@ pub struct BandSystem<F: FrictionForces> {
     lu: DenseLu,
     matrix: Matrix,
     full_always: bool,
+    /// Scale s of the friction force, s F_f (default 1: the friction law as given); the
+    /// continuation parameter of the limit cycles (μ → s μ for a law proportional to μ).
+    scale: Real,
     stats: BandSystemStats,
 }
 
@@ -289,6 +292,7 @@ impl<F: FrictionForces> BandSystem<F> {
             lu: DenseLu::new(n_x + n_z),
             matrix: Matrix::None,
             full_always: false,
+            scale: 1.0,
             stats: BandSystemStats::default(),
         })
     }
@@ -301,6 +305,19 @@ impl<F: FrictionForces> BandSystem<F> {
     /// Counters.
     pub fn stats(&self) -> &BandSystemStats {
         &self.stats
+    }
+
+    /// Scales the friction force by `s` (μ → s μ for a law proportional to μ; default 1). The
+    /// linear part stays the one linearised at s = 1: the remainder carries the difference
+    /// exactly, (s − 1) F_f included.
+    pub fn set_friction_scale(&mut self, s: Real) {
+        self.scale = s;
+        self.matrix = Matrix::None;
+    }
+
+    /// The friction scale (see [`BandSystem::set_friction_scale`]).
+    pub fn friction_scale(&self) -> Real {
+        self.scale
     }
 
     /// Number of real states n_x (the differential unknowns come first in y).
@@ -353,7 +370,7 @@ impl<F: FrictionForces> BandSystem<F> {
         }
         let (ng, n_c, o) = (self.ng, self.n_c, self.o);
         for a in 0..n_c {
-            let mut r = self.f_full[self.dofs[a]] - self.f0[a];
+            let mut r = self.scale * self.f_full[self.dofs[a]] - self.f0[a];
             for b in 0..n_c {
                 r -= self.cf0[(a, b)] * v_c[b];
             }
@@ -417,15 +434,16 @@ impl<F: FrictionForces> BandSystem<F> {
         for a in 0..n_c {
             let da = self.dofs[a];
             for b in 0..n_c {
-                jr[(a, b)] = self.cf_full[(da, self.dofs[b])] - self.cf0[(a, b)];
+                jr[(a, b)] = self.scale * self.cf_full[(da, self.dofs[b])] - self.cf0[(a, b)];
             }
             for k in 0..ng {
                 let chi = match self.contact.open_force[k] {
                     Some(open) if q[k] > open => 0.0,
                     _ => 1.0,
                 };
-                jr[(a, n_c + k)] =
-                    chi * self.d_full[(da, k)] - self.d0[(a, k)] - self.g_c[(k, a)] * (chi - 1.0);
+                jr[(a, n_c + k)] = chi * self.scale * self.d_full[(da, k)]
+                    - self.d0[(a, k)]
+                    - self.g_c[(k, a)] * (chi - 1.0);
             }
         }
         Ok(jr)
@@ -707,10 +725,66 @@ impl<F: FrictionForces> DaeSystem for BandSystem<F> {
     }
 }
 
-#[allow(dead_code)]
 impl<F: FrictionForces> BandSystem<F> {
     /// The rigid row of the model's multipliers for each contact row (None: compliant).
     pub fn rigid_rows(&self) -> &[Option<usize>] {
         &self.rigid_of
+    }
+
+    /// Number of contact DOFs n_c (the first n_c outputs z are their velocities, the next ng
+    /// the rows' normal forces).
+    pub fn n_contact(&self) -> usize {
+        self.n_c
+    }
+
+    /// Number of contact rows ng.
+    pub fn n_rows(&self) -> usize {
+        self.ng
+    }
+
+    /// The contact DOFs.
+    pub fn contact_dofs(&self) -> &[usize] {
+        &self.dofs
+    }
+
+    /// The reference outputs z⁰ (zero velocities, the reference normal forces).
+    pub fn z_reference(&self) -> &[Real] {
+        &self.z0
+    }
+
+    /// C_z (n_z × n_x) and D_z (n_z × inputs): z = z⁰ + C_z x + D_z f.
+    #[allow(non_snake_case)]
+    pub fn output_maps(&self) -> (&Mat<Real>, &Mat<Real>) {
+        (&self.C_z, &self.D_z)
+    }
+
+    /// The inputs f(t, z) (length inputs: the load change, then the remainder at the contact
+    /// DOFs) and, when `jacobian`, J_r = ∂r/∂z (n_c × n_z).
+    ///
+    /// # Errors
+    /// A friction callback failure or a non-finite remainder.
+    pub fn evaluate(
+        &mut self,
+        t: Real,
+        z: &[Real],
+        jacobian: bool,
+    ) -> Result<(&[Real], Option<Mat<Real>>), SolverError> {
+        self.inputs(t, z)?;
+        let jr = if jacobian {
+            Some(self.remainder_jacobian(t, z)?)
+        } else {
+            None
+        };
+        Ok((&self.f_in, jr))
+    }
+
+    /// The contact rows (G, compliance, open forces).
+    pub fn contact(&self) -> &BandContact {
+        &self.contact
+    }
+
+    /// The contact forces λ'_true of the outputs z (after [`BandSystem::evaluate`] at z).
+    pub fn contact_forces(&self) -> &[Real] {
+        &self.lam
     }
 }
