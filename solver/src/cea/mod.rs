@@ -36,11 +36,11 @@
 mod basis;
 mod check;
 mod critical;
-mod eigen;
+pub(crate) mod eigen;
 mod error;
-mod first_order;
+pub(crate) mod first_order;
 mod lanczos;
-mod operator;
+pub(crate) mod operator;
 mod options;
 mod project;
 mod reduce;
