@@ -12,6 +12,7 @@ pub mod bsql;
 pub mod cea;
 pub mod error;
 pub mod galpha;
+pub mod insight;
 mod linalg;
 
 pub use error::SolverError;

@@ -40,7 +40,7 @@ mod eigen;
 mod error;
 mod first_order;
 mod lanczos;
-mod operator;
+pub(crate) mod operator;
 mod options;
 mod project;
 mod reduce;
