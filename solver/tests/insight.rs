@@ -309,3 +309,89 @@ fn eigenvalue_derivatives_match_central_differences() {
     eprintln!("{checked} roots, worst relative error of dp/dtheta {worst:.2e}");
     assert!(checked >= 8);
 }
+
+fn grid(lo: f64, hi: f64, n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| lo + (hi - lo) * i as f64 / (n - 1) as f64)
+        .collect()
+}
+
+/// Hoffmann's undamped model (M = I, K = [[1, 0.3 − μ], [0.3, 1.2]]): the two branches
+/// coalesce at μc = 1/3 (the discriminant 0.01 + 0.3 (0.3 − μ) of K's eigenvalues vanishes)
+/// at ω² = 1.1; the sweep reports one coalescence there, between the two tracks that carry
+/// the onset and its partner, and no veering.
+#[test]
+fn hoffmann_branches_coalesce_at_the_critical_mu() {
+    use squeal_solver::cea::{sweep, ModeEvent, SweepOptions};
+    let build = |mu: f64| -> Result<CeaMatrices, String> {
+        let k = Mat::from_fn(2, 2, |i, j| [[1.0, 0.3 - mu], [0.3, 1.2]][i][j]);
+        Ok(CeaMatrices::new(Mat::identity(2, 2), k))
+    };
+    let s = sweep(build, &grid(0.0, 0.6, 31), &SweepOptions::default()).unwrap();
+    let coal: Vec<&ModeEvent> = s
+        .events
+        .iter()
+        .filter(|e| matches!(e, ModeEvent::Coalescence { .. }))
+        .collect();
+    assert_eq!(coal.len(), 1, "{:?}", s.events);
+    assert_eq!(s.events.len(), 1, "no veering: {:?}", s.events);
+    let ModeEvent::Coalescence {
+        tracks,
+        mu,
+        frequency_hz,
+        last_step,
+        ..
+    } = coal[0]
+    else {
+        unreachable!()
+    };
+    let f_c = 1.1_f64.sqrt() / (2.0 * std::f64::consts::PI);
+    eprintln!("coalescence at mu = {mu:.6} (exact 1/3), f = {frequency_hz:.6} Hz (exact {f_c:.6})");
+    assert!((mu - 1.0 / 3.0).abs() < 2e-3, "mu {mu}");
+    assert!((frequency_hz - f_c).abs() < 2e-3 * f_c);
+    assert_eq!(*last_step, 30, "locked to the end of the sweep");
+    let (id, c) = s.lowest_critical().unwrap();
+    let mut pair = [id, c.partner.unwrap()];
+    pair.sort();
+    let mut t = *tracks;
+    t.sort();
+    assert_eq!(t, pair);
+}
+
+/// Two undamped DOFs K = [[1 + μ, ε], [ε, 2 − μ]], ε = 0.02: the branches approach at μ = 0.5
+/// to a gap of 2ε in ω² and part again with their shapes exchanged (the classic veering of
+/// weakly coupled modes); the sweep reports a veering at μ = 0.5 and no coalescence.
+#[test]
+fn a_weakly_coupled_pair_veers() {
+    use squeal_solver::cea::{sweep, ModeEvent, SweepOptions};
+    let eps = 0.02;
+    let build = move |mu: f64| -> Result<CeaMatrices, String> {
+        let k = Mat::from_fn(2, 2, |i, j| [[1.0 + mu, eps], [eps, 2.0 - mu]][i][j]);
+        Ok(CeaMatrices::new(Mat::identity(2, 2), k))
+    };
+    let s = sweep(build, &grid(0.0, 1.0, 41), &SweepOptions::default()).unwrap();
+    assert_eq!(s.events.len(), 1, "{:?}", s.events);
+    let ModeEvent::Veering {
+        mu,
+        min_gap_hz,
+        mac_exchange,
+        ..
+    } = &s.events[0]
+    else {
+        panic!("{:?}", s.events)
+    };
+    let gap = ((1.5 + eps).sqrt() - (1.5 - eps).sqrt()) / (2.0 * std::f64::consts::PI);
+    eprintln!("veering at mu = {mu}, gap {min_gap_hz:.6} Hz (exact {gap:.6}), exchange MAC {mac_exchange:.3}");
+    assert!((mu - 0.5).abs() < 1e-12);
+    assert!((min_gap_hz - gap).abs() < 1e-9);
+    // At μ = 0.5 ∓ 0.025 the diagonal differs by ∓0.05: the shapes are turned by ±θ off the
+    // axes with tan 2θ = 2ε/0.05, so the lower shape before and the upper one after are 2θ
+    // apart: MAC = cos² 2θ = 1/(1 + (2ε/0.05)²).
+    let want = 1.0 / (1.0 + (2.0 * eps / 0.05_f64).powi(2));
+    assert!((mac_exchange - want).abs() < 1e-9, "{mac_exchange} vs {want}");
+    assert_eq!(
+        s.tracks.len(),
+        2,
+        "the branches are followed through the veering"
+    );
+}
