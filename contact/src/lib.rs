@@ -35,5 +35,6 @@ pub use forces::GapOutput;
 pub use friction::{FrictionEval, FrictionLaw};
 pub use gaps::{
     match_gaps, mortar_gaps, tie_gaps, ContactNode, FaceKind, FaceTie, Gap, GapSet, MatchOptions,
-    MortarStats, RotorFace, RotorRow, TieOptions, TieOutcome, TieStats, Unmatched, FACE_SNAP,
+    MortarOptions, MortarStats, PadSide, RotorFace, RotorRow, TieOptions, TieOutcome, TieStats,
+    Unmatched, FACE_SNAP,
 };

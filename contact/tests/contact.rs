@@ -309,6 +309,7 @@ fn three_gaps(law: FrictionLaw, vslide: f64) -> GapSet {
         temperature: 60.0,
         tie: None,
         rotor_rows: Vec::new(),
+        pad_side: None,
     };
     GapSet::new(
         vec![
@@ -430,6 +431,7 @@ fn one_gap(mu: f64, vslide: f64) -> GapSet {
         temperature: 0.0,
         tie: None,
         rotor_rows: Vec::new(),
+        pad_side: None,
     };
     GapSet::new(vec![gap], FrictionLaw::Constant { mu }, 1e-3).unwrap()
 }

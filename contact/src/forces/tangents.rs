@@ -77,8 +77,10 @@ impl GapSet {
                 if !x.is_finite() {
                     return Err(self.non_finite(ig, "friction tangent d/dlambda", x));
                 }
-                if let Some(d) = gap.pad_dofs[k] {
-                    d_dlam[(d, ig)] += x;
+                for (w, dofs) in gap.pad_terms() {
+                    if let Some(d) = dofs[k] {
+                        d_dlam[(d, ig)] += w[k] * x;
+                    }
                 }
                 for (w, dofs) in gap.rotor_terms() {
                     if let Some(d) = dofs[k] {
@@ -119,11 +121,13 @@ impl GapSet {
             // a dot product per pair, instead of nine passes over the pairs (a gap on an
             // interface-reduced rotor has ~10² rotor terms).
             cols.clear();
-            for k in 0..3 {
-                if let Some(d) = gap.pad_dofs[k] {
-                    let mut t = [0.0; 3];
-                    t[k] = 1.0;
-                    cols.push((d, t));
+            for (w, dofs) in gap.pad_terms() {
+                for k in 0..3 {
+                    if let Some(d) = dofs[k] {
+                        let mut t = [0.0; 3];
+                        t[k] = w[k];
+                        cols.push((d, t));
+                    }
                 }
             }
             for (w, dofs) in gap.rotor_terms() {

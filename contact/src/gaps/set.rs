@@ -73,6 +73,9 @@ impl GapSet {
             if let Some(t) = &mut g.tie {
                 t.dofs = t.nodes.iter().map(|&n| dofs_of(n)).collect();
             }
+            if let Some(p) = &mut g.pad_side {
+                p.dofs = p.nodes.iter().map(|&n| dofs_of(n)).collect();
+            }
         }
     }
 
@@ -101,7 +104,22 @@ impl GapSet {
                 });
             }
         }
+        if let Some(p) = &g.pad_side {
+            if p.dofs.len() != p.nodes.len() || p.weights.len() != p.nodes.len() {
+                return Err(ContactError::Tie {
+                    gap: ig,
+                    pad_node: g.pad_node,
+                    message: format!(
+                        "pad side: {} nodes, {} weights, {} DOF triples (DOFs not assigned?)",
+                        p.nodes.len(),
+                        p.weights.len(),
+                        p.dofs.len()
+                    ),
+                });
+            }
+        }
         let tied = g.tie.iter().flat_map(|t| t.dofs.iter()).flatten();
+        let pad_side = g.pad_side.iter().flat_map(|p| p.dofs.iter()).flatten();
         let rows = g.rotor_rows.iter().map(|r| &r.dof);
         for d in g
             .pad_dofs
@@ -109,6 +127,7 @@ impl GapSet {
             .chain(g.rotor_dofs.iter())
             .flatten()
             .chain(tied.flatten())
+            .chain(pad_side.flatten())
             .chain(rows)
         {
             if *d >= n {
