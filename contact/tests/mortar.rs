@@ -436,8 +436,8 @@ fn flat_pair(pk: FaceKind, rk: FaceKind, distortion: f64, seed: u64) -> (Surface
 
 /// The patch test on flat non-matching interfaces of every pad × rotor face kind (quad4,
 /// quad8, tri3, tri6), with the interior nodes of both meshes moved by up to 0, 10, 20 and
-/// 30 % of the cell size (at 30 % the smallest quad angle is ~50°) and the plane tilted out
-/// of every axis: the uniform pressure is transmitted as a uniform contact pressure to 1e-10
+/// 30 % of the cell size (smallest quad angles 90°, 80°, 70°, 61°; triangles 34° to 21°) and
+/// the plane tilted out of every axis: the uniform pressure is transmitted as a uniform contact pressure to 1e-10
 /// (every identity of [`PatchErrors`]), against the consistent loads computed
 /// independently. Prints the table of `docs/pairing.md`.
 #[test]
@@ -450,8 +450,9 @@ fn patch_test_passes_on_distorted_faces_of_every_kind() {
             for d in [0.0, 0.1, 0.2, 0.3] {
                 let (pad, rotor) = flat_pair(pk, rk, d, 5);
                 let (e, ms) = patch_errors(&pad, &rotor, 2.0);
+                let angle = common::min_angle_deg(&pad).min(common::min_angle_deg(&rotor));
                 eprintln!(
-                    "| {pk:?} | {rk:?} | {:.0} % | {:.1e} | {} ({}) | {} | {:.1e} |",
+                    "| {pk:?} | {rk:?} | {:.0} % ({angle:.0}°) | {:.1e} | {} ({}) | {} | {:.1e} |",
                     100.0 * d,
                     e.max(),
                     ms.n_segments,
@@ -580,5 +581,45 @@ fn curved_faces_converge_with_refinement() {
         let (a, b) = (first.unwrap(), prev.unwrap());
         eprintln!("{kind:?}: error / {:.2} over two refinements", a / b);
         assert!(a / b > 2.8, "{kind:?}: {a} -> {b}");
+    }
+}
+
+/// Timing probe (run by hand with `--ignored --nocapture`): an annular-sector pad (quad8 or
+/// quad4 trapezoids, 12 × 6 faces) on a finer annular rotor ring, both flat.
+#[test]
+#[ignore]
+fn timing_annular_pad() {
+    let ring = |r0: f64, r1: f64, a0: f64, a1: f64| {
+        move |p: [f64; 2]| {
+            let (r, a) = (r0 + (r1 - r0) * p[1], a0 + (a1 - a0) * p[0]);
+            [r * a.cos(), r * a.sin(), 0.0]
+        }
+    };
+    for kind in KINDS {
+        let rm = ring(0.06, 0.14, -0.6, 0.6);
+        let pm = ring(0.07, 0.13, -0.4, 0.4);
+        let rotor = surface(kind, 60, 20, 0.0, 1, 0, true, &rm);
+        let pad = surface(kind, 24, 12, 0.0, 2, 1_000_000, false, &pm);
+        let nodes = contact_nodes(&pad);
+        let t0 = std::time::Instant::now();
+        let (out, ms) = mortar_gaps(
+            &nodes,
+            &pad.faces,
+            &rotor.faces,
+            &MatchOptions::default(),
+            &TieOptions::default(),
+            &MortarOptions::default(),
+        )
+        .unwrap();
+        eprintln!(
+            "{kind:?}: {} pad faces, {} gaps, {} segments ({} exact), {} triangles, {:.2} s, quadrature error {:.1e}",
+            ms.n_pad_faces,
+            out.gaps.gaps.len(),
+            ms.n_segments,
+            ms.n_exact_segments,
+            ms.n_triangles,
+            t0.elapsed().as_secs_f64(),
+            ms.quadrature_error
+        );
     }
 }

@@ -231,3 +231,25 @@ pub fn dof_map(ids: &[u64]) -> impl Fn(u64) -> [Option<usize>; 3] + '_ {
         [Some(3 * i), Some(3 * i + 1), Some(3 * i + 2)]
     }
 }
+
+/// Smallest interior corner angle (degrees) of the faces' corner polygons.
+pub fn min_angle_deg(s: &Surface) -> f64 {
+    let mut best = 180.0f64;
+    for f in &s.faces {
+        let nc = f.kind.n_corners();
+        for a in 0..nc {
+            let (p, q, r) = (
+                f.coords[(a + nc - 1) % nc],
+                f.coords[a],
+                f.coords[(a + 1) % nc],
+            );
+            let u = [0, 1, 2].map(|k| p[k] - q[k]);
+            let v = [0, 1, 2].map(|k| r[k] - q[k]);
+            let d: f64 = (0..3).map(|k| u[k] * v[k]).sum();
+            let nu = u.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let nv = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            best = best.min((d / (nu * nv)).clamp(-1.0, 1.0).acos().to_degrees());
+        }
+    }
+    best
+}

@@ -76,21 +76,46 @@ impl Plane {
         p
     }
 
-    /// [`Plane::shadow`] as convex counterclockwise pieces (clipping polygons must be
-    /// convex): the shadow itself when convex, else (a curved quadratic face bulging inward)
-    /// the fan of triangles from the face's centre.
-    pub fn pieces(&self, f: &RotorFace) -> Vec<Vec<[Real; 2]>> {
+    /// [`Plane::shadow`] as signed convex counterclockwise pieces (clipping polygons must be
+    /// convex): the shadow itself when convex; else (a curved quadratic face whose edge bulges
+    /// inward) the convex polygon with every reflex vertex cut off by its neighbours' chord
+    /// (+1), minus the notch triangles cut off (−1): integrals over the pieces, signed, are
+    /// the shadow's (the integrands are defined a little beyond the faces). When that does
+    /// not give a convex polygon, the fan of triangles from the face's centre (all +1).
+    pub fn pieces(&self, f: &RotorFace) -> Vec<(Vec<[Real; 2]>, Real)> {
         let p = self.shadow(f);
         if is_convex(&p) {
-            return vec![p];
+            return vec![(p, 1.0)];
+        }
+        let mut q = p.clone();
+        let mut notches = Vec::new();
+        while q.len() > 3 && !is_convex(&q) {
+            let n = q.len();
+            let Some(i) = (0..n).find(|&i| turn(q[(i + n - 1) % n], q[i], q[(i + 1) % n]) < 0.0)
+            else {
+                break;
+            };
+            let (a, m, b) = (q[(i + n - 1) % n], q[i], q[(i + 1) % n]);
+            notches.push((vec![a, b, m], -1.0));
+            q.remove(i);
+        }
+        if is_convex(&q) && area2(&q) > 0.0 {
+            let mut out = vec![(q, 1.0)];
+            out.extend(notches);
+            return out;
         }
         let (xc, _) = f.point(f.kind.center_ref());
         let c = self.to2(xc);
         (0..p.len())
-            .map(|i| vec![c, p[i], p[(i + 1) % p.len()]])
-            .filter(|t| area2(t) > 0.0)
+            .map(|i| (vec![c, p[i], p[(i + 1) % p.len()]], 1.0))
+            .filter(|(t, _)| area2(t) > 0.0)
             .collect()
     }
+}
+
+/// z of (b − a) × (c − b): > 0 for a left (counterclockwise) turn at b.
+fn turn(a: [Real; 2], b: [Real; 2], c: [Real; 2]) -> Real {
+    (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])
 }
 
 /// Signed area of a polygon.
@@ -110,9 +135,8 @@ fn is_convex(p: &[[Real; 2]]) -> bool {
     let n = p.len();
     (0..n).all(|i| {
         let (a, b, c) = (p[i], p[(i + 1) % n], p[(i + 2) % n]);
-        let (u, v) = ([b[0] - a[0], b[1] - a[1]], [c[0] - b[0], c[1] - b[1]]);
-        let z = u[0] * v[1] - u[1] * v[0];
-        z >= -1e-12 * (u[0].hypot(u[1]) * v[0].hypot(v[1]))
+        let scale = (b[0] - a[0]).hypot(b[1] - a[1]) * (c[0] - b[0]).hypot(c[1] - b[1]);
+        turn(a, b, c) >= -1e-12 * scale
     })
 }
 

@@ -17,6 +17,7 @@ use super::vec3::dot;
 use super::{ContactNode, FaceTie, Gap, GapSet, MatchOptions, PadSide, TieOptions, TieOutcome};
 use crate::{ContactError, FrictionLaw, NodeReport, Real};
 use quadrature::{triangle_rule, Adaptive};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 
@@ -250,23 +251,34 @@ pub fn mortar_gaps(
     let mut own = vec![0.0; nn];
     let mut err = vec![0.0; nn];
     let mut share: Vec<HashMap<usize, Real>> = vec![HashMap::new(); nn];
-    for (e, pf) in pad_faces.iter().enumerate() {
-        let (ids, dualf, plane) = &setup[e];
-        let (plo, phi) = bbox(pf);
-        let candidates: Vec<usize> = grid
-            .boxes_near(&plo, &phi)
-            .into_iter()
-            .filter(|&r| {
-                let (lo, hi) = rotor_boxes[r];
-                (0..3).all(|k| lo[k] <= phi[k] && hi[k] >= plo[k])
-            })
-            .collect();
-        let fi = segments::integrate_face(pf, dualf, plane, faces, &candidates, tol, &adaptive)
-            .map_err(|reason| ContactError::InvalidOption {
-                field: format!("pad_faces[{e}]"),
-                value: format!("face {}", pf.id),
-                reason,
-            })?;
+    // Each pad face's integrals (in parallel; merged below in face order, so the sums are
+    // the same whatever the thread count).
+    let integrals: Vec<Result<segments::FaceIntegrals, ContactError>> = pad_faces
+        .par_iter()
+        .enumerate()
+        .map(|(e, pf)| {
+            let (_, dualf, plane) = &setup[e];
+            let (plo, phi) = bbox(pf);
+            let candidates: Vec<usize> = grid
+                .boxes_near(&plo, &phi)
+                .into_iter()
+                .filter(|&r| {
+                    let (lo, hi) = rotor_boxes[r];
+                    (0..3).all(|k| lo[k] <= phi[k] && hi[k] >= plo[k])
+                })
+                .collect();
+            segments::integrate_face(pf, dualf, plane, faces, &candidates, tol, &adaptive).map_err(
+                |reason| ContactError::InvalidOption {
+                    field: format!("pad_faces[{e}]"),
+                    value: format!("face {}", pf.id),
+                    reason,
+                },
+            )
+        })
+        .collect();
+    for (e, (pf, fi)) in pad_faces.iter().zip(integrals).enumerate() {
+        let fi = fi?;
+        let ids = &setup[e].0;
         if fi.n_unconverged > 0 {
             return Err(ContactError::InvalidOption {
                 field: format!("pad_faces[{e}]"),

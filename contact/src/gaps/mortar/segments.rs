@@ -66,12 +66,13 @@ fn coincident(pf: &RotorFace, rf: &RotorFace) -> Option<[usize; 8]> {
     Some(perm)
 }
 
-/// The fan triangles of a polygon from its first vertex, after dropping repeated and
+/// The fan triangles of a polygon from its first vertex (reversed for a piece of sign −1),
+/// after dropping repeated and
 /// collinear vertices (the mid-side nodes of straight edges, clipping's duplicates): every
 /// triangle has an area (a zero-area one could never meet a tolerance per unit area). On a
 /// non-convex polygon some triangles have negative areas: the rules integrate with signed
 /// areas, so the sum is the polygon's integral (of integrands defined around it).
-fn fan(p: &[[Real; 2]]) -> Vec<[[Real; 2]; 3]> {
+fn fan(p: &[[Real; 2]], sign: Real) -> Vec<[[Real; 2]; 3]> {
     let area = area2(p).abs();
     let mut q: Vec<[Real; 2]> = p.to_vec();
     loop {
@@ -91,7 +92,16 @@ fn fan(p: &[[Real; 2]]) -> Vec<[[Real; 2]; 3]> {
             None => break,
         }
     }
-    (1..q.len() - 1).map(|t| [q[0], q[t], q[t + 1]]).collect()
+    // A negative piece: its triangles reversed (clockwise), so that their areas subtract.
+    (1..q.len() - 1)
+        .map(|t| {
+            if sign < 0.0 {
+                [q[0], q[t + 1], q[t]]
+            } else {
+                [q[0], q[t], q[t + 1]]
+            }
+        })
+        .collect()
 }
 
 /// The range of a face's node heights above `plane`.
@@ -148,7 +158,7 @@ pub(super) fn integrate_face(
     // The pad face's own height range about its plane (a warped or curved face's sagitta).
     let (pad_lo, pad_hi) = heights(pf, plane);
     let pad_pieces = plane.pieces(pf);
-    let pad_area: Real = pad_pieces.iter().map(|p| area2(p)).sum();
+    let pad_area: Real = pad_pieces.iter().map(|(p, sign)| sign * area2(p)).sum();
     // An absolute error per sub-triangle negligible for the face (a millionth of its share
     // of the tolerance): slivers left by clipping nearly coincident edges meet it.
     let floor = 1e-6 * adaptive.tolerance * pad_area;
@@ -174,8 +184,8 @@ pub(super) fn integrate_face(
             true
         };
         let mut own = vec![0.0; np];
-        for piece in &pad_pieces {
-            for t in fan(piece) {
+        for (piece, sign) in &pad_pieces {
+            for t in fan(piece, *sign) {
                 if !adaptive.integrate(t, pad_affine, floor, &mut eval, &mut own, &mut info) {
                     return Err(failed.unwrap_or_default());
                 }
@@ -203,7 +213,7 @@ pub(super) fn integrate_face(
         let mut xi_r = rf.kind.center_ref();
         let mut any = false;
         let rshadow = plane.shadow(rf);
-        for ppiece in &pad_pieces {
+        for (ppiece, sign) in &pad_pieces {
             let seg = clip_polygon(&rshadow, ppiece);
             if seg.len() < 3 || area2(&seg) <= 1e-12 * pad_area {
                 continue;
@@ -230,7 +240,7 @@ pub(super) fn integrate_face(
                 }
                 true
             };
-            for t in fan(&seg) {
+            for t in fan(&seg, *sign) {
                 if !adaptive.integrate(t, exact, floor, &mut eval, &mut sums, &mut info) {
                     return Err(failed.unwrap_or_default());
                 }
