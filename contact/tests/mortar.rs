@@ -623,3 +623,42 @@ fn timing_annular_pad() {
         );
     }
 }
+
+/// A bonded tie's explicit rows u_s = Σ_a w_a u_a ([`squeal_contact::bond_rows`]), from the
+/// mortar pairing of every slave × master kind at 30 % distortion: the weights sum to 1 and
+/// interpolate every slave node's position from the master nodes (so a linear displacement
+/// field, e.g. a constant strain, passes the bonded interface exactly), including the
+/// mid-side nodes of quadratic slave faces, whose gaps constrain the transformed value.
+#[test]
+fn bonded_rows_reproduce_linear_fields() {
+    for pk in KINDS {
+        for rk in KINDS {
+            let (pad, rotor) = flat_pair(pk, rk, 0.3, 8);
+            let nodes = contact_nodes(&pad);
+            let (out, _) = mortar_gaps(
+                &nodes,
+                &pad.faces,
+                &rotor.faces,
+                &MatchOptions::default(),
+                &TieOptions::default(),
+                &MortarOptions::default(),
+            )
+            .unwrap();
+            let rows = squeal_contact::bond_rows(&out.gaps).unwrap();
+            assert_eq!(rows.len(), nodes.len());
+            let xr = rotor.xyz();
+            for r in &rows {
+                let s: f64 = r.masters.iter().map(|m| m.1).sum();
+                assert!((s - 1.0).abs() < 1e-13, "{pk:?}/{rk:?}: {s}");
+                for k in 0..3 {
+                    let x: f64 = r.masters.iter().map(|&(a, w)| w * xr[&a][k]).sum();
+                    assert!(
+                        (x - r.coords[k]).abs() < 1e-13,
+                        "{pk:?}/{rk:?} node {}",
+                        r.node
+                    );
+                }
+            }
+        }
+    }
+}

@@ -54,6 +54,7 @@ fn gaps() -> GapSet {
         tie: None,
         rotor_rows: Vec::new(),
         pad_side: None,
+        friction: None,
     };
     GapSet::new(vec![gap], FrictionLaw::Constant { mu: MU }, 1e-3).unwrap()
 }

@@ -69,7 +69,7 @@ pub(crate) fn evaluate_gap(set: &GapSet, gap: &Gap, v: &[Real], lambda: Real) ->
     let dn = dot(dv, n);
     let vt = [dv[0] - dn * n[0], dv[1] - dn * n[1], dv[2] - dn * n[2]]; // [Paper eq. (3)]
     let s = dot(vt, vt).sqrt();
-    let friction = set.law.evaluate(pressure, s, gap.temperature);
+    let friction = set.law_of(gap).evaluate(pressure, s, gap.temperature);
     let ft = friction.mu * gap.area * pressure; // [Paper eq. (4)]
     let (phi, psi) = regularisation(s, set.vtol); // [Paper eq. (5)]
     let c = ft * phi;

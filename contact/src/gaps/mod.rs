@@ -1,5 +1,6 @@
 //! Gap elements: pad/rotor node pairs with normal, area and sliding velocity (PREBSQL).
 
+mod bond;
 mod face;
 mod grid;
 mod matching;
@@ -12,6 +13,7 @@ mod vec3;
 use crate::{ContactError, Real};
 use serde::{Deserialize, Serialize};
 
+pub use bond::{bond_rows, BondRow};
 pub use face::{FaceKind, RotorFace, SNAP as FACE_SNAP};
 pub use matching::match_gaps;
 pub use mortar::{mortar_gaps, MortarOptions, MortarStats};
@@ -156,6 +158,10 @@ pub struct Gap {
     /// `pad_node` with weight 1 (`pad_dofs`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pad_side: Option<PadSide>,
+    /// This gap's own friction law (a contact pair with its own `friction`), used instead of
+    /// the set's [`GapSet::law`]. None: the set's law.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<crate::FrictionLaw>,
 }
 
 /// The pad side of a gap over several pad nodes: the point û = Σ_k w_k u_k (weights sum to 1).
@@ -256,6 +262,7 @@ impl Gap {
             tie,
             rotor_rows: Vec::new(),
             pad_side: None,
+            friction: None,
         }
     }
 

@@ -243,6 +243,7 @@ fn parse_csv(text: &str) -> Result<(Vec<Gap>, Vec<String>), String> {
             },
             rotor_rows: Vec::new(),
             pad_side: None,
+            friction: None,
         });
         places.push(format!("line {ln}"));
     }
