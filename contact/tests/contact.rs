@@ -309,6 +309,8 @@ fn three_gaps(law: FrictionLaw, vslide: f64) -> GapSet {
         temperature: 60.0,
         tie: None,
         rotor_rows: Vec::new(),
+        pad_side: None,
+        friction: None,
     };
     GapSet::new(
         vec![
@@ -348,7 +350,9 @@ proptest! {
     /// zone (speeds from 1e-5 to 1), for a law depending on p and |V_t|.
     #[test]
     fn tangents_match_finite_differences(seed in prop::collection::vec(-1.0f64..1.0, 15), scale in prop::sample::select(vec![1e-5, 3e-4, 2e-3, 0.05, 1.0])) {
-        let set = three_gaps(equation(), scale);
+        let mut set = three_gaps(equation(), scale);
+        // Gap 1 with its own (speed-dependent) law: the tangents follow each gap's law.
+        set.gaps[1].friction = Some(FrictionLaw::LinearSpeed { mu0: 0.35, slope: -0.02 });
         let v: Vec<f64> = seed[..12].iter().map(|x| x * scale).collect();
         let lam: Vec<f64> = seed[12..].to_vec();
         // Skip states within 1 % of the kink of the regularisation at 10 VTOL.
@@ -430,6 +434,8 @@ fn one_gap(mu: f64, vslide: f64) -> GapSet {
         temperature: 0.0,
         tie: None,
         rotor_rows: Vec::new(),
+        pad_side: None,
+        friction: None,
     };
     GapSet::new(vec![gap], FrictionLaw::Constant { mu }, 1e-3).unwrap()
 }
@@ -606,4 +612,38 @@ fn gap_blocks_sum_to_g_d_and_c_f() {
         assert!((&dl - &dl2).norm_max() <= 1e-15 * dl.norm_max());
         assert!((&cf - &cf2).norm_max() <= 1e-14 * cf.norm_max());
     }
+}
+
+/// A gap's own friction law replaces the set's for that gap only: with gap 1's law set to
+/// the set's law B, its forces equal those of a set whose law is B, and the other gaps keep
+/// law A's forces. An invalid own law is an error naming the gap.
+#[test]
+fn a_gap_with_its_own_law_uses_it() {
+    let a = FrictionLaw::Constant { mu: 0.5 };
+    let b = FrictionLaw::LinearSpeed {
+        mu0: 0.2,
+        slope: -0.01,
+    };
+    let v: Vec<f64> = (0..12).map(|i| 0.1 * (i as f64 - 5.0)).collect();
+    let lam = vec![-1.0, -2.0, -0.5];
+    let mut mixed = three_gaps(a.clone(), 1.0);
+    mixed.gaps[1].friction = Some(b.clone());
+    let all_a = three_gaps(a, 1.0);
+    let all_b = three_gaps(b, 1.0);
+    for g in 0..3 {
+        let got = mixed.gap_output(g, &v, &lam).unwrap().force_on_pad;
+        let want = if g == 1 { &all_b } else { &all_a }
+            .gap_output(g, &v, &lam)
+            .unwrap()
+            .force_on_pad;
+        assert_eq!(got, want, "gap {g}");
+    }
+    assert_eq!(mixed.laws().len(), 2);
+    let mut bad = three_gaps(FrictionLaw::Constant { mu: 0.5 }, 1.0);
+    bad.gaps[2].friction = Some(FrictionLaw::Constant { mu: f64::NAN });
+    let e = bad
+        .with_friction(FrictionLaw::Constant { mu: 0.5 }, 1e-3)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("gap 2") && e.contains("own friction law"), "{e}");
 }

@@ -388,7 +388,10 @@ fn a_weakly_coupled_pair_veers() {
     // axes with tan 2θ = 2ε/0.05, so the lower shape before and the upper one after are 2θ
     // apart: MAC = cos² 2θ = 1/(1 + (2ε/0.05)²).
     let want = 1.0 / (1.0 + (2.0 * eps / 0.05_f64).powi(2));
-    assert!((mac_exchange - want).abs() < 1e-9, "{mac_exchange} vs {want}");
+    assert!(
+        (mac_exchange - want).abs() < 1e-9,
+        "{mac_exchange} vs {want}"
+    );
     assert_eq!(
         s.tracks.len(),
         2,

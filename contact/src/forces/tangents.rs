@@ -68,8 +68,10 @@ impl GapSet {
         for (ig, gap) in self.gaps.iter().enumerate() {
             let (dlam, jp) = self.gap_tangent(ig, v, lambda_dot[ig], d_dv.is_some())?;
             for k in 0..3 {
-                if let Some(d) = gap.pad_dofs[k] {
-                    d_dlam[(d, ig)] += dlam[k];
+                for (w, dofs) in gap.pad_terms() {
+                    if let Some(d) = dofs[k] {
+                        d_dlam[(d, ig)] += w[k] * dlam[k];
+                    }
                 }
                 for (w, dofs) in gap.rotor_terms() {
                     if let Some(d) = dofs[k] {
@@ -212,11 +214,13 @@ pub struct GapBlock {
 /// `−w_k e_k` on a rotor term's DOF k; terms on the same DOF summed), sorted by DOF.
 fn slip_map(gap: &crate::Gap, cols: &mut Vec<(usize, [Real; 3])>) {
     cols.clear();
-    for k in 0..3 {
-        if let Some(d) = gap.pad_dofs[k] {
-            let mut t = [0.0; 3];
-            t[k] = 1.0;
-            cols.push((d, t));
+    for (w, dofs) in gap.pad_terms() {
+        for k in 0..3 {
+            if let Some(d) = dofs[k] {
+                let mut t = [0.0; 3];
+                t[k] = w[k];
+                cols.push((d, t));
+            }
         }
     }
     for (w, dofs) in gap.rotor_terms() {
