@@ -758,3 +758,39 @@ fn gmsh_error_is_reported() {
     }
     assert!(!path.exists());
 }
+
+/// A hexahedron written with repeated nodes (corners 2 = 3 and 6 = 7, an Ansys-style prism) is
+/// read as the wedge it is; a repetition that is no wedge, pyramid or tet is an error naming the
+/// element. The bottom face (a quad on a collapsed edge) would be degenerate, so the collapsed
+/// files carry no face element.
+#[test]
+fn collapsed_hex_is_read_as_its_wedge_or_refused() {
+    let text = HEX8_V22
+        .replace(
+            "3 5 2 1 1 10 11 12 13 14 15 16 17",
+            "3 5 2 1 1 10 11 12 12 14 15 16 16",
+        )
+        .replace("2 3 2 2 1 10 13 12 11\n", "")
+        .replace("$Elements\n4\n", "$Elements\n3\n");
+    let m = parse_msh(text.as_bytes(), "prism.msh").unwrap();
+    assert_eq!(m.volumes[0].kind, CellKind::Wedge6);
+    let tags: Vec<u64> = m.volumes[0]
+        .cell(0)
+        .iter()
+        .map(|&i| m.node_tags[i])
+        .collect();
+    assert_eq!(tags, [10, 11, 12, 14, 15, 16]);
+    assert!(m.centroid_jacobian(0, 0) > 0.0);
+    let bad = HEX8_V22
+        .replace(
+            "3 5 2 1 1 10 11 12 13 14 15 16 17",
+            "3 5 2 1 1 10 10 12 13 14 15 16 17",
+        )
+        .replace("2 3 2 2 1 10 13 12 11\n", "")
+        .replace("$Elements\n4\n", "$Elements\n3\n");
+    let e = err_text(&bad);
+    assert!(
+        e.contains("hexahedron 3") && e.contains("repeats nodes") && e.contains("0=1"),
+        "{e}"
+    );
+}
