@@ -4,6 +4,7 @@
 //! - [`gmsh`]: runs the gmsh program on a `.geo` text;
 //! - [`msh`]: reads `.msh` 2.2 / 4.1 files into a [`Mesh`];
 //! - [`vtu`]: writes a [`Mesh`] and point/cell arrays as a VTK `.vtu` file.
+pub mod collapse;
 mod error;
 mod face_set;
 pub mod geo;
@@ -12,6 +13,8 @@ pub mod jacobian;
 pub mod mesh;
 pub mod msh;
 mod query;
+pub mod shapes;
+pub mod split;
 pub mod structured;
 pub mod topology;
 pub mod vtu;
