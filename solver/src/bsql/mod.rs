@@ -147,7 +147,8 @@ pub struct BsqlStats {
     pub tangent_evals: u64,
     /// Factorisations of the (n + ng) saddle system.
     pub factorisations: u64,
-    /// Constraint drift ‖G v‖∞ at the last observed step.
+    /// Constraint drift ‖G v‖∞ over the closed rigid rows at the last observed step (an open
+    /// row's G v is its separation speed, a compliant row's its spring's rate: neither counts).
     pub constraint_drift: Real,
     /// Largest ‖G v‖∞ over observed steps.
     pub max_constraint_drift: Real,

@@ -146,6 +146,38 @@ fn gap_rate<F: FrictionForces>(sys: &BsqlSystem<F>, k: usize, v: &[Real]) -> Rea
     sys.g_rows.row_dot(0, k, &v[..sys.n])
 }
 
+/// Relative width of the band about zero in which a root function counts as "at zero": a
+/// row that sits there (a gap at zero pressure: P_0 = 0 and no load yet) is armed, and a
+/// crossing that starts there is an event once the function leaves the band downwards.
+const ZERO_BAND: Real = 1e-12;
+
+/// Width of the zero band of row k: ZERO_BAND × the row's scale (forces for a closed row:
+/// the largest |λ'| and λ'_open, at least 1; lengths for an open row: |G u(t_open)|, at
+/// least 1).
+fn zero_band<F: FrictionForces>(
+    sys: &BsqlSystem<F>,
+    st: &UnilateralState,
+    k: usize,
+    yp: &[Real],
+) -> Real {
+    let scale = if st.open[k] {
+        st.gap_ref[k].abs()
+    } else {
+        yp[sys.n..sys.n + sys.ng]
+            .iter()
+            .chain(&st.lambda_dot_open)
+            .fold(0.0 as Real, |m, x| m.max(x.abs()))
+    };
+    ZERO_BAND * scale.max(1.0)
+}
+
+/// An armed row whose root function went from `g_prev` to `g_now` crossed: a decreasing zero
+/// crossing (g_prev > 0 ≥ g_now), or one that started at zero (g_prev in the zero band,
+/// g_now below it).
+fn crosses(g_prev: Real, g_now: Real, band: Real) -> bool {
+    g_now <= 0.0 && (g_prev > 0.0 || g_now < -band)
+}
+
 /// Root function of constraint k at (y, y').
 fn root_value<F: FrictionForces>(
     sys: &BsqlSystem<F>,
@@ -253,7 +285,8 @@ impl Unilateral {
     }
 
     /// Root values at (y, y') into g_prev; rows in `switched` are disarmed, others armed
-    /// when positive.
+    /// when positive or at zero (within the zero band: a gap at zero pressure, e.g. with
+    /// P_0 = 0 before the load, opens as soon as it would turn tensile).
     fn rearm<F: FrictionForces>(
         &mut self,
         sys: &BsqlSystem<F>,
@@ -263,8 +296,9 @@ impl Unilateral {
     ) {
         for k in 0..sys.ng {
             let g = root_value(sys, &self.st, k, y, yp);
+            let band = zero_band(sys, &self.st, k, yp);
             self.st.g_prev[k] = g;
-            self.st.armed[k] = g > 0.0 && !switched.contains(&k) && self.st.can_open[k];
+            self.st.armed[k] = g > -band && !switched.contains(&k) && self.st.can_open[k];
         }
     }
 
@@ -295,7 +329,7 @@ impl Unilateral {
                 let mut any = false;
                 for k in 0..s.ng {
                     g_now[k] = root_value(s, st, k, y, yp);
-                    any |= st.armed[k] && g_now[k] <= 0.0;
+                    any |= st.armed[k] && crosses(st.g_prev[k], g_now[k], zero_band(s, st, k, yp));
                 }
                 if any {
                     crossed = true;
@@ -347,7 +381,8 @@ impl Unilateral {
         let mut t_ev = Real::INFINITY;
         let mut times = vec![Real::INFINITY; ng];
         for k in 0..ng {
-            if !(self.st.armed[k] && self.g_now[k] <= 0.0) {
+            let band = zero_band(sys, &self.st, k, &self.yp);
+            if !(self.st.armed[k] && crosses(self.st.g_prev[k], self.g_now[k], band)) {
                 continue;
             }
             let st = &self.st;
