@@ -47,6 +47,7 @@ impl Bdf {
         // The start-up phase (order 1, doubling h) counts steps from here.
         st.start_step = stats.steps;
         st.stats = stats;
+        st.collapse_count = self.st.collapse_count;
         let h = match self.opts.fixed_step {
             Some(hf) => hf,
             None => h.min(self.opts.h_max.unwrap_or(Real::INFINITY)),
