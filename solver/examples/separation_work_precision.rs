@@ -1,5 +1,5 @@
 //! Work–precision of the ways to integrate through contact separation (issue 22, item 1), on
-//! Hoffmann's model with one unilateral gap (`tests/common/hoffmann.rs`).
+//! Hoffmann's model with one unilateral gap (`tests/common/hoffmann_gap.rs`).
 //!
 //! From the steady sliding state at μ = 0.6 (above the critical μ) with a 1e-3 kick, the
 //! flutter grows (σ ≈ 0.107 /s) until the gap opens (t ≈ 57) and then settles into a limit
@@ -32,10 +32,10 @@
 //! target/release/examples/separation_work_precision [out.json]
 //! ```
 
-#[path = "../tests/common/hoffmann.rs"]
-mod hoffmann;
+#[path = "../tests/common/hoffmann_gap.rs"]
+mod hoffmann_gap;
 
-use hoffmann::{hoffmann_start, hoffmann_system, HoffmannFriction, P0};
+use hoffmann_gap::{hoffmann_start, hoffmann_system, HoffmannFriction, P0};
 use serde::Serialize;
 use squeal_solver::bdf::{Bdf, BdfOptions, Status};
 use squeal_solver::bsql::{BsqlSystem, EventRestart, Unilateral, UnilateralOptions};

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::hoffmann::{hoffmann_start, hoffmann_system, HoffmannFriction, C_PAD, C_R, MU, P0};
+use common::hoffmann_gap::{hoffmann_start, hoffmann_system, HoffmannFriction, C_PAD, C_R, MU, P0};
 use common::Oscillator;
 use faer::Mat;
 use squeal_solver::bdf::warm::second_derivative;
@@ -44,7 +44,7 @@ fn second_derivative_satisfies_the_differentiated_equations() {
     HoffmannFriction { mu: MU }
         .add_tangents(0.0, &y[..3], &[lamp], &mut d, Some(&mut cf))
         .unwrap();
-    let m = [1.0, 1.0, common::hoffmann::M_R];
+    let m = [1.0, 1.0, common::hoffmann_gap::M_R];
     let b = [C_PAD, C_PAD, C_R];
     let k = [[1.0, 0.3, 0.0], [0.3, 0.2, 0.0], [0.0, 0.0, 1.0]];
     let vel = &y[..3];
