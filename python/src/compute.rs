@@ -198,7 +198,7 @@ pub fn transient<'py>(
     )?;
     d.set_item(
         "energy_columns",
-        tr::records::ENERGY_HEADER
+        tr::ENERGY_HEADER
             .split(',')
             .map(|s| s.trim().to_string())
             .collect::<Vec<_>>(),
