@@ -29,7 +29,16 @@ fn steel() -> Material {
 }
 
 fn modes(mesh: &Mesh, dofs: &DofMap, hex8: Hex8Formulation, opts: &ModalOptions) -> Modes {
-    let asm = assemble(mesh, &[steel()], dofs, &AssemblyOptions { hex8 }).unwrap();
+    let asm = assemble(
+        mesh,
+        &[steel()],
+        dofs,
+        &AssemblyOptions {
+            hex8,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let m = solve_modes(&asm.k, &asm.m, opts).unwrap();
     assert_eq!(m.status, ModalStatus::Converged, "stats: {:?}", m.stats);
     m
@@ -336,7 +345,16 @@ fn patch_error(mesh: &Mesh, hex8: Hex8Formulation) -> f64 {
         ]
     };
     let all = DofMap::new(mesh.nodes.len(), &[]).unwrap();
-    let asm = assemble(mesh, &[steel()], &all, &AssemblyOptions { hex8 }).unwrap();
+    let asm = assemble(
+        mesh,
+        &[steel()],
+        &all,
+        &AssemblyOptions {
+            hex8,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let k = asm.k.to_dense();
     let mut boundary = vec![false; mesh.nodes.len()];
     for (name, set) in &mesh.node_sets {

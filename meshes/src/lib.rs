@@ -6,7 +6,9 @@
 //! - [`vtu`]: writes a [`Mesh`] and point/cell arrays as a VTK `.vtu` file.
 mod error;
 pub mod geo;
+pub mod geo_file;
 pub mod gmsh;
+pub mod interrupt;
 pub mod jacobian;
 pub mod mesh;
 pub mod msh;
@@ -16,6 +18,7 @@ pub mod vtu;
 
 pub use error::MeshError;
 pub use gmsh::{mesh_geo, mesh_geo_file, GmshOptions, GmshRun};
+pub use interrupt::Interrupt;
 pub use mesh::{CellBlock, CellKind, Mesh, Real};
 pub use msh::{parse_msh, read_msh};
 pub use query::hex_centroid_jacobian;

@@ -12,9 +12,11 @@ pub mod bsql;
 pub mod cea;
 pub mod error;
 pub mod galpha;
+pub mod interrupt;
 mod linalg;
 
 pub use error::SolverError;
+pub use interrupt::Interrupt;
 
 /// Real scalar type of the crate.
 pub type Real = f64;

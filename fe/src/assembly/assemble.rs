@@ -45,6 +45,9 @@ pub fn assemble(
         let nn = block.kind.n_nodes();
         let d = 3 * nn;
         for start in (0..block.len()).step_by(CHUNK) {
+            if opts.interrupt.is_set() {
+                return Err(FeError::Interrupted { during: "assembly" });
+            }
             let end = (start + CHUNK).min(block.len());
             let mats: Vec<ElementPair> = (start..end)
                 .into_par_iter()

@@ -269,8 +269,8 @@ pub struct Prepared<'a> {
     pub resume: Option<Resume>,
 }
 
-/// Per gap: may it separate (`separation = true` on its `[[contact]]` pair)? All false for a
-/// stored model without pair counts.
+/// Per gap: may it separate (`separation = true` on its `[[contact]]` pair)? A stored model's
+/// gap table is one pair, read with the scene's `[[contact]]` table.
 pub fn separation_mask(scene: &Scene, model: &model::ReducedModel) -> Vec<bool> {
     let mut mask = Vec::with_capacity(model.gaps.len());
     for (pair, &count) in model.gap_pairs.iter().enumerate() {

@@ -138,7 +138,8 @@ pub fn problem(scene: &Scene, model: &ReducedModel) -> Result<Problem, PipelineE
 }
 
 /// Per gap, the compliance c_g = 1/(k_n A_g) of its pair's `normal_stiffness` (0 for a rigid
-/// gap); empty when no pair has one. A stored model has no pairs to attach it to: an error.
+/// gap); empty when no pair has one. A stored model's gap table is one pair (its
+/// `[[contact]]` table's `normal_stiffness` applies to every gap).
 pub fn compliance(scene: &Scene, model: &ReducedModel) -> Result<Vec<Real>, PipelineError> {
     let Some(first) = scene
         .contact
