@@ -334,7 +334,7 @@ fn compare_tolerances_are_validated() {
             "compare.pair_mac",
         ),
         (&["--modes", "0", "--tol-freq", "1e-9"][..], "compare.modes"),
-        (&["--tol-root", "-1"][..], "compare.tol_root"),
+        (&["--tol-root=-1"][..], "compare.tol_root"),
     ] {
         let (code, stderr) = compare(&red, &red, &d.join("bad"), extra);
         assert_eq!(code, 1, "{extra:?}: {stderr}");

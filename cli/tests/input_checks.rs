@@ -699,7 +699,10 @@ fn indefinite_stiffness_unusable_normal_and_empty_model_are_named() {
         m: faer::Mat::zeros(0, 0),
         b: None,
         p_brake: None,
-        dofs: Default::default(),
+        dofs: squeal_reduction::superelement::ReducedDofMap {
+            dofs: Vec::new(),
+            recovered: Vec::new(),
+        },
         gaps: Vec::new(),
     };
     let s = Scene::with_arrays("[cea]\n", ".", &[], empty).unwrap();
