@@ -1,6 +1,6 @@
 //! Lookups and simple geometry on a [`Mesh`]: named sets, bounding box, cell orientation.
 
-use crate::{CellBlock, Mesh, MeshError, Real};
+use crate::{CellBlock, FaceSet, Mesh, MeshError, Real};
 
 impl Mesh {
     /// Sorted, unique node indices of the physical group `name` (any dimension).
@@ -16,7 +16,7 @@ impl Mesh {
     }
 
     /// Face cells of the physical surface `name`.
-    pub fn face_set(&self, name: &str) -> Result<&CellBlock, MeshError> {
+    pub fn face_set(&self, name: &str) -> Result<&FaceSet, MeshError> {
         self.faces.get(name).ok_or_else(|| MeshError::UnknownSet {
             what: "face set",
             name: name.to_string(),
@@ -43,11 +43,11 @@ impl Mesh {
     }
 
     /// Jacobian determinant at the centroid of volume cell `cell` of block `block`
-    /// (from its 8 corners; positive for a well-oriented cell in squeal's node order).
+    /// (from its corners; positive for a well-oriented cell in squeal's node order).
     pub fn centroid_jacobian(&self, block: usize, cell: usize) -> Real {
-        let c = self.volumes[block].cell(cell);
-        let corners: [[Real; 3]; 8] = std::array::from_fn(|k| self.nodes[c[k]]);
-        hex_centroid_jacobian(&corners)
+        let b = &self.volumes[block];
+        let x: Vec<[Real; 3]> = b.cell(cell).iter().map(|&v| self.nodes[v]).collect();
+        crate::jacobian::centroid_jacobian(b.kind, &x)
     }
 }
 
