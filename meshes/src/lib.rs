@@ -8,7 +8,9 @@ pub mod collapse;
 mod error;
 mod face_set;
 pub mod geo;
+pub mod geo_file;
 pub mod gmsh;
+pub mod interrupt;
 pub mod jacobian;
 pub mod mesh;
 pub mod msh;
@@ -21,6 +23,7 @@ pub mod vtu;
 
 pub use error::MeshError;
 pub use gmsh::{mesh_geo, mesh_geo_file, GmshOptions, GmshRun};
+pub use interrupt::Interrupt;
 pub use mesh::{CellBlock, CellKind, Face, FaceSet, Mesh, Real};
 pub use msh::{parse_msh, read_msh};
 pub use query::hex_centroid_jacobian;

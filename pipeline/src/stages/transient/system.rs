@@ -16,8 +16,8 @@ pub(crate) fn solver_err(what: &str) -> impl FnOnce(SolverError) -> PipelineErro
     }
 }
 
-/// Per gap: may it separate (`separation = true` on its `[[contact]]` pair)? All false for a
-/// stored model without pair counts.
+/// Per gap: may it separate (`separation = true` on its `[[contact]]` pair)? A stored model's
+/// gap table is one pair, read with the scene's `[[contact]]` table.
 pub fn separation_mask(scene: &Scene, model: &ReducedModel) -> Vec<bool> {
     let mut mask = Vec::with_capacity(model.gaps.len());
     for (pair, &count) in model.gap_pairs.iter().enumerate() {
@@ -158,7 +158,8 @@ pub fn problem(scene: &Scene, model: &ReducedModel) -> Result<Problem, PipelineE
 }
 
 /// Per gap, the compliance c_g = 1/(k_n A_g) of its pair's `normal_stiffness` (0 for a rigid
-/// gap); empty when no pair has one. A stored model has no pairs to attach it to: an error.
+/// gap); empty when no pair has one. A stored model's gap table is one pair (its
+/// `[[contact]]` table's `normal_stiffness` applies to every gap).
 pub fn compliance(scene: &Scene, model: &ReducedModel) -> Result<Vec<Real>, PipelineError> {
     let Some(first) = scene
         .contact

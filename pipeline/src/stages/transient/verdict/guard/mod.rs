@@ -148,13 +148,15 @@ pub fn judge(e: &Evidence<'_>) -> (VerdictState, Vec<Resolution>, Option<Real>) 
             | Status::ErrorTestFailures { t, .. }
             | Status::ConvergenceFailures { t, .. }
             | Status::MaxSteps { t, .. }
+            | Status::StepCollapse { t, .. }
             | Status::Interrupted { t }
             | Status::Reached { t } => *t,
         };
         let h = match e.status {
             Status::StepSizeTooSmall { h, .. }
             | Status::ErrorTestFailures { h, .. }
-            | Status::ConvergenceFailures { h, .. } => Some(*h),
+            | Status::ConvergenceFailures { h, .. }
+            | Status::StepCollapse { h, .. } => Some(*h),
             _ => e.h_end,
         };
         reasons.push(Unresolved::Stopped {
