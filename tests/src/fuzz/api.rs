@@ -144,6 +144,8 @@ pub fn arrays_of(c: &ArraysCase) -> StoredArrays {
             temperature: 0.0,
             tie: None,
             rotor_rows: Vec::new(),
+            pad_side: None,
+            friction: None,
         })
         .collect();
     StoredArrays {
