@@ -11,7 +11,8 @@
 use faer::linalg::solvers::Solve;
 use faer::Mat;
 use squeal_contact::{
-    mortar_gaps, tie_gaps, ContactNode, FaceKind, MatchOptions, RotorFace, TieOptions,
+    mortar_gaps, tie_gaps, ContactNode, FaceKind, MatchOptions, MortarOptions, RotorFace,
+    TieOptions,
 };
 use squeal_fe::{assemble, face_areas, pressure_load, AssemblyOptions, DofMap, Material};
 use squeal_meshes::structured::box_mesh;
@@ -95,7 +96,7 @@ fn patch_with(nr: usize, np: usize, kind: CellKind, pad_kind: CellKind, mortar: 
             area: s,
         })
         .collect();
-    let block = &rotor.faces["z1"];
+    let block = &rotor.faces["z1"].blocks[0];
     let fk = if kind == CellKind::Hex8 {
         FaceKind::Quad4
     } else {
@@ -110,7 +111,7 @@ fn patch_with(nr: usize, np: usize, kind: CellKind, pad_kind: CellKind, mortar: 
         })
         .collect();
     let mut gaps = if mortar {
-        let pb = &pad.faces["z0"];
+        let pb = &pad.faces["z0"].blocks[0];
         let pad_faces: Vec<RotorFace> = (0..pb.len())
             .map(|f| RotorFace {
                 id: f as u64,
@@ -125,6 +126,7 @@ fn patch_with(nr: usize, np: usize, kind: CellKind, pad_kind: CellKind, mortar: 
             &faces,
             &MatchOptions::default(),
             &TieOptions::default(),
+            &MortarOptions::default(),
         )
         .unwrap()
         .0

@@ -18,6 +18,7 @@ pub mod condense;
 pub mod error;
 pub mod galpha;
 pub mod hb;
+pub mod insight;
 mod linalg;
 
 pub use error::SolverError;
