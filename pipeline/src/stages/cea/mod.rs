@@ -16,6 +16,7 @@
 //! stored reduced matrices (OP4/punch) have no mesh, so only the grid-point file is written.
 
 pub mod animation;
+pub mod energy;
 pub mod outputs;
 pub mod shapes;
 pub mod steady;
@@ -120,6 +121,8 @@ pub struct CeaOut {
     /// Roots above the validity band, apart.
     pub outside_band: OutsideBand,
     pub stats: CeaStats,
+    /// Energy balance of each reported root ([`energy`]).
+    pub energy: energy::EnergyOut,
 }
 
 /// `summary.json` of `squeal cea`.
@@ -368,6 +371,20 @@ pub fn compute(
         .collect();
     unstable.sort_by(|&a, &b| modes_out[b].real_part.total_cmp(&modes_out[a].real_part));
     let amax = |x: &[Real]| x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let step = progress.step(format!("energy balance of {} roots", kept.len()));
+    let energy = energy::energies(
+        scene,
+        model,
+        &problem,
+        &lin,
+        &sys,
+        spec.friction_damping,
+        &kept,
+    )?;
+    step.done(format!(
+        "identity closes to {:.1e} (eigen-equation residual {:.1e})",
+        energy.max_identity_residual, energy.max_eigen_residual
+    ));
     let out = CeaOut {
         verb: "cea",
         version: crate::VERSION,
@@ -384,6 +401,7 @@ pub fn compute(
         unstable,
         outside_band,
         stats: res.stats,
+        energy,
     };
     let mut sweep_rep = None;
     if let Some(sw) = &spec.sweep {
