@@ -153,3 +153,174 @@ fn tiny_brake_energy_balance_closes_per_root() {
         .iter()
         .any(|r| r.contact_strain_share > 1e-6));
 }
+
+/// Hoffmann-type 2-DOF mode-coupling model as stored reduced matrices (as in
+/// `cli/tests/cea.rs`): a pad point (grid 1: x, z) with springs k11, k22 − k3 and coupling
+/// k12, pressed on a nearly massless rotor point (grid 2: z) held by k3; friction along x
+/// makes the constrained stiffness [[k11, k12 − μk3], [k12, k22]]. Damping c on both pad DOFs
+/// (× √S). Stiffnesses scaled by S = 1e4.
+fn hoffmann(dir: &std::path::Path, c: f64, mu: f64, cea: &str) -> std::path::PathBuf {
+    use squeal_reduction::matrix::{MatrixForm, NamedMatrix};
+    use squeal_reduction::op4::{self, Op4WriteOptions};
+    let s: f64 = 1.0e4;
+    let (k11, k12, k22, k3) = (1.0, 0.3, 1.2, 1.0);
+    let k = faer::Mat::from_fn(3, 3, |i, j| {
+        s * [[k11, k12, 0.0], [k12, k22 - k3, 0.0], [0.0, 0.0, k3]][i][j]
+    });
+    let eps = 1e-6;
+    let m = faer::Mat::from_fn(3, 3, |i, j| {
+        if i == j {
+            [1.0, 1.0 - eps, eps][i]
+        } else {
+            0.0
+        }
+    });
+    let b = faer::Mat::from_fn(
+        3,
+        3,
+        |i, j| if i == j && i < 2 { s.sqrt() * c } else { 0.0 },
+    );
+    let p = faer::Mat::from_fn(3, 1, |_, _| 0.0);
+    let mats = [
+        NamedMatrix::real("KR", k),
+        NamedMatrix::real("MR", m),
+        NamedMatrix::real("BR", b),
+        NamedMatrix::real("PBRAKE", p).with_form(MatrixForm::Rectangular),
+    ];
+    let refs: Vec<&NamedMatrix> = mats.iter().collect();
+    std::fs::write(
+        dir.join("hoffmann.op4"),
+        op4::write_bytes(&refs, &Op4WriteOptions::default()).unwrap(),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("dofmap.json"),
+        r#"{"dofs": [
+            {"component": "pad", "kind": "grid", "grid": 1, "comp": 1},
+            {"component": "pad", "kind": "grid", "grid": 1, "comp": 3},
+            {"component": "rotor", "kind": "grid", "grid": 2, "comp": 3}]}"#,
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("gaps.csv"),
+        "pad_grid,rotor_grid,x,y,z,nx,ny,nz,area,p0,temperature\n1,2,0,-1,0,0,0,1,1,1,0\n",
+    )
+    .unwrap();
+    let p = dir.join("hoffmann.toml");
+    std::fs::write(
+        &p,
+        format!(
+            r#"
+[model]
+from = "op4"
+matrices = "hoffmann.op4"
+dofmap = "dofmap.json"
+gaps = "gaps.csv"
+
+[friction]
+law = {{ kind = "constant", mu = {mu} }}
+vtol = 1e-6
+
+[rotor]
+rpm = 9549.296585513720
+axis = [0.0, 0.0, 1.0]
+
+[loads]
+pmax = 1.0
+tload = 0.0
+
+{cea}
+"#
+        ),
+    )
+    .unwrap();
+    p
+}
+
+fn run_cea(scene: &std::path::Path, out: &std::path::Path) -> cea::CeaReport {
+    let s = Scene::load(scene, &[]).unwrap();
+    let dir = RunDir::create(out).unwrap();
+    cea::run(&s, &dir, &Progress::quiet(), &CeaArgs::default()).unwrap()
+}
+
+/// The sweep's branches on Hoffmann's model: one coalescence (lock-in) of the two branches at
+/// the analytic μc = 1/3 (disc. of det(K − ω²I) = 0.4 − 1.2μ), at the lock-in frequency
+/// ω = 1.048809·√S; `cea.sweep.json` carries the branches with their event. The event's μ is
+/// the zero of the squared frequency gap extrapolated from the two steps before the lock
+/// (0.325, 0.330 here): on the exact 2-DOF roots that extrapolation gives 0.3333316
+/// (1.7e-6 below μc); the rotor point's mass ε = 1e-6 moves μc by O(ε).
+#[test]
+fn hoffmann_sweep_branches_coalesce_at_the_analytic_mu_c() {
+    let d = tmp("hoffmann-sweep");
+    let scene = hoffmann(
+        &d,
+        0.0,
+        0.1,
+        "[cea]\nfriction_damping = true\nsweep = { mu = [0.30, 0.36, 13] }\n",
+    );
+    let out = d.join("run");
+    let rep = run_cea(&scene, &out);
+    let sw = rep.sweep.as_ref().unwrap();
+    let coalescences: Vec<_> = sw
+        .events
+        .iter()
+        .filter_map(|e| match e {
+            squeal_solver::cea::ModeEvent::Coalescence {
+                tracks,
+                mu,
+                frequency_hz,
+                ..
+            } => Some((*tracks, *mu, *frequency_hz)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(coalescences.len(), 1, "{:?}", sw.events);
+    let (tracks, mu, f) = coalescences[0];
+    eprintln!(
+        "Hoffmann coalescence: mu {mu:.7} (mu_c 1/3, error {:.2e}), {f:.4} Hz",
+        mu - 1.0 / 3.0
+    );
+    assert!((mu - 1.0 / 3.0).abs() < 1e-5, "mu {mu}");
+    let f_lock = 1.048809 * 100.0 / (2.0 * std::f64::consts::PI);
+    // The first locked step is μ = 0.335, just past μc: the pair's mean frequency there.
+    assert!((f - f_lock).abs() < 2e-3 * f_lock, "{f} Hz vs {f_lock}");
+    for id in tracks {
+        let t = sw.tracks.iter().find(|t| t.id == id).unwrap();
+        assert_eq!(t.events, vec![0], "branch {id}");
+    }
+    // On disk: the branches and their events.
+    let text = std::fs::read_to_string(out.join("cea.sweep.json")).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(json["events"][0]["kind"], "coalescence");
+    assert!(json["tracks"][0]["events"].is_array());
+}
+
+/// Hoffmann's model above μc with equal damping (stored matrices: the DOF-ownership split):
+/// the identity closes; the only gap feeds the unstable root, the pad's damping takes energy
+/// out, and feed-in + damping = 2σT; the feed-in map has the gap.
+#[test]
+fn hoffmann_energy_balance_of_the_unstable_root() {
+    let d = tmp("hoffmann-energy");
+    let scene = hoffmann(&d, 0.05, 0.45, "[cea]\nfriction_damping = true\n");
+    let out = d.join("run");
+    let rep = run_cea(&scene, &out);
+    assert_eq!(rep.n_unstable, 1);
+    let text = std::fs::read_to_string(out.join("cea.json")).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let e = &json["energy"];
+    assert_eq!(e["split"], "dof_ownership");
+    assert_eq!(e["components"], serde_json::json!(["pad", "rotor"]));
+    let k = json["unstable"][0].as_u64().unwrap() as usize;
+    let r = &e["roots"][k];
+    let v = |x: &serde_json::Value| x.as_f64().unwrap();
+    assert!(v(&r["identity_residual"]) <= 1e-8, "{r}");
+    let feed = v(&r["feed_in_total"]);
+    let damp = v(&r["damping_per_component"][0]);
+    let growth = v(&r["growth"]);
+    eprintln!("Hoffmann mu 0.45: feed-in {feed:.6}, pad damping {damp:.6}, 2 sigma T {growth:.6}, identity {:.2e}", v(&r["identity_residual"]));
+    assert!(feed > 0.0 && damp < 0.0 && growth > 0.0, "{r}");
+    assert!((feed + damp - growth).abs() <= 1e-8 * feed, "{r}");
+    assert_eq!(v(&r["feed_in_per_pair"][0]), feed);
+    let vtu = std::fs::read_to_string(out.join("cea_feed_in.vtu")).unwrap();
+    assert!(vtu.contains(&format!("Name=\"mode{k}_feed_in\"")));
+}

@@ -96,3 +96,32 @@ pub fn work_precision<L: AsRef<str>, P: AsRef<[(f64, f64)]>>(runs: &[(L, P)]) ->
     }
     fig
 }
+
+/// Grouped bar chart: `categories` along x (at 0, 1, …; named in the x label), one bar series
+/// per `(label, values)` group (a value per category), a line at 0.
+pub fn grouped_bars<L: AsRef<str>, V: AsRef<[f64]>>(
+    title: &str,
+    categories: &[String],
+    y_label: &str,
+    groups: &[(L, V)],
+) -> Figure {
+    let names: Vec<String> = categories
+        .iter()
+        .enumerate()
+        .map(|(i, c)| format!("{i} = {c}"))
+        .collect();
+    let mut fig = Figure::new(title, names.join(", "), y_label);
+    fig.hlines.push(0.0);
+    let x: Vec<f64> = (0..categories.len()).map(|i| i as f64).collect();
+    for (label, values) in groups {
+        fig.series.push(Series::new(
+            label.as_ref(),
+            x.clone(),
+            values.as_ref().to_vec(),
+            SeriesStyle::Bars,
+        ));
+    }
+    let n = categories.len().max(1) as f64;
+    fig.x_range = Some((-0.6, n - 0.4));
+    fig
+}

@@ -10,7 +10,8 @@
 //! - [`stability_map`]: real part against frequency of complex modes, unstable ones in red;
 //! - [`root_locus`]: tracked modes as μ varies (real part vs frequency, and vs μ);
 //! - [`spectrum`]: single-sided amplitude spectrum of a non-uniformly sampled signal, with peaks;
-//! - [`work_precision`]: error against CPU time, log–log.
+//! - [`work_precision`]: error against CPU time, log–log;
+//! - [`grouped_bars`]: values per category, one bar series per group.
 //!
 //! # Feature `figures`
 //! Drawing needs plotters, which only the `figures` feature compiles (the `squeal` command
@@ -42,7 +43,7 @@ mod font;
 mod render;
 mod spectrum;
 
-pub use builders::{root_locus, stability_map, time_history, work_precision};
+pub use builders::{grouped_bars, root_locus, stability_map, time_history, work_precision};
 pub use error::FigureError;
 pub use fft::fft_in_place;
 #[cfg(feature = "figures")]
@@ -61,6 +62,9 @@ pub enum SeriesStyle {
     Points,
     /// A polyline with a marker at each point.
     LinePoints,
+    /// A filled bar from 0 to y at each x; the bar series of a figure are drawn side by side
+    /// (grouped), sharing 80 % of the smallest spacing of their x values.
+    Bars,
 }
 
 /// One data set of a figure.

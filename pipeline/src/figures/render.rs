@@ -260,18 +260,33 @@ fn draw<DB: DrawingBackend>(
     let line_w = (base / 8.0).round().max(1.0) as u32;
     let radius = (base / 4.5).round().max(2.0) as i32;
     let mut any_label = false;
+    let n_bars = fig
+        .series
+        .iter()
+        .filter(|s| s.style == SeriesStyle::Bars)
+        .count();
+    let mut bar_index = 0usize;
     for (i, s) in fig.series.iter().enumerate() {
         let [r, g, b] = s.color.unwrap_or(PALETTE[i % PALETTE.len()]);
         let color = RGBColor(r, g, b);
         let lines = matches!(s.style, SeriesStyle::Line | SeriesStyle::LinePoints);
-        let points = matches!(s.style, SeriesStyle::Points | SeriesStyle::LinePoints);
+        let points = matches!(
+            s.style,
+            SeriesStyle::Points | SeriesStyle::LinePoints | SeriesStyle::Bars
+        );
+        if s.style == SeriesStyle::Bars {
+            let bars = bar_rects(&s.x, &s.y, bar_index, n_bars, xa, ya);
+            bar_index += 1;
+            let rects = bars.into_iter().map(|r| Rectangle::new(r, color.filled()));
+            chart.draw_series(rects).map_err(e)?;
+        }
         if lines {
             for piece in clip_polyline(&s.x, &s.y, xa, ya) {
                 let series = LineSeries::new(piece, color.stroke_width(line_w));
                 chart.draw_series(series).map_err(e)?;
             }
         }
-        if points {
+        if points && s.style != SeriesStyle::Bars {
             let pts = clip_points(&s.x, &s.y, xa, ya);
             let marks = pts
                 .into_iter()
@@ -310,6 +325,37 @@ fn draw<DB: DrawingBackend>(
             .map_err(e)?;
     }
     Ok(())
+}
+
+/// The rectangles of bar series `j` of `nb` (grouped side by side), clamped to the axes.
+fn bar_rects(
+    x: &[f64],
+    y: &[f64],
+    j: usize,
+    nb: usize,
+    xa: &Axis,
+    ya: &Axis,
+) -> Vec<[(f64, f64); 2]> {
+    let mut xs: Vec<f64> = x.to_vec();
+    xs.sort_by(f64::total_cmp);
+    let spacing = xs
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|d| *d > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let spacing = if spacing.is_finite() { spacing } else { 1.0 };
+    let w = 0.8 * spacing / nb.max(1) as f64;
+    let off = (j as f64 - 0.5 * (nb.max(1) as f64 - 1.0)) * w;
+    let cx = |v: f64| v.clamp(xa.lo, xa.hi);
+    let cy = |v: f64| v.clamp(ya.lo, ya.hi);
+    let base = if ya.log { ya.lo } else { 0.0 };
+    x.iter()
+        .zip(y)
+        .map(|(&xi, &yi)| {
+            let c = xi + off;
+            [(cx(c - 0.5 * w), cy(base)), (cx(c + 0.5 * w), cy(yi))]
+        })
+        .collect()
 }
 
 /// The plot corner whose legend-sized box holds the fewest data points (upper right first).

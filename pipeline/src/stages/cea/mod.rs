@@ -5,8 +5,11 @@
 //! steady sliding equilibrium under preload + PMAX·brake load, or a restart file's state →
 //! tangents D = ∂F_f/∂λ̇, C_f = ∂F_f/∂v ([`tangents`]) → `squeal_solver::cea::complex_eigen`
 //! (constraint eliminated, no spurious roots) → `cea.json`, `stability_map.{png,svg}`,
-//! `cea_modes.vtu` and `cea_modes_<component>.vtu` (unstable shapes), `summary.json`; with a sweep ([`sweep`]) also
-//! `cea.sweep.json` and `root_locus*.{png,svg}`; with `--export-tangents`, `tangents.op4` and
+//! `cea_modes.vtu` and `cea_modes_<component>.vtu` (unstable shapes), `summary.json`; the
+//! energy balance of every root in `cea.json` ([`energy`]) with `energy_mode<k>.{png,svg}`
+//! and `cea_feed_in.vtu` for the unstable modes ([`insight_files`]); with a sweep ([`sweep`])
+//! also `cea.sweep.json` (branches and their coalescence/veering events), `root_locus*` and
+//! `mode_coupling*.{png,svg}`; with `--export-tangents`, `tangents.op4` and
 //! `tangents.pch` ([`outputs`]).
 //!
 //! **Mode shapes.** `cea_modes.vtu` holds the shapes at the grid points of the reduced model
@@ -17,6 +20,7 @@
 
 pub mod animation;
 pub mod energy;
+pub mod insight_files;
 pub mod outputs;
 pub mod shapes;
 pub mod steady;
@@ -515,12 +519,27 @@ pub fn write(
         files.push(format!("{stem}.png"));
         files.push(format!("{stem}.svg"));
     }
+    // The energy balance of the unstable modes shown: component shares, feed-in map.
+    let shown_idx: Vec<usize> = shown.iter().map(|(k, _)| *k).collect();
+    for stem in insight_files::write_energy_bars(dir, &c.out.energy, &shown_idx)? {
+        files.push(format!("{stem}.png"));
+        files.push(format!("{stem}.svg"));
+    }
+    files.extend(insight_files::write_feed_in_vtu(
+        dir,
+        model,
+        &c.out.energy,
+        &shown_idx,
+    )?);
     if args.export_tangents {
         files.extend(outputs::export_tangents(dir, model, &c.problem, &c.lin)?);
     }
     if let Some(rep) = &c.sweep {
         files.push(dir.write_json("cea.sweep.json", rep)?.display().to_string());
-        for stem in outputs::write_root_locus(dir, rep)? {
+        for stem in outputs::write_root_locus(dir, rep)?
+            .into_iter()
+            .chain(insight_files::write_mode_coupling(dir, rep)?)
+        {
             files.push(format!("{stem}.png"));
             files.push(format!("{stem}.svg"));
         }

@@ -65,7 +65,7 @@ fn grid_dofs(model: &ReducedModel) -> GridDofs {
         .collect()
 }
 
-fn data_array(s: &mut String, name: &str, ty: &str, ncomp: usize, values: &[String]) {
+pub(super) fn data_array(s: &mut String, name: &str, ty: &str, ncomp: usize, values: &[String]) {
     let _ = writeln!(
         s,
         "        <DataArray type=\"{ty}\" Name=\"{name}\" NumberOfComponents=\"{ncomp}\" format=\"ascii\">"

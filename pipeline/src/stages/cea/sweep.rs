@@ -7,7 +7,7 @@ use crate::scene::{CeaSpec, CeaSweepSpec, SweepVary};
 use crate::stages::transient::system::Problem;
 use serde::{Deserialize, Serialize};
 use squeal_contact::{FrictionLaw, GapSet};
-use squeal_solver::cea::{sweep, CeaMatrices, CeaMethod, Sweep, SweepStats};
+use squeal_solver::cea::{sweep, CeaMatrices, CeaMethod, ModeEvent, Sweep, SweepStats};
 
 type Real = f64;
 
@@ -93,6 +93,8 @@ pub struct TrackOut {
     pub unstable_at_start: bool,
     /// Onset of instability inside the sweep (critical μ, merging partner).
     pub critical: Option<squeal_solver::cea::Critical>,
+    /// Indices into [`SweepReport::events`] of the coalescences and veerings of this branch.
+    pub events: Vec<usize>,
     pub points: Vec<TrackPoint>,
 }
 
@@ -127,7 +129,13 @@ pub struct SweepReport {
     pub lowest_critical_mu_in_band: Option<Real>,
     /// How `lowest_critical_mu_in_band` was found (None: no in-band onset).
     pub lowest_critical_mu_in_band_status: Option<CriticalStatus>,
+    /// The branches: each mode followed across the sweep (MAC of the shapes with eigenvalue
+    /// continuity), with its points and events.
     pub tracks: Vec<TrackOut>,
+    /// Coalescences (`kind = "coalescence"`: two branches lock in frequency while their real
+    /// parts split, the lock-in of mode coupling) and veerings (`kind = "veering"`: two
+    /// branches approach and part, exchanging shapes) between the branches listed, by μ.
+    pub events: Vec<ModeEvent>,
     pub stats: SweepStats,
     /// How the steady states were solved (`None` without `resolve_state`).
     pub steady_states: Option<SteadyStatesOut>,
@@ -162,6 +170,13 @@ pub struct SteadyStatesOut {
     pub newton_iterations: usize,
     /// Wall time of the LU of K and W = K⁻ᵀGᵀ, seconds.
     pub time_setup_s: Real,
+}
+
+/// The two branches of an event.
+pub fn event_tracks(e: &ModeEvent) -> [usize; 2] {
+    match e {
+        ModeEvent::Coalescence { tracks, .. } | ModeEvent::Veering { tracks, .. } => *tracks,
+    }
 }
 
 /// Runs the sweep over `values` (`band_hz`: the CEA's validity band, for
@@ -215,8 +230,24 @@ pub fn run_sweep(
             id: t.id,
             unstable_at_start: t.unstable_at_start,
             critical: t.critical.clone(),
+            events: Vec::new(),
             points,
         });
+    }
+    // Events between branches that are both listed (in the band).
+    let listed = |id: usize| tracks.iter().any(|t| t.id == id);
+    let events: Vec<ModeEvent> = s
+        .events
+        .iter()
+        .filter(|e| event_tracks(e).iter().all(|&id| listed(id)))
+        .cloned()
+        .collect();
+    for (k, e) in events.iter().enumerate() {
+        for id in event_tracks(e) {
+            if let Some(t) = tracks.iter_mut().find(|t| t.id == id) {
+                t.events.push(k);
+            }
+        }
     }
     let mut couplings: Vec<CouplingOut> = tracks
         .iter()
@@ -268,6 +299,7 @@ pub fn run_sweep(
         lowest_critical_mu_in_band_status: lowest_in_band_status,
         couplings,
         tracks,
+        events,
         stats: s.stats.clone(),
         steady_states: cache.map(|c| SteadyStatesOut {
             block_elimination: c.n_fast,
