@@ -161,6 +161,14 @@ class CeaResult:
         """Re p per mode, 1/s (> 0: growing)."""
         return self.eigenvalues.real
 
+    @property
+    def energy(self) -> Dict[str, Any]:
+        """The energy balance of every root (``cea.json``'s ``energy``; docs/insight.md):
+        ``roots[i]`` for mode i holds the friction feed-in per gap and per contact pair, the
+        damping work per component, the kinetic and strain shares per component (names in
+        ``components``, pairs in ``pairs``) per unit mode energy, and the identity's closure."""
+        return self.report.get("energy", {})
+
 
 def modes(
     scene: Scene,
