@@ -2,8 +2,9 @@
 //! spectrum finds known frequencies in non-uniformly sampled data; bad data is an error.
 
 use squeal_pipeline::figures::{
-    amplitude_spectrum, root_locus, spectrum, stability_map, time_history, work_precision,
-    write_figure, Figure, FigureError, FigureFiles, Series, SeriesStyle, SpectrumOptions,
+    amplitude_spectrum, grouped_bars, root_locus, spectrum, stability_map, time_history,
+    work_precision, write_figure, Figure, FigureError, FigureFiles, Series, SeriesStyle,
+    SpectrumOptions,
 };
 use std::f64::consts::PI;
 use std::path::PathBuf;
@@ -303,4 +304,36 @@ fn constant_data_gets_a_widened_range() {
         .unwrap()
         .unwrap();
     check_files(&files, fig.size, &["Constant signal", "flat"]);
+}
+
+/// Grouped bars (the energy shares of a mode): two groups side by side per category, filled
+/// rectangles in the SVG, the categories named in the x label.
+#[test]
+fn grouped_bars_draw_filled_rectangles_side_by_side() {
+    let cats = vec![
+        "rotor".to_string(),
+        "pad".to_string(),
+        "caliper".to_string(),
+    ];
+    let groups = [
+        ("kinetic energy share", vec![0.2, 0.25, 0.05]),
+        ("strain energy share", vec![0.3, 0.1, 0.1]),
+    ];
+    let fig = grouped_bars("Mode 3 shares", &cats, "share", &groups);
+    let files = write_figure(&fig, &out_dir().join("bars"))
+        .unwrap()
+        .unwrap();
+    check_files(
+        &files,
+        fig.size,
+        &[
+            "Mode 3 shares",
+            "0 = rotor, 1 = pad, 2 = caliper",
+            "strain energy share",
+        ],
+    );
+    let svg = std::fs::read_to_string(&files.svg).unwrap();
+    // 6 bars + the legend's frame and background: at least 6 filled rects beyond the page.
+    let rects = svg.matches("<rect").count();
+    assert!(rects >= 6 + 1, "{rects} rects");
 }
