@@ -324,3 +324,30 @@ fn hoffmann_energy_balance_of_the_unstable_root() {
     let vtu = std::fs::read_to_string(out.join("cea_feed_in.vtu")).unwrap();
     assert!(vtu.contains(&format!("Name=\"mode{k}_feed_in\"")));
 }
+
+/// The study brake (`examples/sample-brake/base.toml`: rotor, two pads, caliper; two contact
+/// pairs of 10 gaps; meshed with gmsh, so ignored in CI): every reported root's identity closes
+/// to 1e-8 and the per-pair sums equal the per-gap sums. Run with
+/// `cargo test -p squeal-pipeline --test insight -- --ignored` (gmsh on the PATH).
+#[test]
+#[ignore]
+fn study_brake_energy_balance_closes_per_root() {
+    let d = tmp("study");
+    let path = root().join("examples/sample-brake/base.toml");
+    let s = Scene::load(&path, &[]).unwrap();
+    let run = RunDir::create(&d.join("run")).unwrap();
+    let m = model::build(&s, &run, &Progress::quiet()).unwrap();
+    let c = cea::compute(&s, &m, &Progress::quiet(), &CeaArgs::default()).unwrap();
+    let e = &c.out.energy;
+    assert_eq!(e.split, Split::ComponentReductions);
+    assert_eq!(e.pairs.len(), 2);
+    let worst = check_balance(&c, "study brake");
+    eprintln!(
+        "study brake: {} roots ({} unstable), max identity residual {worst:.2e}, max eigen \
+         residual {:.2e}, split check {:.1e}",
+        e.roots.len(),
+        c.out.unstable.len(),
+        e.max_eigen_residual,
+        e.split_check
+    );
+}

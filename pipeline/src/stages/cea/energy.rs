@@ -481,7 +481,8 @@ pub fn energies(
             feed_in_per_gap: feed,
             feed_in_per_pair: per_pair,
             damping_per_component: e.damping_power[..n_comp].iter().map(|x| x * per).collect(),
-            damping_whole_model: e.damping_power[n_comp..].iter().sum::<Real>() * per,
+            // (+ 0.0: an empty sum is −0.0.)
+            damping_whole_model: e.damping_power[n_comp..].iter().sum::<Real>() * per + 0.0,
             kinetic_share: e.kinetic[..n_comp].iter().map(|&x| share(x)).collect(),
             strain_share: e.strain[..n_comp].iter().map(|&x| share(x)).collect(),
             contact_strain_share: share(e.contact_strain),
