@@ -134,8 +134,11 @@ pub struct SweepReport {
     pub tracks: Vec<TrackOut>,
     /// Coalescences (`kind = "coalescence"`: two branches lock in frequency while their real
     /// parts split, the lock-in of mode coupling) and veerings (`kind = "veering"`: two
-    /// branches approach and part, exchanging shapes) between the branches listed, by μ.
+    /// branches approach and part, exchanging shapes) between the branches listed, in the
+    /// validity band, by μ.
     pub events: Vec<ModeEvent>,
+    /// Events between listed branches above the validity band (not listed).
+    pub events_above_band: usize,
     pub stats: SweepStats,
     /// How the steady states were solved (`None` without `resolve_state`).
     pub steady_states: Option<SteadyStatesOut>,
@@ -176,6 +179,15 @@ pub struct SteadyStatesOut {
 pub fn event_tracks(e: &ModeEvent) -> [usize; 2] {
     match e {
         ModeEvent::Coalescence { tracks, .. } | ModeEvent::Veering { tracks, .. } => *tracks,
+    }
+}
+
+/// The frequency of an event, Hz.
+pub fn event_frequency(e: &ModeEvent) -> Real {
+    match e {
+        ModeEvent::Coalescence { frequency_hz, .. } | ModeEvent::Veering { frequency_hz, .. } => {
+            *frequency_hz
+        }
     }
 }
 
@@ -234,14 +246,16 @@ pub fn run_sweep(
             points,
         });
     }
-    // Events between branches that are both listed (in the band).
+    // Events between branches that are both listed, at a frequency in the validity band
+    // (above it the roots are not squeal, and a dense spectrum gives brief frequency locks).
     let listed = |id: usize| tracks.iter().any(|t| t.id == id);
-    let events: Vec<ModeEvent> = s
+    let (events, above): (Vec<ModeEvent>, Vec<ModeEvent>) = s
         .events
         .iter()
         .filter(|e| event_tracks(e).iter().all(|&id| listed(id)))
         .cloned()
-        .collect();
+        .partition(|e| band_hz.is_none_or(|b| event_frequency(e) <= b));
+    let events_above_band = above.len();
     for (k, e) in events.iter().enumerate() {
         for id in event_tracks(e) {
             if let Some(t) = tracks.iter_mut().find(|t| t.id == id) {
@@ -300,6 +314,7 @@ pub fn run_sweep(
         couplings,
         tracks,
         events,
+        events_above_band,
         stats: s.stats.clone(),
         steady_states: cache.map(|c| SteadyStatesOut {
             block_elimination: c.n_fast,
