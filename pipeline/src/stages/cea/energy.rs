@@ -125,7 +125,6 @@ fn max_abs(a: &Mat<Real>) -> Real {
 
 /// Scatters `parts` (M and K) and returns the largest relative difference to the model's.
 fn scatter_check(parts: &[ComponentPart], m: &Mat<Real>, k: &Mat<Real>) -> Real {
-    let n = m.nrows();
     let mut dm = m.clone();
     let mut dk = k.clone();
     for c in parts {
@@ -136,7 +135,6 @@ fn scatter_check(parts: &[ComponentPart], m: &Mat<Real>, k: &Mat<Real>) -> Real 
             }
         }
     }
-    let _ = n;
     let rel = |d: &Mat<Real>, a: &Mat<Real>| {
         let s = max_abs(a);
         if s > 0.0 {
