@@ -95,7 +95,7 @@ fn patch_with(nr: usize, np: usize, kind: CellKind, pad_kind: CellKind, mortar: 
             area: s,
         })
         .collect();
-    let block = &rotor.faces["z1"];
+    let block = &rotor.faces["z1"].blocks[0];
     let fk = if kind == CellKind::Hex8 {
         FaceKind::Quad4
     } else {
@@ -110,7 +110,7 @@ fn patch_with(nr: usize, np: usize, kind: CellKind, pad_kind: CellKind, mortar: 
         })
         .collect();
     let mut gaps = if mortar {
-        let pb = &pad.faces["z0"];
+        let pb = &pad.faces["z0"].blocks[0];
         let pad_faces: Vec<RotorFace> = (0..pb.len())
             .map(|f| RotorFace {
                 id: f as u64,

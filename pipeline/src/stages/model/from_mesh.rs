@@ -24,7 +24,7 @@ use squeal_contact::{
     RotorFace,
 };
 use squeal_fe::{assemble, pressure_load, AssemblyOptions, DofMap};
-use squeal_meshes::{CellBlock, CellKind, Mesh};
+use squeal_meshes::{CellKind, FaceSet, Mesh};
 use squeal_reduction::cb::{self, CbCheck, CheckOptions};
 use squeal_reduction::superelement::{self, Component, DofKey, DofKind};
 use squeal_reduction::CbModel;
@@ -93,27 +93,26 @@ fn fe_err(component: &str) -> impl Fn(squeal_fe::FeError) -> PipelineError + '_ 
 
 /// The quad4/quad8 faces of a face block as the contact crate takes them (node ids = grids,
 /// face id = index in the block).
-fn rotor_faces(block: &CellBlock, mesh: &Mesh, grid_of: &[u64]) -> Result<Vec<RotorFace>, String> {
-    let kind = match block.kind {
-        CellKind::Quad4 => FaceKind::Quad4,
-        CellKind::Quad8 => FaceKind::Quad8,
-        k => {
-            return Err(format!(
-                "has {k:?} faces; surface pairing takes quad4 or quad8 faces"
-            ))
-        }
-    };
-    Ok((0..block.len())
-        .map(|f| {
-            let nodes = block.cell(f);
-            RotorFace {
-                id: f as u64,
-                kind,
-                nodes: nodes.iter().map(|&n| grid_of[n]).collect(),
-                coords: nodes.iter().map(|&n| mesh.nodes[n]).collect(),
+fn rotor_faces(set: &FaceSet, mesh: &Mesh, grid_of: &[u64]) -> Result<Vec<RotorFace>, String> {
+    let mut out = Vec::with_capacity(set.len());
+    for face in set.iter() {
+        let kind = match face.kind {
+            CellKind::Quad4 => FaceKind::Quad4,
+            CellKind::Quad8 => FaceKind::Quad8,
+            k => {
+                return Err(format!(
+                    "has {k:?} faces; surface pairing takes quad4 or quad8 faces"
+                ))
             }
-        })
-        .collect())
+        };
+        out.push(RotorFace {
+            id: out.len() as u64,
+            kind,
+            nodes: face.nodes.iter().map(|&n| grid_of[n]).collect(),
+            coords: face.nodes.iter().map(|&n| mesh.nodes[n]).collect(),
+        });
+    }
+    Ok(out)
 }
 
 /// Gaps of every `[[contact]]` pair (coincident nodes or surface pairing), DOFs unassigned,
@@ -351,7 +350,7 @@ pub fn build_from_mesh_cached(
                 }
                 let mesh = &meshes[c];
                 let nodes: Vec<usize> = match (mesh.faces.get(set), mesh.node_sets.get(set)) {
-                    (Some(block), _) => block.conn.clone(),
+                    (Some(block), _) => block.node_indices().collect(),
                     (None, Some(ns)) => ns.clone(),
                     (None, None) => {
                         return Err(PipelineError::Scene {
