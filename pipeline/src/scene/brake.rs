@@ -1,11 +1,9 @@
 //! Brake components whose geometry depends on other components (a pad on its rotor's mesh, a
-//! caliper over its two pads), and materials per physical volume.
+//! caliper over its two pads).
 
 use super::{ComponentSpec, GeometrySpec, Scene};
 use crate::error::PipelineError;
-use squeal_fe::Material;
 use squeal_meshes::geo::{CaliperGeometry, PadGeometry, RotorGeometry};
-use squeal_meshes::Mesh;
 
 pub(crate) fn default_rotor_name() -> String {
     "rotor".into()
@@ -120,42 +118,10 @@ impl Scene {
     }
 }
 
-impl ComponentSpec {
-    /// One material per volume block of `mesh` (in `mesh.volumes` order): the entry of
-    /// `materials` named as the block's physical volume, else `material`. A `materials` name
-    /// that no block has is an error (a typo would otherwise silently give `material`).
-    pub fn block_materials(&self, mesh: &Mesh) -> Result<Vec<Material>, PipelineError> {
-        let names: Vec<&str> = mesh
-            .volumes
-            .iter()
-            .filter_map(|b| b.name.as_deref())
-            .collect();
-        if let Some(unknown) = self.materials.keys().find(|k| !names.contains(&k.as_str())) {
-            return Err(scene_err(
-                format!("components[name = {}].materials.{unknown}", self.name),
-                format!(
-                    "the mesh has no physical volume `{unknown}` (it has: {})",
-                    names.join(", ")
-                ),
-            ));
-        }
-        Ok(mesh
-            .volumes
-            .iter()
-            .map(|b| {
-                b.name
-                    .as_ref()
-                    .and_then(|n| self.materials.get(n))
-                    .copied()
-                    .unwrap_or(self.material)
-            })
-            .collect())
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use squeal_meshes::Mesh;
 
     const BRAKE: &str = r#"
 [[components]]
