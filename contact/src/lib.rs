@@ -34,6 +34,7 @@ pub use error::{ContactError, NodeReport};
 pub use forces::GapOutput;
 pub use friction::{FrictionEval, FrictionLaw};
 pub use gaps::{
-    match_gaps, mortar_gaps, tie_gaps, ContactNode, FaceKind, FaceTie, Gap, GapSet, MatchOptions,
-    MortarStats, RotorFace, RotorRow, TieOptions, TieOutcome, TieStats, Unmatched, FACE_SNAP,
+    bond_rows, match_gaps, mortar_gaps, tie_gaps, BondRow, ContactNode, FaceKind, FaceTie, Gap,
+    GapSet, MatchOptions, MortarOptions, MortarStats, PadSide, RotorFace, RotorRow, TieOptions,
+    TieOutcome, TieStats, Unmatched, FACE_SNAP,
 };

@@ -309,6 +309,8 @@ fn three_gaps(law: FrictionLaw, vslide: f64) -> GapSet {
         temperature: 60.0,
         tie: None,
         rotor_rows: Vec::new(),
+        pad_side: None,
+        friction: None,
     };
     GapSet::new(
         vec![
@@ -348,7 +350,9 @@ proptest! {
     /// zone (speeds from 1e-5 to 1), for a law depending on p and |V_t|.
     #[test]
     fn tangents_match_finite_differences(seed in prop::collection::vec(-1.0f64..1.0, 15), scale in prop::sample::select(vec![1e-5, 3e-4, 2e-3, 0.05, 1.0])) {
-        let set = three_gaps(equation(), scale);
+        let mut set = three_gaps(equation(), scale);
+        // Gap 1 with its own (speed-dependent) law: the tangents follow each gap's law.
+        set.gaps[1].friction = Some(FrictionLaw::LinearSpeed { mu0: 0.35, slope: -0.02 });
         let v: Vec<f64> = seed[..12].iter().map(|x| x * scale).collect();
         let lam: Vec<f64> = seed[12..].to_vec();
         // Skip states within 1 % of the kink of the regularisation at 10 VTOL.
@@ -430,6 +434,8 @@ fn one_gap(mu: f64, vslide: f64) -> GapSet {
         temperature: 0.0,
         tie: None,
         rotor_rows: Vec::new(),
+        pad_side: None,
+        friction: None,
     };
     GapSet::new(vec![gap], FrictionLaw::Constant { mu }, 1e-3).unwrap()
 }
@@ -563,4 +569,81 @@ fn rotor_rows_are_the_physical_gap_in_other_coordinates() {
     let g = rows.constraint_matrix(12).unwrap();
     let gp = physical.constraint_matrix(12).unwrap();
     close(&g, &(&gp * &p), "G");
+}
+
+/// Each gap's blocks (`GapSet::gap_blocks`) scattered and summed are exactly G, D and C_f
+/// (`constraint_matrix`, `add_tangents`), for coincident gaps with fixed DOFs and a DOF
+/// shared by two gaps, and for a gap whose rotor point is given by recovery rows.
+#[test]
+fn gap_blocks_sum_to_g_d_and_c_f() {
+    let law = FrictionLaw::LinearSpeed {
+        mu0: 0.6,
+        slope: -0.02,
+    };
+    let mut with_rows = three_gaps(law.clone(), 1.5);
+    with_rows.gaps[0].rotor_rows = (0..3)
+        .map(|j| RotorRow {
+            dof: 3 + j,
+            weights: [0.9 - 0.1 * j as f64, 0.2 * j as f64, 0.3],
+        })
+        .collect();
+    with_rows.gaps[0].rotor_dofs = [None; 3];
+    for set in [three_gaps(law, 1.5), with_rows] {
+        let v: Vec<f64> = (0..12).map(|i| 0.2 * ((i * 3) % 5) as f64 - 0.4).collect();
+        let lam = [-1.0, -0.4, -2.2];
+        let (mut dl, mut cf) = (Mat::zeros(12, 3), Mat::zeros(12, 12));
+        set.add_tangents(&v, &lam, &mut dl, Some(&mut cf)).unwrap();
+        let g = set.constraint_matrix(12).unwrap();
+        let blocks = set.gap_blocks(&v, &lam).unwrap();
+        let mut g2 = Mat::<f64>::zeros(3, 12);
+        let mut dl2 = Mat::<f64>::zeros(12, 3);
+        let mut cf2 = Mat::<f64>::zeros(12, 12);
+        for (k, b) in blocks.iter().enumerate() {
+            assert!(b.dofs.windows(2).all(|w| w[0] < w[1]), "sorted, unique");
+            for (a, &i) in b.dofs.iter().enumerate() {
+                g2[(k, i)] += b.g[a];
+                dl2[(i, k)] += b.d[a];
+                for (c, &j) in b.dofs.iter().enumerate() {
+                    cf2[(i, j)] += b.c_f[(a, c)];
+                }
+            }
+        }
+        assert!((&g - &g2).norm_max() <= 1e-15 * g.norm_max());
+        assert!((&dl - &dl2).norm_max() <= 1e-15 * dl.norm_max());
+        assert!((&cf - &cf2).norm_max() <= 1e-14 * cf.norm_max());
+    }
+}
+
+/// A gap's own friction law replaces the set's for that gap only: with gap 1's law set to
+/// the set's law B, its forces equal those of a set whose law is B, and the other gaps keep
+/// law A's forces. An invalid own law is an error naming the gap.
+#[test]
+fn a_gap_with_its_own_law_uses_it() {
+    let a = FrictionLaw::Constant { mu: 0.5 };
+    let b = FrictionLaw::LinearSpeed {
+        mu0: 0.2,
+        slope: -0.01,
+    };
+    let v: Vec<f64> = (0..12).map(|i| 0.1 * (i as f64 - 5.0)).collect();
+    let lam = vec![-1.0, -2.0, -0.5];
+    let mut mixed = three_gaps(a.clone(), 1.0);
+    mixed.gaps[1].friction = Some(b.clone());
+    let all_a = three_gaps(a, 1.0);
+    let all_b = three_gaps(b, 1.0);
+    for g in 0..3 {
+        let got = mixed.gap_output(g, &v, &lam).unwrap().force_on_pad;
+        let want = if g == 1 { &all_b } else { &all_a }
+            .gap_output(g, &v, &lam)
+            .unwrap()
+            .force_on_pad;
+        assert_eq!(got, want, "gap {g}");
+    }
+    assert_eq!(mixed.laws().len(), 2);
+    let mut bad = three_gaps(FrictionLaw::Constant { mu: 0.5 }, 1.0);
+    bad.gaps[2].friction = Some(FrictionLaw::Constant { mu: f64::NAN });
+    let e = bad
+        .with_friction(FrictionLaw::Constant { mu: 0.5 }, 1e-3)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("gap 2") && e.contains("own friction law"), "{e}");
 }

@@ -53,6 +53,8 @@ fn gap_set(mu: f64) -> Result<GapSet, ContactError> {
         temperature: 0.0,
         tie: None,
         rotor_rows: Vec::new(),
+        pad_side: None,
+        friction: None,
     };
     GapSet::new(vec![gap], FrictionLaw::Constant { mu }, 1e-3)
 }

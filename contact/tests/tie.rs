@@ -527,3 +527,102 @@ fn belt_through_a_non_matching_patch() {
     );
     assert!((mode.eigenvalue.im.abs() - wd).abs() < 1e-10);
 }
+
+// ------------------------------------------------ every face kind, distorted
+
+mod common;
+use common::{contact_nodes, surface, tilted_plane};
+
+/// Pad nodes of a non-matching pad (quad4 or tri3, nodes moved by up to 30 %) projected on
+/// distorted rotor faces of every kind (quad4, quad8, tri3, tri6) on a tilted plane: every
+/// node is tied at distance 0, its weights interpolate its own position (Σ N_a x_a = x: the
+/// faces reproduce linear fields), and the rotor forces of a uniform pressure have the
+/// exact resultant and moment (the one-pass tie's exact quantities; nodal forces are not,
+/// see the mortar tests). Reference: the pad's consistent loads, summed.
+#[test]
+fn every_rotor_face_kind_interpolates_linear_fields() {
+    let map = tilted_plane([0.1, 0.4, -0.3], 1.5);
+    for rk in [
+        FaceKind::Quad4,
+        FaceKind::Quad8,
+        FaceKind::Tri3,
+        FaceKind::Tri6,
+    ] {
+        for pk in [FaceKind::Quad4, FaceKind::Tri3] {
+            let rotor = surface(rk, 4, 3, 0.3, 11, 0, true, &map);
+            let pad = surface(pk, 3, 2, 0.3, 12, 1_000_000, false, &map);
+            let nodes = contact_nodes(&pad);
+            let out = tie_gaps(&nodes, &rotor.faces, &opts(), &TieOptions::default())
+                .unwrap_or_else(|e| panic!("{rk:?}: {e}"));
+            assert_eq!(out.stats.n_tied, nodes.len());
+            let xr = rotor.xyz();
+            let (mut force, mut moment) = ([0.0; 3], [0.0; 3]);
+            let (mut load, mut load_moment) = ([0.0; 3], [0.0; 3]);
+            for (g, pn) in out.gaps.gaps.iter().zip(&nodes) {
+                let t = g.tie.as_ref().unwrap();
+                assert!(t.distance < 1e-12, "{rk:?}: {}", t.distance);
+                for k in 0..3 {
+                    let x: f64 = t
+                        .nodes
+                        .iter()
+                        .zip(&t.weights)
+                        .map(|(n, w)| w * xr[n][k])
+                        .sum();
+                    assert!((x - g.coords[k]).abs() < 1e-12, "{rk:?} {pk:?}");
+                }
+                // The rotor's share of the pressure force p·S_p (p = 1) at each face node.
+                let f = pn.area;
+                for (n, w) in t.nodes.iter().zip(&t.weights) {
+                    let r = xr[n];
+                    for k in 0..3 {
+                        force[k] += w * f[k];
+                    }
+                    let m = [
+                        r[1] * f[2] - r[2] * f[1],
+                        r[2] * f[0] - r[0] * f[2],
+                        r[0] * f[1] - r[1] * f[0],
+                    ];
+                    (0..3).for_each(|k| moment[k] += w * m[k]);
+                }
+                let r = pn.coords;
+                (0..3).for_each(|k| load[k] += f[k]);
+                let m = [
+                    r[1] * f[2] - r[2] * f[1],
+                    r[2] * f[0] - r[0] * f[2],
+                    r[0] * f[1] - r[1] * f[0],
+                ];
+                (0..3).for_each(|k| load_moment[k] += m[k]);
+            }
+            for k in 0..3 {
+                assert!(
+                    (force[k] - load[k]).abs() < 1e-12,
+                    "{rk:?} {pk:?} resultant"
+                );
+                assert!(
+                    (moment[k] - load_moment[k]).abs() < 1e-12,
+                    "{rk:?} {pk:?} moment"
+                );
+            }
+        }
+    }
+}
+
+/// A tri6 pad under node-to-surface pairing: its corners' consistent areas are 0 (∫N_corner
+/// dΓ = 0 on a quadratic triangle), so the pairing refuses them by name and points to the
+/// mortar pairing, instead of making gaps with round-off normals.
+#[test]
+fn tri6_pad_corners_are_refused_by_node_to_surface() {
+    let map = tilted_plane([0.0; 3], 1.0);
+    let rotor = surface(FaceKind::Quad4, 3, 3, 0.0, 1, 0, true, &map);
+    let pad = surface(FaceKind::Tri6, 2, 2, 0.0, 2, 1_000_000, false, &map);
+    let nodes = contact_nodes(&pad);
+    let e = tie_gaps(&nodes, &rotor.faces, &opts(), &TieOptions::default()).unwrap_err();
+    let msg = e.to_string();
+    assert!(msg.contains("use the mortar pairing"), "{msg}");
+    // Exactly the corners (ids below the mid-side base) are named.
+    let ContactError::Matching { nodes: bad, .. } = e else {
+        panic!("{msg}")
+    };
+    assert_eq!(bad.len(), 9, "{msg}");
+    assert!(bad.iter().all(|n| n.id < 1_100_000));
+}

@@ -522,7 +522,13 @@ fn pressure_resultants_and_orientation() {
 fn assembly_errors_name_block_tag_and_value() {
     let mut mesh = box_mesh(1.0, 1.0, 1.0, 2, 1, 1, CellKind::Hex8);
     let dofs = DofMap::new(mesh.nodes.len(), &[]).unwrap();
-    let e = assemble(&mesh, &[], &dofs, &AssemblyOptions::default()).unwrap_err();
+    let e = assemble(
+        &mesh,
+        &[] as &[Material],
+        &dofs,
+        &AssemblyOptions::default(),
+    )
+    .unwrap_err();
     assert!(matches!(
         e,
         FeError::MaterialCount {

@@ -7,6 +7,7 @@
 //!   file's materials, material axes and constraints), listing what they do not read;
 //! - [`vtu`]: writes a [`Mesh`] and point/cell arrays as a VTK `.vtu` file.
 pub mod bdf;
+pub mod collapse;
 mod deck;
 mod error;
 mod face_set;
@@ -19,6 +20,8 @@ pub mod mesh;
 pub mod msh;
 mod query;
 pub mod section;
+pub mod shapes;
+pub mod split;
 pub mod structured;
 pub mod topology;
 pub mod vtu;
@@ -26,7 +29,7 @@ pub mod vtu;
 pub use bdf::{parse_bdf, read_bdf, BdfOptions};
 pub use error::MeshError;
 pub use gmsh::{mesh_geo, mesh_geo_file, GmshOptions, GmshRun};
-pub use import::{folded_node, ReadReport, Unsupported};
+pub use import::{ReadReport, Unsupported};
 pub use inp::{parse_inp, read_inp, InpOptions};
 pub use mesh::{CellBlock, CellKind, Face, FaceSet, Mesh, Real};
 pub use msh::{parse_msh, read_msh};

@@ -11,7 +11,8 @@
 use faer::linalg::solvers::Solve;
 use faer::Mat;
 use squeal_contact::{
-    mortar_gaps, tie_gaps, ContactNode, FaceKind, MatchOptions, RotorFace, TieOptions,
+    mortar_gaps, tie_gaps, ContactNode, FaceKind, MatchOptions, MortarOptions, RotorFace,
+    TieOptions,
 };
 use squeal_fe::{assemble, face_areas, pressure_load, AssemblyOptions, DofMap, Material};
 use squeal_meshes::structured::box_mesh;
@@ -125,6 +126,7 @@ fn patch_with(nr: usize, np: usize, kind: CellKind, pad_kind: CellKind, mortar: 
             &faces,
             &MatchOptions::default(),
             &TieOptions::default(),
+            &MortarOptions::default(),
         )
         .unwrap()
         .0

@@ -1,9 +1,10 @@
 //! Nastran and Abaqus components (`geometry = { kind = "bdf" | "inp", … }`, issue 23): the
 //! same hex20 mesh through gmsh's `.msh`, pyNastran's `.bdf` and meshio's `.inp` (written by
 //! `meshes/tests/data/industrial/make_industrial.py` from the `.msh`) gives the same modes;
-//! the file's material and constraints are used; what the reader leaves out is a warning; an
-//! anisotropic section is refused with a clear "not yet supported".
+//! the file's materials (isotropic and anisotropic on their axes) and constraints are used;
+//! what the reader leaves out is a warning.
 
+use squeal_fe::{Elasticity, Material, MaterialAxes, SolidMaterial};
 use squeal_pipeline::output::RunDir;
 use squeal_pipeline::progress::Progress;
 use squeal_pipeline::scene::Scene;
@@ -84,10 +85,11 @@ fn gmsh_nastran_and_abaqus_routes_give_the_same_modes() {
 }
 
 /// Cards the reader does not read are warnings with their counts (in `summary.json` through
-/// the mesh report and the model's warnings); the scene's `materials.<pid_N>` overrides the
-/// file's; an anisotropic section is refused, naming the material, the file and what to do.
+/// the mesh report and the model's warnings); MAT1 and MAT9 (on the CORD1R axes of its
+/// PSOLID's CORDM, pyNastran's) become fe's materials; the scene's `materials.<pid_N>`
+/// overrides the file's.
 #[test]
-fn warnings_material_overrides_and_anisotropic_sections() {
+fn warnings_file_materials_and_overrides() {
     let read = |s: &Scene, name: &str| {
         mesh_component(s, &s.components[0], &work(name), &Progress::quiet()).unwrap()
     };
@@ -102,29 +104,99 @@ fn warnings_material_overrides_and_anisotropic_sections() {
         "{json}"
     );
     let m = s.components[0].block_materials(&mesh).unwrap();
-    assert!(m
-        .iter()
-        .all(|m| m.young == 2.0e11 && m.poisson == 0.29 && m.density == 7800.0));
+    let steel = SolidMaterial::from(Material {
+        young: 2.0e11,
+        poisson: 0.29,
+        density: 7800.0,
+    });
+    assert!(m.iter().all(|m| *m == steel), "{m:?}");
 
     let s = scene(r#"{ kind = "bdf", path = "mixed.bdf", pids = [2] }"#, "");
     let (mesh, _) = read(&s, "mixed-pid2");
-    let e = s.components[0]
-        .block_materials(&mesh)
-        .unwrap_err()
-        .to_string();
-    assert!(
-        e.contains("pid_2")
-            && e.contains("MAT9 9")
-            && e.contains("mixed.bdf")
-            && e.contains("not yet supported"),
-        "{e}"
-    );
+    let m = s.components[0].block_materials(&mesh).unwrap();
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(data().join("mixed.json")).unwrap()).unwrap();
+    let axis =
+        |k: usize| -> [f64; 3] { [0, 1, 2].map(|i| r["cordm4"]["axes"][k][i].as_f64().unwrap()) };
+    for b in &m {
+        assert!(matches!(b.elasticity, Elasticity::Anisotropic { .. }));
+        assert_eq!(b.density, 1800.0);
+        let MaterialAxes::Rectangular { e1, e2 } = b.axes else {
+            panic!("{:?}", b.axes)
+        };
+        for k in 0..3 {
+            assert!((e1[k] - axis(0)[k]).abs() < 1e-12 && (e2[k] - axis(1)[k]).abs() < 1e-12);
+        }
+    }
     let s = scene(
         r#"{ kind = "bdf", path = "mixed.bdf", pids = [2] }"#,
         "materials = { pid_2 = { young = 1e9, poisson = 0.3, density = 1800.0 } }",
     );
     let m = s.components[0].block_materials(&mesh).unwrap();
-    assert!(m.iter().all(|m| m.young == 1e9));
+    assert!(m.iter().all(|m| m.elasticity
+        == Elasticity::Isotropic {
+            young: 1e9,
+            poisson: 0.3
+        }));
+}
+
+/// An orthotropic lining on axes turned 30° about z then 20° about the new axis 1, on the
+/// bracket: the scene's `orthotropic` + `axes` on the gmsh mesh, the deck's MAT9 (numpy's
+/// inverse of the compliance, Nastran's strain order) on a CORD2R, the input's ENGINEERING
+/// CONSTANTS on an *ORIENTATION (with its *BOUNDARY): the same eight frequencies to 1e-10.
+#[test]
+fn anisotropic_material_axes_agree_across_routes() {
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(data().join("bracket_ortho.json")).unwrap())
+            .unwrap();
+    let o = &r["orthotropic"];
+    let v = |k: &str| format!("{:?}", o[k].as_f64().unwrap());
+    let vec3 = |k: &str| {
+        format!(
+            "[{}]",
+            (0..3)
+                .map(|i| format!("{:?}", r[k][i].as_f64().unwrap()))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    };
+    let material = format!(
+        "material = {{ density = 2500.0, orthotropic = {{ e1 = {}, e2 = {}, e3 = {}, nu12 = {}, \
+         nu13 = {}, nu23 = {}, g12 = {}, g13 = {}, g23 = {} }}, axes = {{ kind = \
+         \"rectangular\", e1 = {}, e2 = {} }} }}\nfixed = [{{ set = \"clamp\" }}]",
+        v("e1"),
+        v("e2"),
+        v("e3"),
+        v("nu12"),
+        v("nu13"),
+        v("nu23"),
+        v("g12"),
+        v("g13"),
+        v("g23"),
+        vec3("e1"),
+        vec3("e2")
+    );
+    let msh = scene(r#"{ kind = "msh", path = "bracket_hex20.msh" }"#, &material);
+    let bdf = scene(r#"{ kind = "bdf", path = "bracket_ortho.bdf" }"#, "");
+    let inp = scene(r#"{ kind = "inp", path = "bracket_ortho.inp" }"#, "");
+    let q = Progress::quiet();
+    let a = modes::compute(&msh, None, &work("ortho-msh"), &q).unwrap();
+    let b = modes::compute(&bdf, None, &work("ortho-bdf"), &q).unwrap();
+    let c = modes::compute(&inp, None, &work("ortho-inp"), &q).unwrap();
+    let fa = &a.report.frequencies_hz;
+    let mut worst: f64 = 0.0;
+    for f in [&b.report.frequencies_hz, &c.report.frequencies_hz] {
+        for i in 0..8 {
+            worst = worst.max(((f[i] - fa[i]) / fa[i]).abs());
+        }
+    }
+    eprintln!(
+        "orthotropic bracket: f1 = {:.6} Hz, largest relative difference {worst:.2e}",
+        fa[0]
+    );
+    assert!(worst < 1e-10, "largest relative difference {worst:e}");
+    // The lining is far softer than steel: not the isotropic steel bracket's modes.
+    assert!(fa[0] < 1000.0, "{fa:?}");
 }
 
 /// A component without `material` is accepted for a Nastran or Abaqus file only; the model

@@ -53,6 +53,8 @@ fn gaps() -> GapSet {
         temperature: 0.0,
         tie: None,
         rotor_rows: Vec::new(),
+        pad_side: None,
+        friction: None,
     };
     GapSet::new(vec![gap], FrictionLaw::Constant { mu: MU }, 1e-3).unwrap()
 }

@@ -235,6 +235,8 @@ pub fn gaps_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Gap>> {
                 }
             },
             rotor_rows: Vec::new(),
+            pad_side: None,
+            friction: None,
         });
     }
     Ok(gaps)

@@ -27,8 +27,10 @@ impl GapSet {
                         t.push((ig, d, w[k] * g.normal[k])); // [Paper eq. (9)]
                     }
                 }
-                if let Some(d) = g.pad_dofs[k] {
-                    t.push((ig, d, -g.normal[k]));
+                for (w, dofs) in g.pad_terms() {
+                    if let Some(d) = dofs[k] {
+                        t.push((ig, d, -w[k] * g.normal[k]));
+                    }
                 }
             }
         }

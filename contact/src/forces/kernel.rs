@@ -45,7 +45,14 @@ pub struct GapOutput {
 pub(crate) fn evaluate_gap(set: &GapSet, gap: &Gap, v: &[Real], lambda: Real) -> GapOutput {
     let n = gap.normal;
     let pressure = -lambda / gap.area + gap.p0; // [Paper eq. (1)], F_z = −λ̇
-    let vp = gather(v, &gap.pad_dofs);
+                                                // The pad point's velocity (the node, or Σ_k w_k v_k on a combined pad side).
+    let mut vp = [0.0; 3];
+    for (w, dofs) in gap.pad_terms() {
+        let va = gather(v, &dofs);
+        for k in 0..3 {
+            vp[k] += w[k] * va[k];
+        }
+    }
     // The rotor point's velocity Σ_a N_a v_a (one node with weight 1 when coincident).
     let mut vr = [0.0; 3];
     for (w, dofs) in gap.rotor_terms() {
@@ -62,7 +69,7 @@ pub(crate) fn evaluate_gap(set: &GapSet, gap: &Gap, v: &[Real], lambda: Real) ->
     let dn = dot(dv, n);
     let vt = [dv[0] - dn * n[0], dv[1] - dn * n[1], dv[2] - dn * n[2]]; // [Paper eq. (3)]
     let s = dot(vt, vt).sqrt();
-    let friction = set.law.evaluate(pressure, s, gap.temperature);
+    let friction = set.law_of(gap).evaluate(pressure, s, gap.temperature);
     let ft = friction.mu * gap.area * pressure; // [Paper eq. (4)]
     let (phi, psi) = regularisation(s, set.vtol); // [Paper eq. (5)]
     let c = ft * phi;
@@ -166,8 +173,10 @@ impl GapSet {
                 if !fp[k].is_finite() {
                     return Err(self.non_finite(ig, "friction force on pad", fp[k]));
                 }
-                if let Some(d) = gap.pad_dofs[k] {
-                    f[d] += fp[k]; // [Paper eq. (6)]
+                for (w, dofs) in gap.pad_terms() {
+                    if let Some(d) = dofs[k] {
+                        f[d] += w[k] * fp[k]; // [Paper eq. (6)]
+                    }
                 }
                 for (w, dofs) in gap.rotor_terms() {
                     if let Some(d) = dofs[k] {

@@ -1,99 +1,23 @@
-//! Rotor faces for surface pairing: quad4/quad8 faces given as node ids + coordinates, their
-//! shape functions, and the projection of a point onto one face (Newton on the face
-//! parametrisation).
+//! Faces for surface pairing: quad4/quad8/tri3/tri6 faces given as node ids + coordinates,
+//! the projection of a point onto one face (Newton on the face parametrisation), and the
+//! point where a line meets a face (the mortar pairing's map from its plane to the faces).
 
+pub use super::shape::FaceKind;
+use super::vec3::{cross, dot, sub};
 use crate::Real;
 use serde::{Deserialize, Serialize};
 
-/// The kind of a rotor face: the quad faces of hex8 and hex20 elements.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum FaceKind {
-    /// Bilinear 4-node quadrilateral (face of a hex8).
-    Quad4,
-    /// Serendipity 8-node quadrilateral (face of a hex20).
-    Quad8,
-}
-
-/// Reference coordinates (ξ_a, η_a) of the face nodes: corners counterclockwise, then the
-/// mid-sides 0–1, 1–2, 2–3, 3–0 (VTK order, as squeal's meshes store faces).
-const NODES_REF: [[Real; 2]; 8] = [
-    [-1.0, -1.0],
-    [1.0, -1.0],
-    [1.0, 1.0],
-    [-1.0, 1.0],
-    [0.0, -1.0],
-    [1.0, 0.0],
-    [0.0, 1.0],
-    [-1.0, 0.0],
-];
-
-impl FaceKind {
-    /// Number of nodes (4 or 8).
-    pub fn n_nodes(self) -> usize {
-        match self {
-            FaceKind::Quad4 => 4,
-            FaceKind::Quad8 => 8,
-        }
-    }
-
-    /// Kind from a node count (4 → quad4, 8 → quad8).
-    pub fn from_n_nodes(n: usize) -> Option<Self> {
-        match n {
-            4 => Some(FaceKind::Quad4),
-            8 => Some(FaceKind::Quad8),
-            _ => None,
-        }
-    }
-
-    /// Shape functions N_a(ξ, η) and their derivatives ∂N_a/∂ξ, ∂N_a/∂η (first `n_nodes`
-    /// entries used). They sum to 1 for every (ξ, η) (partition of unity).
-    pub fn shape(self, xi: [Real; 2]) -> ([Real; 8], [[Real; 2]; 8]) {
-        let (x, y) = (xi[0], xi[1]);
-        let mut n = [0.0; 8];
-        let mut d = [[0.0; 2]; 8];
-        match self {
-            FaceKind::Quad4 => {
-                for a in 0..4 {
-                    let [xa, ya] = NODES_REF[a];
-                    n[a] = 0.25 * (1.0 + xa * x) * (1.0 + ya * y);
-                    d[a] = [0.25 * xa * (1.0 + ya * y), 0.25 * ya * (1.0 + xa * x)];
-                }
-            }
-            FaceKind::Quad8 => {
-                for a in 0..4 {
-                    let [xa, ya] = NODES_REF[a];
-                    let (p, q) = (1.0 + xa * x, 1.0 + ya * y);
-                    let s = xa * x + ya * y - 1.0;
-                    n[a] = 0.25 * p * q * s;
-                    d[a] = [0.25 * xa * q * (s + p), 0.25 * ya * p * (s + q)];
-                }
-                for a in 4..8 {
-                    let [xa, ya] = NODES_REF[a];
-                    if xa == 0.0 {
-                        n[a] = 0.5 * (1.0 - x * x) * (1.0 + ya * y);
-                        d[a] = [-x * (1.0 + ya * y), 0.5 * ya * (1.0 - x * x)];
-                    } else {
-                        n[a] = 0.5 * (1.0 + xa * x) * (1.0 - y * y);
-                        d[a] = [0.5 * xa * (1.0 - y * y), -y * (1.0 + xa * x)];
-                    }
-                }
-            }
-        }
-        (n, d)
-    }
-}
-
-/// One face of the rotor's friction surface, as the caller knows it (no mesh needed).
+/// One face of a contact surface (the rotor's, or the pad's for the mortar pairing), as the
+/// caller knows it (no mesh needed).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RotorFace {
     /// Face id chosen by the caller (reported in errors and stored in the gap), e.g. its index
     /// in the face set.
     pub id: u64,
-    /// quad4 or quad8.
+    /// quad4, quad8, tri3 or tri6.
     pub kind: FaceKind,
     /// Node ids in the face's order (corners counterclockwise, then the mid-sides 0–1, 1–2,
-    /// 2–3, 3–0).
+    /// …, as gmsh and VTK number them).
     pub nodes: Vec<u64>,
     /// Node coordinates, same order.
     pub coords: Vec<[Real; 3]>,
@@ -106,35 +30,39 @@ pub(crate) struct Projection {
     pub xi: [Real; 2],
     /// Distance from the point to x(ξ, η).
     pub distance: Real,
-    /// max(|ξ|, |η|) − 1, clamped below at 0: how far outside the face the point projects.
+    /// How far outside the face the point projects, 0 inside ([`FaceKind::outside`]: on a
+    /// quad max(|ξ|, |η|) − 1).
     pub outside: Real,
     /// Newton iterations used.
     pub iterations: usize,
 }
 
-/// Face coordinates within this distance of −1, 0 or 1 are set to it, so that a pad node
-/// coincident with a rotor node (or on an edge) gets weights exactly 1 and 0.
+/// Face coordinates within this distance of a node coordinate (−1, 0, 1 on quads; 0, ½, 1 on
+/// triangles) are set to it, so that a pad node coincident with a rotor node (or on an edge)
+/// gets weights exactly 1 and 0.
 pub const SNAP: Real = 1e-9;
-
-fn sub(a: [Real; 3], b: [Real; 3]) -> [Real; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [Real; 3], b: [Real; 3]) -> Real {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
 
 impl RotorFace {
     /// x(ξ, η) and the tangents ∂x/∂ξ, ∂x/∂η.
     pub(crate) fn point(&self, xi: [Real; 2]) -> ([Real; 3], [[Real; 3]; 2]) {
+        let (r, t) = self.relative(xi);
+        let c = self.coords[0];
+        ([0, 1, 2].map(|k| c[k] + r[k]), t)
+    }
+
+    /// x(ξ, η) − x_0 (relative to the first node, without the cancellation of absolute
+    /// coordinates far from the origin) and the tangents.
+    fn relative(&self, xi: [Real; 2]) -> ([Real; 3], [[Real; 3]; 2]) {
         let (n, d) = self.kind.shape(xi);
+        let c0 = self.coords[0];
         let mut x = [0.0; 3];
         let mut t = [[0.0; 3]; 2];
         for (a, c) in self.coords.iter().enumerate().take(self.kind.n_nodes()) {
             for k in 0..3 {
-                x[k] += n[a] * c[k];
-                t[0][k] += d[a][0] * c[k];
-                t[1][k] += d[a][1] * c[k];
+                let ck = c[k] - c0[k];
+                x[k] += n[a] * ck;
+                t[0][k] += d[a][0] * ck;
+                t[1][k] += d[a][1] * ck;
             }
         }
         (x, t)
@@ -142,19 +70,20 @@ impl RotorFace {
 
     /// Mean length of the face's corner-to-corner edges.
     pub(crate) fn edge_length(&self) -> Real {
-        (0..4)
+        let nc = self.kind.n_corners();
+        (0..nc)
             .map(|a| {
-                let e = sub(self.coords[(a + 1) % 4], self.coords[a]);
+                let e = sub(self.coords[(a + 1) % nc], self.coords[a]);
                 dot(e, e).sqrt()
             })
             .sum::<Real>()
-            / 4.0
+            / nc as Real
     }
 
-    /// Projects `p` on the face: Gauss–Newton on min ½|x(ξ) − p|² from the closest of the nine
-    /// points ξ, η ∈ {−1, 0, 1}, steps limited to 0.5 in each coordinate, until the step is
-    /// below 1e-13 (at most 50 iterations). None when it does not converge or the tangents
-    /// are degenerate.
+    /// Projects `p` on the face: Gauss–Newton on min ½|x(ξ) − p|² from the closest of the
+    /// nodes and the centre, steps limited to 0.5 in each coordinate, until the step is below
+    /// 1e-13 (at most 50 iterations). None when it does not converge or the tangents are
+    /// degenerate.
     ///
     /// # Derivation
     /// The stationarity conditions are r_i = (x(ξ) − p)·∂x/∂ξ_i = 0. Gauss–Newton drops the
@@ -163,24 +92,35 @@ impl RotorFace {
     /// Newton's; on a curved face it converges linearly at a rate proportional to the
     /// distance times the curvature, small for a point on the surface.
     pub(crate) fn project(&self, p: [Real; 3]) -> Option<Projection> {
-        let mut xi = [0.0, 0.0];
+        // Relative to the first node (no cancellation of far-off absolute coordinates).
+        let p = sub(p, self.coords[0]);
+        let mut xi = self.kind.center_ref();
         let mut best = Real::INFINITY;
-        for a in [-1.0, 0.0, 1.0] {
-            for b in [-1.0, 0.0, 1.0] {
-                let (x, _) = self.point([a, b]);
-                let r = sub(x, p);
-                let d = dot(r, r);
-                if d < best {
-                    best = d;
-                    xi = [a, b];
-                }
+        let starts = self
+            .kind
+            .nodes_ref()
+            .iter()
+            .copied()
+            .chain([self.kind.center_ref()]);
+        // The quads' nine-point lattice (corners, mid-sides, centre) also for quad4 faces.
+        let lattice = (!self.kind.is_triangle())
+            .then_some(super::shape::QUAD_REF)
+            .into_iter()
+            .flatten();
+        for s in starts.chain(lattice) {
+            let (x, _) = self.relative(s);
+            let r = sub(x, p);
+            let d = dot(r, r);
+            if d < best {
+                best = d;
+                xi = s;
             }
         }
         let mut converged = false;
         let mut iterations = 0;
         for it in 1..=50 {
             iterations = it;
-            let (x, t) = self.point(xi);
+            let (x, t) = self.relative(xi);
             let r = sub(x, p);
             let g = [dot(r, t[0]), dot(r, t[1])];
             let h = [
@@ -211,21 +151,66 @@ impl RotorFace {
         if !converged {
             return None;
         }
-        for c in &mut xi {
-            for s in [-1.0, 0.0, 1.0] {
-                if (*c - s).abs() <= SNAP {
-                    *c = s;
-                }
-            }
-        }
-        let (x, _) = self.point(xi);
+        self.kind.snap(&mut xi, SNAP);
+        let (x, _) = self.relative(xi);
         let r = sub(x, p);
         Some(Projection {
             xi,
             distance: dot(r, r).sqrt(),
-            outside: (xi[0].abs().max(xi[1].abs()) - 1.0).max(0.0),
+            outside: self.kind.outside(xi),
             iterations,
         })
+    }
+
+    /// The face coordinates where the line q + t·dir meets the face, by Newton on
+    /// x(ξ, η) − t·dir = q (three unknowns) from `start` (and, failing that, from the face's
+    /// centre), until the step is below 1e-14 in (ξ, η) (at most 30 iterations), with t.
+    /// None when it does not converge or the line is parallel to the face. On a face x(ξ)
+    /// affine in ξ one step is exact.
+    pub(crate) fn along(
+        &self,
+        q: [Real; 3],
+        dir: [Real; 3],
+        start: [Real; 2],
+    ) -> Option<([Real; 2], Real)> {
+        let qr = sub(q, self.coords[0]);
+        self.along_from(qr, dir, start)
+            .or_else(|| self.along_from(qr, dir, self.kind.center_ref()))
+    }
+
+    fn along_from(
+        &self,
+        qr: [Real; 3],
+        dir: [Real; 3],
+        start: [Real; 2],
+    ) -> Option<([Real; 2], Real)> {
+        let mut xi = start;
+        let mut t = 0.0;
+        for _ in 0..30 {
+            let (x, tg) = self.relative(xi);
+            // Residual r = x(ξ) − t·dir − q; Jacobian columns t_ξ, t_η, −dir.
+            let r = [0, 1, 2].map(|k| x[k] - t * dir[k] - qr[k]);
+            let c = [tg[0], tg[1], dir.map(|v| -v)];
+            let det = dot(c[0], cross(c[1], c[2]));
+            let scale = dot(c[0], c[0]).sqrt() * dot(c[1], c[1]).sqrt() * dot(dir, dir).sqrt();
+            if !(det.is_finite() && det.abs() > 1e-12 * scale) {
+                return None;
+            }
+            // Cramer's rule for c·Δ = −r.
+            let mr = r.map(|v| -v);
+            let d0 = dot(mr, cross(c[1], c[2])) / det;
+            let d1 = dot(c[0], cross(mr, c[2])) / det;
+            let d2 = dot(c[0], cross(c[1], mr)) / det;
+            xi = [xi[0] + d0, xi[1] + d1];
+            t += d2;
+            if !(xi[0].is_finite() && xi[1].is_finite()) || xi[0].abs() > 4.0 || xi[1].abs() > 4.0 {
+                return None;
+            }
+            if d0.abs().max(d1.abs()) <= 1e-14 {
+                return Some((xi, t));
+            }
+        }
+        None
     }
 }
 
@@ -239,41 +224,13 @@ mod tests {
             id: 7,
             kind,
             nodes: (0..n as u64).collect(),
-            coords: NODES_REF[..n].iter().map(|&r| f(r)).collect(),
+            coords: kind.nodes_ref().iter().map(|&r| f(r)).collect(),
         }
     }
 
-    /// Shape functions: partition of unity, Kronecker property at the nodes, derivatives
-    /// against central differences (the definitions of the bilinear and serendipity quads).
-    #[test]
-    fn shape_functions() {
-        for kind in [FaceKind::Quad4, FaceKind::Quad8] {
-            let nn = kind.n_nodes();
-            for xi in [[0.3, -0.7], [-0.9, 0.1], [1.2, 0.4]] {
-                let (n, d) = kind.shape(xi);
-                assert!((n[..nn].iter().sum::<Real>() - 1.0).abs() < 1e-14);
-                let e = 1e-6;
-                for a in 0..nn {
-                    for k in 0..2 {
-                        let (mut p, mut m) = (xi, xi);
-                        p[k] += e;
-                        m[k] -= e;
-                        let fd = (kind.shape(p).0[a] - kind.shape(m).0[a]) / (2.0 * e);
-                        assert!((fd - d[a][k]).abs() < 1e-8, "{kind:?} a={a} k={k}");
-                    }
-                }
-            }
-            for a in 0..nn {
-                let (n, _) = kind.shape(NODES_REF[a]);
-                for b in 0..nn {
-                    assert_eq!(n[b], if a == b { 1.0 } else { 0.0 }, "{kind:?} {a} {b}");
-                }
-            }
-        }
-    }
-
-    /// A point placed at known (ξ, η) on a distorted (quad4) and a curved (quad8) face, and
-    /// lifted off it along the normal by d, projects back to (ξ, η) at distance d.
+    /// A point placed at known (ξ, η) on a distorted (quad4, tri3) and a curved (quad8, tri6)
+    /// face, and lifted off it along the normal by d, projects back to (ξ, η) at distance d;
+    /// the line through it along the normal meets the face at (ξ, η) too.
     #[test]
     fn projection_recovers_face_coordinates() {
         let warp = |r: [Real; 2]| {
@@ -284,18 +241,34 @@ mod tests {
             ]
         };
         let bent = |r: [Real; 2]| [r[0], r[1], 0.05 * r[0] * r[0]];
-        for (kind, f) in [
-            (FaceKind::Quad4, &warp as &dyn Fn([Real; 2]) -> [Real; 3]),
-            (FaceKind::Quad8, &bent),
-        ] {
+        type F<'a> = &'a dyn Fn([Real; 2]) -> [Real; 3];
+        let cases: [(FaceKind, F, [[Real; 2]; 3]); 4] = [
+            (
+                FaceKind::Quad4,
+                &warp,
+                [[0.25, -0.6], [-0.95, 0.9], [0.0, 0.0]],
+            ),
+            (
+                FaceKind::Quad8,
+                &bent,
+                [[0.25, -0.6], [-0.95, 0.9], [0.0, 0.0]],
+            ),
+            (
+                FaceKind::Tri3,
+                &warp,
+                [[0.25, 0.6], [0.05, 0.9], [0.3, 0.3]],
+            ),
+            (
+                FaceKind::Tri6,
+                &bent,
+                [[0.25, 0.6], [0.05, 0.9], [0.3, 0.3]],
+            ),
+        ];
+        for (kind, f, points) in cases {
             let fc = face(kind, f);
-            for xi in [[0.25, -0.6], [-0.95, 0.9], [0.0, 0.0]] {
+            for xi in points {
                 let (x, t) = fc.point(xi);
-                let nrm = [
-                    t[0][1] * t[1][2] - t[0][2] * t[1][1],
-                    t[0][2] * t[1][0] - t[0][0] * t[1][2],
-                    t[0][0] * t[1][1] - t[0][1] * t[1][0],
-                ];
+                let nrm = cross(t[0], t[1]);
                 let l = dot(nrm, nrm).sqrt();
                 let d = 1e-3;
                 let p = [0, 1, 2].map(|k| x[k] + d * nrm[k] / l);
@@ -304,13 +277,16 @@ mod tests {
                 assert!((pr.xi[1] - xi[1]).abs() < 1e-10, "{kind:?} {:?}", pr.xi);
                 assert!((pr.distance - d).abs() < 1e-10);
                 assert_eq!(pr.outside, 0.0);
+                let (xl, tl) = fc.along(p, nrm, kind.center_ref()).expect("meets the face");
+                assert!((xl[0] - xi[0]).abs() < 1e-12 && (xl[1] - xi[1]).abs() < 1e-12);
+                assert!((tl * l + d).abs() < 1e-12, "{tl}");
             }
         }
     }
 
-    /// A point on a corner node snaps to the corner exactly.
+    /// A point on a corner or a mid-side node snaps to it exactly.
     #[test]
-    fn corner_snaps() {
+    fn nodes_snap() {
         let fc = face(FaceKind::Quad8, |r| {
             [3.0 * r[0] + 0.2 * r[1], 2.0 * r[1], 0.0]
         });
@@ -320,5 +296,24 @@ mod tests {
         assert_eq!(pr.xi, [1.0, 0.0]);
         let (n, _) = FaceKind::Quad8.shape(pr.xi);
         assert_eq!(n, [0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
+        let tri = face(FaceKind::Tri6, |r| {
+            [
+                1.0 + 2.0 * r[0] + 0.3 * r[1],
+                0.5 + 1.7 * r[1] - 0.2 * r[0],
+                0.1,
+            ]
+        });
+        for a in 0..6 {
+            let pr = tri.project(tri.coords[a]).unwrap();
+            let (n, _) = FaceKind::Tri6.shape(pr.xi);
+            for b in 0..6 {
+                assert_eq!(
+                    n[b],
+                    if a == b { 1.0 } else { 0.0 },
+                    "node {a}: {:?}",
+                    pr.xi
+                );
+            }
+        }
     }
 }

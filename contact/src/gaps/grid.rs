@@ -72,6 +72,25 @@ impl BoxGrid {
     pub(crate) fn boxes_at(&self, x: &[Real; 3]) -> Vec<usize> {
         self.buckets.get(&self.key(x)).cloned().unwrap_or_default()
     }
+
+    /// Indices of the boxes sharing a cell with the box (lo, hi) (finite), in increasing
+    /// order (a superset of those overlapping it).
+    pub(crate) fn boxes_near(&self, lo: &[Real; 3], hi: &[Real; 3]) -> Vec<usize> {
+        let (a, b) = (self.key(lo), self.key(hi));
+        let mut out = Vec::new();
+        for x in a[0]..=b[0] {
+            for y in a[1]..=b[1] {
+                for z in a[2]..=b[2] {
+                    if let Some(v) = self.buckets.get(&[x, y, z]) {
+                        out.extend_from_slice(v);
+                    }
+                }
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
 }
 
 impl Grid {

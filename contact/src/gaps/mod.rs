@@ -1,18 +1,22 @@
 //! Gap elements: pad/rotor node pairs with normal, area and sliding velocity (PREBSQL).
 
+mod bond;
 mod face;
 mod grid;
 mod matching;
 mod mortar;
 mod set;
+mod shape;
 mod tie;
+mod vec3;
 
 use crate::{ContactError, Real};
 use serde::{Deserialize, Serialize};
 
+pub use bond::{bond_rows, BondRow};
 pub use face::{FaceKind, RotorFace, SNAP as FACE_SNAP};
 pub use matching::match_gaps;
-pub use mortar::{mortar_gaps, MortarStats};
+pub use mortar::{mortar_gaps, MortarOptions, MortarStats};
 pub use set::GapSet;
 pub use tie::{tie_gaps, TieOptions, TieOutcome, TieStats, Unmatched};
 
@@ -148,6 +152,28 @@ pub struct Gap {
     /// in [`Gap::rotor_terms`] (the node ids and weights still say where the point is).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub rotor_rows: Vec<RotorRow>,
+    /// The pad side as a combination of pad nodes, û = Σ_k w_k u_k, instead of the node
+    /// `pad_node` alone: a mortar gap on a mid-side node of a quadratic pad face, whose dual
+    /// multiplier pairs with the transformed basis ([`crate::mortar_gaps`]). None: the node
+    /// `pad_node` with weight 1 (`pad_dofs`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pad_side: Option<PadSide>,
+    /// This gap's own friction law (a contact pair with its own `friction`), used instead of
+    /// the set's [`GapSet::law`]. None: the set's law.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<crate::FrictionLaw>,
+}
+
+/// The pad side of a gap over several pad nodes: the point û = Σ_k w_k u_k (weights sum to 1).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PadSide {
+    /// Pad node ids (the gap's `pad_node` among them).
+    pub nodes: Vec<u64>,
+    /// Their weights (sum 1).
+    pub weights: Vec<Real>,
+    /// x, y, z DOF indices of each node (None = fixed). Set by [`GapSet::assign_dofs`].
+    #[serde(default)]
+    pub dofs: Vec<[Option<usize>; 3]>,
 }
 
 /// One term of a recovered rotor point: reduced DOF `dof` moves the point by `weights`
@@ -235,6 +261,38 @@ impl Gap {
             temperature: opts.temperature,
             tie,
             rotor_rows: Vec::new(),
+            pad_side: None,
+            friction: None,
+        }
+    }
+
+    /// The pad side of the gap as (x/y/z weights, x/y/z DOFs) terms: the node `pad_node`
+    /// with weight 1, or the nodes of [`Gap::pad_side`] with their weights. The pad point's
+    /// velocity component k is Σ w_k v[dofs_k], and a force f on it is w_k f_k on DOF dofs_k.
+    pub fn pad_terms(&self) -> impl Iterator<Item = ([Real; 3], [Option<usize>; 3])> + '_ {
+        let single = self.pad_side.is_none().then_some(([1.0; 3], self.pad_dofs));
+        let combined = self.pad_side.iter().flat_map(|p| {
+            p.weights
+                .iter()
+                .copied()
+                .zip(p.dofs.iter())
+                .filter(|(w, _)| *w != 0.0)
+                .map(|(w, d)| ([w; 3], *d))
+        });
+        single.into_iter().chain(combined)
+    }
+
+    /// The pad node ids the gap acts on (`pad_node`, or the nodes of its pad side).
+    pub fn pad_nodes(&self) -> Vec<u64> {
+        match &self.pad_side {
+            None => vec![self.pad_node],
+            Some(p) => p
+                .nodes
+                .iter()
+                .zip(&p.weights)
+                .filter(|(_, &w)| w != 0.0)
+                .map(|(&n, _)| n)
+                .collect(),
         }
     }
 

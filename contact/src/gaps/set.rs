@@ -20,23 +20,46 @@ impl GapSet {
     /// Default VTOL (the paper's sample-brake input), used by [`crate::match_gaps`].
     pub const DEFAULT_VTOL: Real = 1e-3;
 
-    /// A gap set with the given law and VTOL; validates both.
+    /// A gap set with the given law and VTOL; validates both (and the gaps' own laws).
     pub fn new(gaps: Vec<Gap>, law: FrictionLaw, vtol: Real) -> Result<Self, ContactError> {
         GapSet {
-            gaps: Vec::new(),
+            gaps,
             law: FrictionLaw::default(),
             vtol: Self::DEFAULT_VTOL,
         }
         .with_friction(law, vtol)
-        .map(|mut s| {
-            s.gaps = gaps;
-            s
-        })
     }
 
-    /// Sets the friction law and VTOL (validated).
+    /// The friction law of gap `g`: its own ([`Gap::friction`]) or the set's.
+    pub fn law_of<'a>(&'a self, g: &'a Gap) -> &'a FrictionLaw {
+        g.friction.as_ref().unwrap_or(&self.law)
+    }
+
+    /// Every law in use: the set's and the gaps' own (each once, in order of appearance).
+    pub fn laws(&self) -> Vec<&FrictionLaw> {
+        let mut out = vec![&self.law];
+        for g in &self.gaps {
+            if let Some(l) = &g.friction {
+                if !out.contains(&l) {
+                    out.push(l);
+                }
+            }
+        }
+        out
+    }
+
+    /// Sets the set's friction law and VTOL (validated, with the gaps' own laws).
     pub fn with_friction(mut self, law: FrictionLaw, vtol: Real) -> Result<Self, ContactError> {
         law.validate()?;
+        for (ig, g) in self.gaps.iter().enumerate() {
+            if let Some(l) = &g.friction {
+                l.validate().map_err(|e| ContactError::Tie {
+                    gap: ig,
+                    pad_node: g.pad_node,
+                    message: format!("its own friction law: {e}"),
+                })?;
+            }
+        }
         if !(vtol.is_finite() && vtol > 0.0) {
             return Err(ContactError::InvalidOption {
                 field: "friction.vtol".into(),
@@ -73,6 +96,9 @@ impl GapSet {
             if let Some(t) = &mut g.tie {
                 t.dofs = t.nodes.iter().map(|&n| dofs_of(n)).collect();
             }
+            if let Some(p) = &mut g.pad_side {
+                p.dofs = p.nodes.iter().map(|&n| dofs_of(n)).collect();
+            }
         }
     }
 
@@ -101,7 +127,22 @@ impl GapSet {
                 });
             }
         }
+        if let Some(p) = &g.pad_side {
+            if p.dofs.len() != p.nodes.len() || p.weights.len() != p.nodes.len() {
+                return Err(ContactError::Tie {
+                    gap: ig,
+                    pad_node: g.pad_node,
+                    message: format!(
+                        "pad side: {} nodes, {} weights, {} DOF triples (DOFs not assigned?)",
+                        p.nodes.len(),
+                        p.weights.len(),
+                        p.dofs.len()
+                    ),
+                });
+            }
+        }
         let tied = g.tie.iter().flat_map(|t| t.dofs.iter()).flatten();
+        let pad_side = g.pad_side.iter().flat_map(|p| p.dofs.iter()).flatten();
         let rows = g.rotor_rows.iter().map(|r| &r.dof);
         for d in g
             .pad_dofs
@@ -109,6 +150,7 @@ impl GapSet {
             .chain(g.rotor_dofs.iter())
             .flatten()
             .chain(tied.flatten())
+            .chain(pad_side.flatten())
             .chain(rows)
         {
             if *d >= n {

@@ -176,9 +176,36 @@ pub fn tie_gaps(
     };
     let mut gaps = Vec::with_capacity(pad.len());
     let mut unmatched = Vec::new();
+    // A pad node whose consistent area is round-off next to the others' (a tri6 face's
+    // corner: ∫N_corner dΓ = 0) has no normal: its gap would point anywhere.
+    let mean_area =
+        pad.iter().filter_map(|n| n.pad_area().ok()).sum::<Real>() / pad.len().max(1) as Real;
     for pn in pad {
         let a = match pn.pad_area() {
+            Ok(a) if a <= 1e-9 * mean_area => {
+                bad.push(report(
+                    pn,
+                    format!(
+                        "its area vector {:?} is round-off ({a:.3e} against a mean of \
+                         {mean_area:.3e}: a corner of a quadratic triangle, whose consistent \
+                         area ∫N dΓ is 0); node-to-surface pairing needs a positive area at \
+                         every pad node: use the mortar pairing",
+                        pn.area
+                    ),
+                ));
+                continue;
+            }
             Ok(a) => a,
+            Err(reason) if pn.area == [0.0; 3] => {
+                bad.push(report(
+                    pn,
+                    format!(
+                        "{reason} (a corner of a quadratic triangle has ∫N dΓ = 0: use the \
+                         mortar pairing)"
+                    ),
+                ));
+                continue;
+            }
             Err(reason) => {
                 bad.push(report(pn, reason));
                 continue;

@@ -3,6 +3,8 @@
 //! node and face sets.
 
 use super::faces;
+use crate::collapse::recognise_collapsed_hex;
+use crate::jacobian::mirror;
 use crate::section::Section;
 use crate::{CellBlock, CellKind, FaceSet, Mesh, MeshError};
 use std::collections::{BTreeMap, HashMap};
@@ -31,15 +33,36 @@ pub(crate) struct Builder {
 }
 
 impl Builder {
-    /// Orients every cell (a mirrored cell is reordered) and checks it; errors name the cell.
+    /// Orients every cell (a hexahedron with repeated nodes becomes the wedge, pyramid or
+    /// tetrahedron it is; a mirrored cell is reordered) and checks it; errors name the cell.
     pub fn orient(&mut self) -> Result<(), MeshError> {
         for c in &mut self.cells {
+            if matches!(c.kind, CellKind::Hex8 | CellKind::Hex20) {
+                match recognise_collapsed_hex(&c.nodes) {
+                    Ok(None) => {}
+                    Ok(Some((kind, nodes))) => {
+                        c.kind = kind;
+                        c.nodes = nodes;
+                    }
+                    Err(e) => {
+                        return Err(MeshError::Parse {
+                            file: c.file.clone(),
+                            line: c.line,
+                            message: format!(
+                                "{} ({}) repeats nodes but is no wedge, pyramid or tetrahedron: \
+                                 {}",
+                                c.what, c.kind, e.reason
+                            ),
+                        })
+                    }
+                }
+            }
             let x: Vec<[f64; 3]> = c.nodes.iter().map(|&i| self.nodes[i]).collect();
             match faces::orientation(c.kind, &x) {
                 faces::Orientation::Positive => {}
                 faces::Orientation::Mirrored => {
                     let old = c.nodes.clone();
-                    for (k, &f) in faces::mirror(c.kind).iter().enumerate() {
+                    for (k, &f) in mirror(c.kind).iter().enumerate() {
                         c.nodes[k] = old[f];
                     }
                 }

@@ -6,7 +6,6 @@ mod build;
 pub(crate) mod faces;
 
 pub(crate) use build::{Builder, RawCell};
-pub use faces::folded_node;
 
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;

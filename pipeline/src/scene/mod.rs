@@ -8,6 +8,7 @@ pub mod arrays;
 mod brake;
 pub mod cea;
 pub mod contact;
+pub mod material;
 mod materials;
 mod overrides;
 pub mod reduction;
@@ -17,6 +18,7 @@ pub use accuracy::AccuracySpec;
 pub use arrays::{ArraysRef, StoredArrays};
 pub use cea::{CeaSpec, CeaState, CeaSweepSpec, SweepVary};
 pub use contact::{ContactPair, FrictionSpec, Pairing, RotorSpec};
+pub use material::MaterialSpec;
 pub use overrides::apply_override;
 pub use reduction::{ModelSource, ModelSpec, ReductionSpec};
 pub use transient::{DampingSpec, Integrator, LoadsSpec, OutputSpec, TransientSpec, VerdictCea};
@@ -24,7 +26,7 @@ pub use transient::{DampingSpec, Integrator, LoadsSpec, OutputSpec, TransientSpe
 use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
 use squeal_fe::modal::ModalOptions;
-use squeal_fe::{Hex8Formulation, Material};
+use squeal_fe::Hex8Formulation;
 use squeal_meshes::geo::{BlockGeometry, CaliperDims, PadPlacement, RotorGeometry};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -104,16 +106,17 @@ pub struct ComponentSpec {
     /// Formulation of hex8 elements (default: incompatible).
     #[serde(default)]
     pub hex8: Hex8Formulation,
-    /// Isotropic linear-elastic material of the volumes that have no other (required unless
-    /// the geometry file gives every volume its material, as a Nastran or Abaqus file may;
-    /// default: none).
+    /// Material of the volumes that have no other: isotropic (`young`, `poisson`,
+    /// `density`) or anisotropic with material axes (see [`material::MaterialSpec`]); required
+    /// unless the geometry file gives every volume its material, as a Nastran or Abaqus file
+    /// may (default: none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub material: Option<Material>,
+    pub material: Option<MaterialSpec>,
     /// Materials of named volumes (gmsh physical volumes, Nastran `pid_<PID>`, Abaqus section
     /// element sets), overriding the file's and `material` for them, e.g. a pad's
     /// `{ lining = {...}, backplate = {...} }` (default: none).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
-    pub materials: BTreeMap<String, Material>,
+    pub materials: BTreeMap<String, MaterialSpec>,
     /// Fixed (SPC) node sets (default: none, a free-free component).
     #[serde(default)]
     pub fixed: Vec<FixedSpec>,
@@ -424,10 +427,7 @@ impl Scene {
                 });
             }
             if let Some(m) = &c.material {
-                m.validate().map_err(|e| PipelineError::Scene {
-                    field: format!("components[{i}].material"),
-                    message: e.to_string(),
-                })?;
+                m.validate(&format!("components[{i}].material"))?;
             } else if !c.geometry.file_has_materials() {
                 return Err(PipelineError::Scene {
                     field: format!("components[{i}].material"),

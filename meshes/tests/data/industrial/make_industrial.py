@@ -125,6 +125,81 @@ def bracket():
     bdf.write_bdf(path("bracket_hex20.bdf"), size=16, is_double=True)
 
 
+# Orthotropic lining constants (a transversely isotropic organic pad: stiff in its plane 1-2,
+# soft through its thickness 3), on material axes turned away from the global ones.
+ORTHO = dict(e1=8.0e9, e2=6.5e9, e3=2.0e9, nu12=0.25, nu13=0.12, nu23=0.15,
+             g12=3.0e9, g13=1.1e9, g23=0.9e9)
+ORTHO_RHO = 2500.0
+
+
+def ortho_axes():
+    """Unit material axes 1, 2 (rows), turned 30 deg about z then 20 deg about the new 1."""
+    c, s = np.cos(np.radians(30.0)), np.sin(np.radians(30.0))
+    e1 = np.array([c, s, 0.0])
+    e2 = np.array([-s, c, 0.0])
+    z = np.array([0.0, 0.0, 1.0])
+    ca, sa = np.cos(np.radians(20.0)), np.sin(np.radians(20.0))
+    e2, e3 = ca * e2 + sa * z, -sa * e2 + ca * z
+    return e1, e2, e3
+
+
+def ortho_stiffness_nastran():
+    """The 6x6 stiffness from the engineering constants, in Nastran's MAT9 strain order
+    (xx, yy, zz, xy, yz, zx), by inverting the compliance with numpy."""
+    o = ORTHO
+    S = np.zeros((6, 6))
+    S[0, 0], S[1, 1], S[2, 2] = 1 / o["e1"], 1 / o["e2"], 1 / o["e3"]
+    S[0, 1] = S[1, 0] = -o["nu12"] / o["e1"]
+    S[0, 2] = S[2, 0] = -o["nu13"] / o["e1"]
+    S[1, 2] = S[2, 1] = -o["nu23"] / o["e2"]
+    S[3, 3], S[4, 4], S[5, 5] = 1 / o["g12"], 1 / o["g23"], 1 / o["g13"]
+    return np.linalg.inv(S)
+
+
+def bracket_ortho():
+    """The bracket in the orthotropic lining on turned axes: a .bdf (MAT9 from numpy's inverse
+    of the compliance, PSOLID CORDM = a CORD2R on the axes) and an .inp (ENGINEERING
+    CONSTANTS, *ORIENTATION on the axes); the scene gives the msh route the same material."""
+    e1, e2, e3 = ortho_axes()
+    m = meshio.read(path("bracket_hex20.msh"))
+    hexes = np.vstack([c.data for c in m.cells if c.type == "hexahedron20"])
+    clamp = set()
+    for c, ids in zip(m.cells, m.cell_sets["clamp"]):
+        if len(ids):
+            clamp.update(np.asarray(c.data)[ids].ravel().tolist())
+    bdf = BDF(debug=False)
+    for i, x in enumerate(m.points):
+        bdf.add_grid(i + 1, x.tolist())
+    for e, cell in enumerate(hexes):
+        nids = [int(n) + 1 for n in _convert_to_nastran_ordering(cell.tolist(), "CHEXA_")]
+        bdf.add_chexa(e + 1, 1, nids)
+    bdf.add_cord2r(5, [0.0, 0.0, 0.0], e3.tolist(), e1.tolist())
+    bdf.add_psolid(1, 9, cordm=5)
+    D = ortho_stiffness_nastran()
+    iu = np.triu_indices(6)
+    bdf.add_mat9(9, rho=ORTHO_RHO, **{f"G{i+1}{j+1}": float(D[i, j]) for i, j in zip(*iu)})
+    bdf.add_spc1(1, "123", sorted(n + 1 for n in clamp))
+    bdf.write_bdf(path("bracket_ortho.bdf"), size=16, is_double=True)
+    out = meshio.Mesh(m.points, [("hexahedron20", hexes)],
+                      point_sets={"clamp": np.array(sorted(clamp))},
+                      cell_sets={"body": [np.arange(len(hexes))]})
+    meshio.write(path("bracket_ortho.inp"), out, file_format="abaqus")
+    o = ORTHO
+    with open(path("bracket_ortho.inp"), "a") as f:
+        f.write("** the lining material (make_industrial.py)\n")
+        f.write("*ORIENTATION, NAME=LINING_AXES\n")
+        f.write(", ".join(f"{v:.17g}" for v in list(e1) + list(e2)) + ", 0., 0., 0.\n")
+        f.write("*SOLID SECTION, ELSET=body, MATERIAL=LINING, ORIENTATION=LINING_AXES\n,\n")
+        f.write("*MATERIAL, NAME=LINING\n*ELASTIC, TYPE=ENGINEERING CONSTANTS\n")
+        f.write(f"{o['e1']}, {o['e2']}, {o['e3']}, {o['nu12']}, {o['nu13']}, {o['nu23']}, "
+                f"{o['g12']}, {o['g13']},\n{o['g23']}\n")
+        f.write(f"*DENSITY\n{ORTHO_RHO}\n*BOUNDARY\nclamp, 1, 3\n")
+    json.dump({"source": "make_industrial.py: the lining's constants and axes",
+               "orthotropic": ORTHO, "density": ORTHO_RHO,
+               "e1": e1.tolist(), "e2": e2.tolist()},
+              open(path("bracket_ortho.json"), "w"), indent=1)
+
+
 # ----------------------------------------------------------------------------- mixed.bdf
 
 # Reference cells (natural node positions, squeal/VTK order, 0-based) whose corners the
@@ -460,5 +535,6 @@ def assembly():
 
 if __name__ == "__main__":
     bracket()
+    bracket_ortho()
     mixed()
     assembly()

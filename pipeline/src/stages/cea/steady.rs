@@ -298,6 +298,8 @@ mod tests {
             temperature: 0.0,
             tie: None,
             rotor_rows: Vec::new(),
+            pad_side: None,
+            friction: None,
         };
         let gaps = GapSet::new(
             vec![gap(0, 0.0), gap(6, 1.0)],

@@ -21,7 +21,7 @@ use faer::Mat;
 use rayon::prelude::*;
 use squeal_contact::{
     match_gaps, mortar_gaps, tie_gaps, ContactNode, FaceKind, FrictionLaw, GapSet, MatchOptions,
-    RotorFace,
+    MortarOptions, RotorFace,
 };
 use squeal_fe::{assemble, pressure_load, AssemblyOptions, DofMap};
 use squeal_meshes::{CellKind, FaceSet, Mesh};
@@ -226,9 +226,16 @@ fn match_pairs(
                             ),
                         }
                     })?;
-                    mortar_gaps(&pad_nodes, &pad_faces, &faces, &opts, &pair.tie_options())
-                        .map_err(contact_err)?
-                        .0
+                    mortar_gaps(
+                        &pad_nodes,
+                        &pad_faces,
+                        &faces,
+                        &opts,
+                        &pair.tie_options(),
+                        &MortarOptions::default(),
+                    )
+                    .map_err(contact_err)?
+                    .0
                 } else {
                     tie_gaps(&pad_nodes, &faces, &opts, &pair.tie_options()).map_err(contact_err)?
                 };

@@ -242,6 +242,8 @@ fn parse_csv(text: &str) -> Result<(Vec<Gap>, Vec<String>), String> {
                 None
             },
             rotor_rows: Vec::new(),
+            pad_side: None,
+            friction: None,
         });
         places.push(format!("line {ln}"));
     }
