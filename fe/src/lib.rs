@@ -28,4 +28,4 @@ pub use modal::{
     solve_modes, solve_modes_with, FactorKind, ModalOptions, ModalStats, ModalStatus, Modes,
 };
 pub use ordering::{dof_coordinates, nested_dissection, FillOrdering, NestedDissectionOptions};
-pub use squeal_meshes::{Mesh, Real};
+pub use squeal_meshes::{Interrupt, Mesh, Real};

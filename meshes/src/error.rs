@@ -125,6 +125,9 @@ pub enum MeshError {
         status: String,
         message: String,
     },
+    /// The caller's interrupt (`GmshOptions::interrupt`) asked to stop: gmsh was killed.
+    #[error("interrupted by the caller: `{command}` was stopped")]
+    Interrupted { command: String },
     /// An invalid gmsh option.
     #[error("gmsh option `{field}` = {value}: {reason}")]
     InvalidGmshOption {

@@ -51,6 +51,9 @@ pub fn assemble<M: Clone + Into<SolidMaterial>>(
         let per = d * d + nn * nn;
         let mut buf = vec![0.0 as Real; per * CHUNK.min(block.len())];
         for start in (0..block.len()).step_by(CHUNK) {
+            if opts.interrupt.is_set() {
+                return Err(FeError::Interrupted { during: "assembly" });
+            }
             let end = (start + CHUNK).min(block.len());
             buf[..per * (end - start)]
                 .par_chunks_mut(per)
