@@ -84,6 +84,46 @@ fn gmsh_nastran_and_abaqus_routes_give_the_same_modes() {
     assert!(reader.notes.iter().any(|n| n.contains("C3D20RH")));
 }
 
+/// A CAD-like part: the anchor arm (OpenCASCADE block + boss − bolt hole, `anchor.geo`)
+/// meshed by gmsh in unstructured tet10 whose mid-edge nodes lie on the curved surfaces
+/// (a mid-edge node up to 10 % of its edge's length off the chord, smallest dihedral angle
+/// 11.6°, `anchor_tet10.json`), clamped at one end: gmsh's `.msh`, pyNastran's CTETRA deck
+/// and meshio's C3D10 input give the same eight frequencies to 1e-10.
+#[test]
+fn curved_tet10_part_gives_the_same_modes_by_all_routes() {
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(data().join("anchor_tet10.json")).unwrap())
+            .unwrap();
+    // The mesh is the distorted one the test is about.
+    assert!(r["max_mid_edge_offset_over_length"].as_f64().unwrap() > 0.05);
+    assert!(r["min_dihedral_deg"].as_f64().unwrap() < 20.0);
+    let clamp = format!("{STEEL}\nfixed = [{{ set = \"clamp\" }}]");
+    let msh = scene(r#"{ kind = "msh", path = "anchor_tet10.msh" }"#, &clamp);
+    let bdf = scene(r#"{ kind = "bdf", path = "anchor_tet10.bdf" }"#, "");
+    let inp = scene(r#"{ kind = "inp", path = "anchor_tet10.inp" }"#, &clamp);
+    let q = Progress::quiet();
+    let a = modes::compute(&msh, None, &work("anchor-msh"), &q).unwrap();
+    let b = modes::compute(&bdf, None, &work("anchor-bdf"), &q).unwrap();
+    let c = modes::compute(&inp, None, &work("anchor-inp"), &q).unwrap();
+    let n = r["n_nodes"].as_u64().unwrap() as usize;
+    let clamped = r["n_clamped_nodes"].as_u64().unwrap() as usize;
+    for m in [&a, &b, &c] {
+        assert_eq!(m.report.n_dofs, 3 * (n - clamped));
+    }
+    let fa = &a.report.frequencies_hz;
+    let mut worst: f64 = 0.0;
+    for f in [&b.report.frequencies_hz, &c.report.frequencies_hz] {
+        for i in 0..8 {
+            worst = worst.max(((f[i] - fa[i]) / fa[i]).abs());
+        }
+    }
+    eprintln!(
+        "anchor tet10: f1 = {:.6} Hz, f8 = {:.6} Hz, largest relative difference {worst:.2e}",
+        fa[0], fa[7]
+    );
+    assert!(worst < 1e-10, "largest relative difference {worst:e}");
+}
+
 /// Cards the reader does not read are warnings with their counts (in `summary.json` through
 /// the mesh report and the model's warnings); MAT1 and MAT9 (on the CORD1R axes of its
 /// PSOLID's CORDM, pyNastran's) become fe's materials; the scene's `materials.<pid_N>`

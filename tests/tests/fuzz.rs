@@ -326,6 +326,7 @@ fn fuzz_nastran_bulk_data() {
         "meshes/tests/data/industrial/mixed_grids.bdf",
         "meshes/tests/data/industrial/mixed_free.bdf",
         "meshes/tests/data/industrial/bracket_hex20.bdf",
+        "meshes/tests/data/industrial/bracket_ortho.bdf",
     ]);
     // The grid and free-field files alone have no solids: rejected (naming the input).
     for (name, b) in &s {
@@ -351,6 +352,7 @@ fn fuzz_abaqus_input() {
     let s = seeds(&[
         "meshes/tests/data/industrial/assembly.inp",
         "meshes/tests/data/industrial/bracket_hex20.inp",
+        "meshes/tests/data/industrial/bracket_ortho.inp",
     ]);
     accepted(&s, check_inp);
     fuzz(

@@ -25,6 +25,24 @@ pub(crate) fn section(
     notes: &mut Vec<String>,
 ) -> Result<Section, MeshError> {
     let Some(m) = bulk.mats.get(&p.mid) else {
+        if let Some((card, at)) = bulk.other_mats.get(&p.mid) {
+            let why = match card.as_str() {
+                "MAT2" | "MAT8" => "a shell material, which a solid cannot use",
+                _ => "a card squeal does not read",
+            };
+            return Err(deck.err(
+                p.at,
+                format!(
+                    "PSOLID {}: MID = {} is {card} {} ({}), {why}: give the material as MAT1 \
+                     or MAT9 (its 6×6 stiffness), or set the scene's `materials.pid_{}`",
+                    p.pid,
+                    p.mid,
+                    p.mid,
+                    deck.at(*at),
+                    p.pid
+                ),
+            ));
+        }
         return Err(deck.err(
             p.at,
             format!(

@@ -186,6 +186,9 @@ pub(crate) struct Bulk {
     pub spcadds: BTreeMap<u64, SpcAdd>,
     pub set1: BTreeMap<u64, Set1>,
     pub unsupported: BTreeMap<String, (usize, Loc)>,
+    /// Material cards not read (MAT2, MAT8, MAT11, …): material id → (card name, place), so
+    /// that a PSOLID naming one says which card it is.
+    pub other_mats: BTreeMap<u64, (String, Loc)>,
     pub case: CaseControl,
 }
 
@@ -467,6 +470,13 @@ fn add_card(bulk: &mut Bulk, deck: &Deck, card: &Card) -> Result<(), MeshError> 
             }
         }
         other => {
+            if other.starts_with("MAT") {
+                if let Ok(Some(mid)) = f.opt_id(0, "MID") {
+                    bulk.other_mats
+                        .entry(mid)
+                        .or_insert((other.to_string(), card.at));
+                }
+            }
             let e = bulk
                 .unsupported
                 .entry(other.to_string())

@@ -253,6 +253,24 @@ fn bad_decks_name_file_line_and_entity() {
             vec![":11:", "PSOLID 1", "MID = 7"],
         ),
         (
+            "shell-mat",
+            format!("{base}{hex}PSOLID,1,7\nMAT2,7,2.1+5,,,2.1+5\n"),
+            vec![
+                ":11:",
+                "PSOLID 1",
+                "MID = 7 is MAT2 7",
+                ":12",
+                "shell material",
+            ],
+        ),
+        (
+            "mat11",
+            format!(
+                "{base}{hex}PSOLID,1,7\nMAT11,7,8.+9,6.5+9,2.+9,.25,.12,.15,3.+9\n,1.1+9,.9+9\n"
+            ),
+            vec![":11:", "PSOLID 1", "MID = 7 is MAT11 7", ":12", "MAT9"],
+        ),
+        (
             "undefined-grid",
             format!("{base}CHEXA,12,1,1,2,3,4,5,6\n,7,99\n{prop}"),
             vec![":9:", "CHEXA 12", "G8 = 99"],

@@ -11,6 +11,15 @@ It writes, beside this script:
   CHEXA 20-node in Nastran's order from meshio's VTK→Nastran permutation, PSOLID, MAT1, SPC1)
   and `bracket_hex20.inp` (meshio's Abaqus writer: *NODE, *ELEMENT, *NSET, *ELSET). The three
   files hold the same mesh: `squeal modes` must give the same frequencies on all three.
+- `bracket_ortho.bdf`, `bracket_ortho.inp`, `bracket_ortho.json`: the same bracket in an
+  orthotropic lining on turned axes (MAT9 from numpy's inverse of the compliance on a CORD2R
+  CORDM; ENGINEERING CONSTANTS on an *ORIENTATION); the JSON gives the constants and axes the
+  scene gives the `.msh` route.
+- `anchor.geo` → `anchor_tet10.msh` (gmsh, OpenCASCADE block + boss − bolt hole, unstructured
+  tet10 with mid-edge nodes on the curved surfaces) and from it `anchor_tet10.bdf` (pyNastran:
+  CTETRA 10-node, PSOLID, MAT1, SPC1) and `anchor_tet10.inp` (meshio: C3D10, *NSET);
+  `anchor_tet10.json`: sizes and distortion (largest mid-edge offset from the chord over the
+  edge length, smallest dihedral angle).
 - `mixed.bdf` + `mixed_grids.bdf` (large field, included) + `mixed_free.bdf` (free field,
   written here as text): every solid shape linear and quadratic, some mirrored, grids in
   chained CORD2R/CORD2C/CORD2S and CORD1R systems, CD systems, MAT1, MAT9, PSOLID with CORDM,
@@ -198,6 +207,91 @@ def bracket_ortho():
                "orthotropic": ORTHO, "density": ORTHO_RHO,
                "e1": e1.tolist(), "e2": e2.tolist()},
               open(path("bracket_ortho.json"), "w"), indent=1)
+
+
+# ----------------------------------------------------------------------------- anchor (tet10)
+
+ANCHOR_GEO = """// An anchor-bracket arm as CAD gives it: a block with a bolt hole and a round boss,
+// OpenCASCADE booleans, meshed by gmsh in unstructured tet10 with its mid-edge nodes on the
+// curved surfaces (squeal's reader tests; lengths in metres).
+SetFactory("OpenCASCADE");
+Box(1) = {0, 0, 0, 0.06, 0.02, 0.012};
+Cylinder(2) = {0.06, 0.01, 0, 0, 0, 0.012, 0.01};
+BooleanUnion{ Volume{1}; Delete; }{ Volume{2}; Delete; }
+Cylinder(3) = {0.06, 0.01, -0.001, 0, 0, 0.014, 0.0045};
+BooleanDifference{ Volume{1}; Delete; }{ Volume{3}; Delete; }
+Mesh.MeshSizeMax = 0.006;
+Mesh.MeshSizeFromCurvature = 8;
+Physical Volume("body") = {1};
+Physical Surface("clamp") = Surface In BoundingBox{-1e-6, -1, -1, 1e-6, 1, 1};
+"""
+
+
+def anchor():
+    """The anchor arm in tet10 (gmsh, curved mid-edge nodes), and from its mesh a .bdf
+    (pyNastran: CTETRA 10-node, PSOLID, MAT1, SPC1) and an .inp (meshio: C3D10, *NSET); the
+    JSON gives how far from straight and how far from regular the cells are."""
+    with open(path("anchor.geo"), "w") as f:
+        f.write(ANCHOR_GEO)
+    gmsh = [sys.executable, os.path.join(os.path.dirname(sys.executable), "gmsh")]
+    subprocess.run(
+        gmsh + ["-3", "-order", "2", path("anchor.geo"), "-format", "msh41",
+                "-o", path("anchor_tet10.msh")],
+        check=True,
+        stdout=subprocess.DEVNULL,
+    )
+    m = meshio.read(path("anchor_tet10.msh"))
+    tets = np.vstack([c.data for c in m.cells if c.type == "tetra10"])
+    clamp = set()
+    for c, ids in zip(m.cells, m.cell_sets["clamp"]):
+        if len(ids):
+            clamp.update(np.asarray(c.data)[ids].ravel().tolist())
+    used = np.unique(tets)
+    assert len(used) == len(m.points), "every node is a tet10 node"
+    # Distortion: mid-edge offset from the chord's midpoint over the edge length (curved
+    # edges), and the smallest dihedral angle of the corner tetrahedra.
+    x = m.points
+    edges = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
+    bow = 0.0
+    for k, (a, b) in enumerate(edges):
+        mid = (x[tets[:, a]] + x[tets[:, b]]) / 2
+        length = np.linalg.norm(x[tets[:, a]] - x[tets[:, b]], axis=1)
+        bow = max(bow, float(np.max(np.linalg.norm(x[tets[:, 4 + k]] - mid, axis=1) / length)))
+    min_dihedral = 180.0
+    faces = [(1, 2, 3), (0, 2, 3), (0, 1, 3), (0, 1, 2)]
+    for t in tets[:, :4]:
+        p = x[t]
+        normals = []
+        for i, f in enumerate(faces):
+            n = np.cross(p[f[1]] - p[f[0]], p[f[2]] - p[f[0]])
+            if np.dot(n, p[i] - p[f[0]]) > 0:
+                n = -n
+            normals.append(n / np.linalg.norm(n))
+        for i in range(4):
+            for j in range(i + 1, 4):
+                ang = 180.0 - np.degrees(np.arccos(np.clip(np.dot(normals[i], normals[j]), -1, 1)))
+                min_dihedral = min(min_dihedral, ang)
+
+    out = meshio.Mesh(m.points, [("tetra10", tets)],
+                      point_sets={"clamp": np.array(sorted(clamp))},
+                      cell_sets={"body": [np.arange(len(tets))]})
+    meshio.write(path("anchor_tet10.inp"), out, file_format="abaqus")
+    bdf = BDF(debug=False)
+    for i, p in enumerate(m.points):
+        bdf.add_grid(i + 1, p.tolist())
+    for e, cell in enumerate(tets):
+        nids = [int(n) + 1 for n in _convert_to_nastran_ordering(cell.tolist(), "CTETRA")]
+        bdf.add_ctetra(e + 1, 1, nids)
+    bdf.add_psolid(1, 1)
+    bdf.add_mat1(1, E, None, NU, rho=RHO)
+    bdf.add_spc1(1, "123", sorted(n + 1 for n in clamp))
+    bdf.write_bdf(path("anchor_tet10.bdf"), size=16, is_double=True)
+    json.dump({"source": "make_industrial.py: anchor_tet10.msh read by meshio",
+               "n_nodes": int(len(m.points)), "n_tet10": int(len(tets)),
+               "n_clamped_nodes": len(clamp),
+               "max_mid_edge_offset_over_length": bow,
+               "min_dihedral_deg": min_dihedral},
+              open(path("anchor_tet10.json"), "w"), indent=1)
 
 
 # ----------------------------------------------------------------------------- mixed.bdf
@@ -536,5 +630,6 @@ def assembly():
 if __name__ == "__main__":
     bracket()
     bracket_ortho()
+    anchor()
     mixed()
     assembly()
