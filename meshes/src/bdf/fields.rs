@@ -99,7 +99,7 @@ fn split_fixed(line: &str) -> Result<Split, String> {
     for c in line.chars() {
         if c == '\t' {
             cols.push(' ');
-            while cols.len() % 8 != 0 {
+            while !cols.len().is_multiple_of(8) {
                 cols.push(' ');
             }
         } else {
