@@ -631,6 +631,10 @@ fn modes_with_nested_dissection_equal_modes_with_amd() {
     assert_eq!(amd.stats.ordering, Some(FillOrdering::Amd));
     assert_eq!(nd.stats.ordering, Some(FillOrdering::NestedDissection));
     assert!(nd.stats.nested_dissection.is_some());
+    // The nested dissection's top level splits the factor into two parallel halves.
+    let split = nd.stats.split.as_ref().expect("split factor used");
+    assert!(split.sizes[0] > 0 && split.sizes[1] > 0 && split.sizes[2] > 0);
+    assert_eq!(split.sizes.iter().sum::<usize>(), asm.k.nrows());
     eprintln!(
         "n = {}: nnz(L) AMD {} ND {}",
         asm.k.nrows(),

@@ -142,6 +142,12 @@ impl Dissection<'_> {
         drop(nodes);
         if depth == 0 {
             self.stats.top_separator_nodes = sep.len();
+            let dofs = |set: &[usize]| -> usize {
+                set.iter()
+                    .map(|&v| self.g.dof_ptr[v + 1] - self.g.dof_ptr[v])
+                    .sum()
+            };
+            self.stats.top_split_dofs = [dofs(&a), dofs(&b), dofs(&sep)];
         }
         self.stats.n_separators += 1;
         self.stats.separator_nodes += sep.len();

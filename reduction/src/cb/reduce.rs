@@ -161,10 +161,13 @@ pub fn reduce_interface(
     if let Some(llt) = &llt {
         // Each solve works on a permuted copy of its columns (faer's workspace: n_i × block),
         // so the blocks are capped: whole halves of Ψ would double its memory.
+        let threads = if llt.is_parallel() {
+            1
+        } else {
+            rayon::current_num_threads()
+        };
         let chunk = match opts.constraint_block {
-            0 => nb
-                .div_ceil(rayon::current_num_threads())
-                .clamp(1, CONSTRAINT_BLOCK_MAX),
+            0 => nb.div_ceil(threads).clamp(1, CONSTRAINT_BLOCK_MAX),
             c => c,
         };
         psi.par_col_chunks_mut(chunk)
@@ -194,7 +197,11 @@ pub fn reduce_interface(
         }
         Some(llt) => {
             // One traversal of the factor per thread: split the block's columns evenly.
-            let threads = rayon::current_num_threads();
+            let threads = if llt.is_parallel() {
+                1
+            } else {
+                rayon::current_num_threads()
+            };
             let solve = |x: faer::MatMut<'_, Real>| {
                 let chunk = x.ncols().div_ceil(threads).max(1);
                 x.par_col_chunks_mut(chunk)
