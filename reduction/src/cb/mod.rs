@@ -22,8 +22,9 @@ mod options;
 mod partition;
 mod reduce;
 mod rigid;
+mod verify;
 
-pub use check::{check, CbCheck, CheckOptions, FrequencyRow, RigidCheck};
+pub use check::{check, CbCheck, CheckOptions, FrequencyRow, FullMethod, RigidCheck};
 pub use eigen::dense_generalized_eigen;
 pub use factor::KiiOrdering;
 pub use interface::{polynomial_basis, InterfaceBasis, InterfaceDof};
@@ -32,3 +33,4 @@ pub use options::CbOptions;
 pub use partition::Sparse;
 pub use reduce::{reduce, reduce_damped, reduce_interface, reduce_ordered};
 pub use rigid::{dof_points, rigid_body_mass, DofPoint, RigidBodyMass};
+pub use verify::Verification;
