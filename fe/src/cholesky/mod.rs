@@ -8,6 +8,8 @@
 //! (to round-off) as one factorisation in the nested-dissection order, with both cores busy in
 //! the factorisation and in each block solve, and half of the factor read per core.
 
+mod bordered;
 mod split;
 
+pub use bordered::BorderedCholesky;
 pub use split::{SplitCholesky, SplitStats};

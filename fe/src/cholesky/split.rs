@@ -11,23 +11,15 @@
 //! y_k = L_kk⁻¹ b_k and L_Sk y_k = −T_k z_k; the backward substitution of F_kᵀ on
 //! [y_k; T_kᵀ x_S] gives x_k = L_kk⁻ᵀ (y_k − L_Skᵀ x_S).
 
+use super::bordered::{fail, BorderedCholesky};
 use crate::ordering::{CholeskyFill, DofPermutation};
 use crate::{FeError, Real};
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
-use faer::perm::PermRef;
-use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
-use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
-    SymmetricOrdering,
-};
-use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat};
-use faer::{Accum, Conj, Mat, MatMut, Par, Side, Spec};
+use faer::sparse::SparseColMatRef;
+use faer::{Accum, Mat, MatMut, Par, Side};
 use serde::Serialize;
 use std::time::Instant;
 
@@ -47,33 +39,16 @@ pub struct SplitStats {
     pub separator_s: Real,
 }
 
-struct Part {
-    /// New → original index of the bordered matrix's rows: D_k then S.
-    rows: Vec<usize>,
-    n_own: usize,
-    sym: SymbolicCholesky<usize>,
-    vals: Vec<Real>,
-    /// T_k, the factor's trailing n_S × n_S block (lower).
-    t: Mat<Real>,
-}
-
 /// Cholesky factor of an SPD matrix split at a separator, factorised and solved by two parallel
 /// subdomain factors ([module docs](self)).
 pub struct SplitCholesky {
     n: usize,
     /// Original indices of the separator.
     sep: Vec<usize>,
-    parts: [Part; 2],
+    parts: [BorderedCholesky; 2],
     /// L_S, the dense factor of the separator's Schur complement (lower).
     ls: Mat<Real>,
     stats: SplitStats,
-}
-
-fn fail(what: &str, e: impl std::fmt::Debug) -> FeError {
-    FeError::Factorisation {
-        what: format!("split Cholesky: {what}"),
-        reason: format!("{e:?}"),
-    }
 }
 
 impl SplitCholesky {
@@ -103,10 +78,6 @@ impl SplitCholesky {
         }
         let t0 = Instant::now();
         let sep: Vec<usize> = perm.perm[n1 + n2..].to_vec();
-        let rows = |range: std::ops::Range<usize>| -> Vec<usize> {
-            perm.perm[range].iter().chain(&sep).copied().collect()
-        };
-        let (r1, r2) = (rows(0..n1), rows(n1..n1 + n2));
         // Which subdomain each original index is in (0, 1; 2 = separator).
         let mut side = vec![2u8; n];
         for &i in &perm.perm[..n1] {
@@ -125,12 +96,11 @@ impl SplitCholesky {
                 }
             }
         }
-        let (b1, b2) = rayon::join(|| bordered(a, &r1), || bordered(a, &r2));
         let build_s = t0.elapsed().as_secs_f64();
         let t1 = Instant::now();
         let (p1, p2) = rayon::join(
-            || factor_part(b1, r1, n1, ns),
-            || factor_part(b2, r2, n2, ns),
+            || BorderedCholesky::factorize(a, &perm.perm[..n1], &sep),
+            || BorderedCholesky::factorize(a, &perm.perm[n1..n1 + n2], &sep),
         );
         let (p1, p2) = (p1?, p2?);
         let factor_s = t1.elapsed().as_secs_f64();
@@ -156,8 +126,8 @@ impl SplitCholesky {
             matmul(
                 s.as_mut(),
                 Accum::Add,
-                p.t.as_ref(),
-                p.t.transpose(),
+                p.trailing().as_ref(),
+                p.trailing().transpose(),
                 1.0,
                 par,
             );
@@ -171,10 +141,7 @@ impl SplitCholesky {
             Mat::zeros(0, 0)
         };
         let separator_s = t2.elapsed().as_secs_f64();
-        let fill: Vec<CholeskyFill> = [&p1, &p2]
-            .iter()
-            .map(|p| CholeskyFill::of(&p.sym))
-            .collect();
+        let fill: Vec<CholeskyFill> = [&p1, &p2].iter().map(|p| p.fill()).collect();
         let nsf = ns as Real;
         let stats = SplitStats {
             sizes: split,
@@ -209,12 +176,12 @@ impl SplitCholesky {
     pub fn solve_in_place(&self, mut rhs: MatMut<'_, Real>) {
         let k = rhs.ncols();
         let ns = self.sep.len();
-        let gather = |p: &Part, rhs: &MatMut<'_, Real>| {
-            let mut z = Mat::<Real>::zeros(p.rows.len(), k);
+        let gather = |p: &BorderedCholesky, rhs: &MatMut<'_, Real>| {
+            let mut z = Mat::<Real>::zeros(p.rows().len(), k);
             for c in 0..k {
                 let src = rhs.as_ref().col(c);
                 let dst = z.col_as_slice_mut(c);
-                for (d, &i) in dst[..p.n_own].iter_mut().zip(&p.rows) {
+                for (d, &i) in dst[..p.n_own()].iter_mut().zip(p.rows()) {
                     *d = src[i];
                 }
             }
@@ -231,8 +198,8 @@ impl SplitCholesky {
             matmul(
                 xs.as_mut(),
                 Accum::Add,
-                p.t.as_ref(),
-                z.as_ref().subrows(p.n_own, ns),
+                p.trailing().as_ref(),
+                z.as_ref().subrows(p.n_own(), ns),
                 1.0,
                 Par::Seq,
             );
@@ -241,9 +208,9 @@ impl SplitCholesky {
         solve_upper_triangular_in_place(self.ls.transpose(), xs.as_mut(), Par::Seq);
         for (p, z) in [(&self.parts[0], &mut z1), (&self.parts[1], &mut z2)] {
             matmul(
-                z.as_mut().subrows_mut(p.n_own, ns),
+                z.as_mut().subrows_mut(p.n_own(), ns),
                 Accum::Replace,
-                p.t.transpose(),
+                p.trailing().transpose(),
                 xs.as_ref(),
                 1.0,
                 Par::Seq,
@@ -258,7 +225,7 @@ impl SplitCholesky {
             for p_z in [(&self.parts[0], &z1), (&self.parts[1], &z2)] {
                 let (p, z) = p_z;
                 let src = z.col_as_slice(c);
-                for (&i, &v) in p.rows[..p.n_own].iter().zip(src) {
+                for (&i, &v) in p.rows()[..p.n_own()].iter().zip(src) {
                     dst[i] = v;
                 }
             }
@@ -269,143 +236,12 @@ impl SplitCholesky {
     }
 }
 
-impl Part {
-    /// Forward (L) or backward (Lᵀ, `transpose`) substitution with the bordered factor, in place.
-    fn substitute(&self, z: MatMut<'_, Real>, transpose: bool) {
-        let SymbolicCholeskyRaw::Supernodal(s) = self.sym.raw() else {
-            unreachable!("split Cholesky parts are supernodal")
-        };
-        let mut buf = MemBuffer::new(s.solve_in_place_scratch::<Real>(z.ncols(), Par::Seq));
-        let f = SupernodalLltRef::new(s, &self.vals);
-        let stack = MemStack::new(&mut buf);
-        if transpose {
-            f.l_transpose_solve_with_conj(Conj::No, z, Par::Seq, stack);
-        } else {
-            f.l_solve_with_conj(Conj::No, z, Par::Seq, stack);
-        }
-    }
-}
-
-/// The lower triangle of A restricted to `rows` (new → original), in that order.
-fn bordered(a: SparseColMatRef<'_, usize, Real>, rows: &[usize]) -> SparseColMat<usize, Real> {
-    let m = rows.len();
-    let mut local = vec![usize::MAX; a.ncols()];
-    for (l, &i) in rows.iter().enumerate() {
-        local[i] = l;
-    }
-    // Entry (i ≥ j) of A goes to column min(li, lj), row max(li, lj).
-    let mut count = vec![0usize; m + 1];
-    for (lj, &j) in rows.iter().enumerate() {
-        for &i in a.row_idx_of_col_raw(j) {
-            let li = local[i];
-            if i >= j && li != usize::MAX {
-                count[li.min(lj) + 1] += 1;
-            }
-        }
-    }
-    for c in 0..m {
-        count[c + 1] += count[c];
-    }
-    let mut fill = count.clone();
-    let mut ri = vec![0usize; count[m]];
-    let mut rv = vec![0.0; count[m]];
-    for (lj, &j) in rows.iter().enumerate() {
-        for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
-            let li = local[i];
-            if i >= j && li != usize::MAX {
-                let (r, c) = (li.max(lj), li.min(lj));
-                ri[fill[c]] = r;
-                rv[fill[c]] = v;
-                fill[c] += 1;
-            }
-        }
-    }
-    // Sort each column by row.
-    for c in 0..m {
-        let (s, e) = (count[c], count[c + 1]);
-        let mut idx: Vec<usize> = (s..e).collect();
-        idx.sort_unstable_by_key(|&p| ri[p]);
-        let (r, v): (Vec<usize>, Vec<Real>) = idx.iter().map(|&p| (ri[p], rv[p])).unzip();
-        ri[s..e].copy_from_slice(&r);
-        rv[s..e].copy_from_slice(&v);
-    }
-    SparseColMat::new(SymbolicSparseColMat::new_checked(m, m, count, None, ri), rv)
-}
-
-fn factor_part(
-    b: SparseColMat<usize, Real>,
-    rows: Vec<usize>,
-    n_own: usize,
-    ns: usize,
-) -> Result<Part, FeError> {
-    let params = CholeskySymbolicParams {
-        supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-        ..Default::default()
-    };
-    // An explicit identity permutation: faer 0.24's `SymmetricOrdering::Identity` skips the
-    // conversion to the upper triangle its symbolic analysis reads, and ignores `side`.
-    let id: Vec<usize> = (0..b.ncols()).collect();
-    let ord = SymmetricOrdering::Custom(PermRef::new_checked(&id, &id, b.ncols()));
-    let sym = factorize_symbolic_cholesky(b.symbolic(), Side::Lower, ord, params)
-        .map_err(|e| fail("symbolic", e))?;
-    drop(id);
-    let mut vals = vec![0.0; sym.len_val()];
-    let par = Par::Seq;
-    let mut buf =
-        MemBuffer::try_new(sym.factorize_numeric_llt_scratch::<Real>(par, Spec::default()))
-            .map_err(|e| fail("workspace", e))?;
-    sym.factorize_numeric_llt(
-        &mut vals,
-        b.as_ref(),
-        Side::Lower,
-        LltRegularization::default(),
-        par,
-        MemStack::new(&mut buf),
-        Spec::default(),
-    )
-    .map_err(|e| fail("subdomain (not positive definite)", e))?;
-    drop(b);
-    // T_k: the factor's entries in rows and columns ≥ n_own.
-    let SymbolicCholeskyRaw::Supernodal(s) = sym.raw() else {
-        unreachable!("forced supernodal")
-    };
-    let mut t = Mat::<Real>::zeros(ns, ns);
-    let f = SupernodalLltRef::new(s, &vals);
-    for k in 0..s.n_supernodes() {
-        let node = f.supernode(k);
-        let (start, mat, pattern) = (node.start(), node.val(), node.pattern());
-        let width = mat.ncols();
-        if start + width <= n_own {
-            continue;
-        }
-        for c in 0..width {
-            let col = start + c;
-            if col < n_own {
-                continue;
-            }
-            for r in c..width {
-                t[(start + r - n_own, col - n_own)] = mat[(r, c)];
-            }
-            for (q, &row) in pattern.iter().enumerate() {
-                t[(row - n_own, col - n_own)] = mat[(width + q, c)];
-            }
-        }
-    }
-    Ok(Part {
-        rows,
-        n_own,
-        sym,
-        vals,
-        t,
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::ordering::nested_dissection;
     use crate::NestedDissectionOptions;
-    use faer::sparse::Triplet;
+    use faer::sparse::{SparseColMat, Triplet};
 
     /// 3D 7-point Laplacian + shift on an nx × ny × nz grid (SPD), with its node coordinates.
     fn grid(nx: usize, ny: usize, nz: usize) -> (SparseColMat<usize, Real>, Vec<[Real; 3]>) {

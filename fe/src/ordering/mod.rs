@@ -19,10 +19,12 @@ mod fill;
 mod graph;
 mod leaf;
 mod separator;
+mod substructure;
 
 pub use dissect::nested_dissection;
 pub use fill::{cholesky_fill, CholeskyFill};
 pub use graph::dof_coordinates;
+pub use substructure::{substructure, Substructuring};
 
 use crate::{FeError, Real};
 use serde::{Deserialize, Serialize};
