@@ -13,6 +13,9 @@ pub enum EigenMethod {
     Dense,
     /// Shift-invert block Lanczos reusing the Cholesky factor of K_ii.
     BlockLanczos,
+    /// Substructured: the substructures' modes and separator shapes, then a dense second
+    /// level (`CbStats::multilevel`).
+    Substructured,
     /// No interior DOFs, or no modes asked for.
     None,
 }
@@ -61,6 +64,9 @@ pub struct CbStats {
     pub total_s: Real,
     /// Peak resident memory (VmHWM, KiB) after each phase, when /proc/self/status is readable.
     pub peak_rss_kib: PhaseMemory,
+    /// The substructured reduction's substructures, separators and error estimates, when it
+    /// was used.
+    pub multilevel: Option<super::multilevel::MultilevelStats>,
 }
 
 /// Peak resident set size after each phase, KiB (None off Linux).

@@ -33,6 +33,8 @@ pub struct CbOptions {
     pub lanczos_max_dim: usize,
     /// Relative residual below which a Lanczos Ritz pair counts as converged (default: 1e-9).
     pub lanczos_tol: Real,
+    /// Substructured reduction of large components (default: off, `above_dofs` = none).
+    pub substructures: super::multilevel::SubstructureOptions,
 }
 
 impl Default for CbOptions {
@@ -47,6 +49,7 @@ impl Default for CbOptions {
             lanczos_block: 16,
             lanczos_max_dim: 600,
             lanczos_tol: 1e-9,
+            substructures: Default::default(),
         }
     }
 }
@@ -118,7 +121,7 @@ impl CbOptions {
         if !(self.lanczos_tol > 0.0 && self.lanczos_tol < 1e-2) {
             return Err(bad("lanczos_tol", self.lanczos_tol, "must be in (0, 1e-2)"));
         }
-        Ok(())
+        self.substructures.validate()
     }
 
     /// The cutoff frequency in Hz, if any (explicit, or factor × frequency of interest).

@@ -106,6 +106,19 @@ pub fn reduce_interface(
     if let Some(b) = b {
         check_square(b, n, "damping B")?;
     }
+    let n_interior = n - boundary.len() - interface.map_or(0, |f| f.dofs.len());
+    if let (Some(above), Some(c)) = (opts.substructures.above_dofs, dof_coords) {
+        if n_interior > above {
+            if b.is_some() {
+                return Err(ReductionError::InvalidOption {
+                    field: "substructures.above_dofs",
+                    value: above.to_string(),
+                    reason: "a damping matrix is not reduced by substructures".into(),
+                });
+            }
+            return super::multilevel::reduce(k, m, boundary, interface, opts, c);
+        }
+    }
     let all_boundary: Vec<usize> = match interface {
         Some(f) => boundary.iter().chain(&f.dofs).copied().collect(),
         None => boundary.to_vec(),
@@ -279,6 +292,7 @@ pub fn reduce_interface(
         products_s,
         total_s: t_start.elapsed().as_secs_f64(),
         peak_rss_kib: mem,
+        multilevel: None,
     };
     Ok(CbModel {
         k: kr,
