@@ -317,6 +317,7 @@ fn run_pipeline(
                 "component": c.name, "n_free_dofs": c.n_free_dofs, "n_nodes": c.n_nodes,
                 "n_boundary_coords": c.cb_stats.as_ref().map(|s| s.n_boundary), "n_modes": c.n_modes,
                 "highest_fixed_interface_hz": c.fixed_interface_hz.last(),
+                "fixed_interface_hz": c.fixed_interface_hz,
                 "cb_stats": c.cb_stats,
             })
         })

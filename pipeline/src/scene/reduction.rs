@@ -2,6 +2,7 @@
 
 use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
+use squeal_reduction::cb::SubstructureOptions;
 use squeal_reduction::CbOptions;
 use std::path::PathBuf;
 
@@ -27,6 +28,10 @@ pub struct ReductionSpec {
     /// Run the Craig–Bampton checks (symmetry, M_qq = I, K_bq = 0, rigid-body mass, frequencies
     /// against the full component) and write `checks.json` (default: true).
     pub checks: bool,
+    /// Substructured reduction of large components: `[reduction.substructures]` with
+    /// `above_dofs` (default: off), `max_dofs`, `cutoff_factor`, `degree`, `max_degree`, `tol`,
+    /// `max_rounds` (squeal_reduction::cb::SubstructureOptions; docs/multilevel.md).
+    pub substructures: SubstructureOptions,
 }
 
 impl Default for ReductionSpec {
@@ -37,6 +42,7 @@ impl Default for ReductionSpec {
             cutoff_factor: 2.0,
             n_modes: None,
             checks: true,
+            substructures: SubstructureOptions::default(),
         }
     }
 }
@@ -49,6 +55,7 @@ impl ReductionSpec {
             cutoff_hz: self.cutoff_hz,
             cutoff_factor: self.cutoff_factor,
             n_modes: self.n_modes,
+            substructures: self.substructures.clone(),
             ..CbOptions::default()
         }
     }

@@ -76,8 +76,19 @@ pub(super) fn reduce(
             &what,
         )?
     } else {
+        // The number of modes below the cut-off is not known in advance: a Krylov space too
+        // small for them is doubled (up to half the substructure).
         let solve = |x: faer::MatMut<'_, Real>| factor.solve_own(x);
-        eigen::lanczos(&solve, &m_jj, 0.0, want, lanczos, &what)?
+        let mut params = lanczos;
+        loop {
+            match eigen::lanczos(&solve, &m_jj, 0.0, want, params, &what) {
+                Ok(p) => break p,
+                Err(ReductionError::Eigen { .. }) if 2 * params.max_dim <= nj / 2 => {
+                    params.max_dim *= 2;
+                }
+                Err(e) => return Err(e),
+            }
+        }
     };
     let mut w = sym_spmm(&m_jj, psi.as_ref());
     w += &mc;
