@@ -543,12 +543,20 @@ pub fn build_from_mesh_cached(
             reduction_cache: r.cache.clone(),
         })
         .collect();
-    let checks = scene
+    let checks: Vec<(String, CbCheck)> = scene
         .components
         .iter()
         .zip(reduced.iter())
         .filter_map(|(spec, r)| r.check.clone().map(|c| (spec.name.clone(), c)))
         .collect();
+    for (name, c) in checks.iter().filter(|(_, c)| !c.passed) {
+        warnings.push(Warning {
+            input: format!("reduction.checks (component `{name}`)"),
+            message: format!("the Craig–Bampton check failed: {}", c.failures.join("; ")),
+            value: c.max_abs_error_pct.unwrap_or(Real::NAN),
+            tolerance: CheckOptions::default().max_error_pct,
+        });
+    }
     drop(comps);
     // Recovery needs every component's Ψ and Φ: none when one came from the component cache.
     let recoverable = reduced.iter().all(|r| r.cb.is_some());
