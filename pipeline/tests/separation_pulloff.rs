@@ -213,3 +213,44 @@ fn separation_keys_are_checked_naming_key_and_value() {
         load(sets).unwrap_or_else(|e| panic!("{sets:?}: {e}"));
     }
 }
+
+/// `transient.collapse_factor` and `collapse_steps` reach the integrator, and a collapse ends
+/// the run at once as `unresolved` (`stopped`, status `step_collapse`): with the factor 0.5 the
+/// threshold is 2 h_max (h_max = the band bound 1/(40 × 10 kHz) = 2.5e-6 s), which every step
+/// is below, so the first 5 steps are a "collapse" by construction.
+#[test]
+fn a_collapsed_step_stops_the_run_and_the_verdict_says_so() {
+    use squeal_solver::bdf::Status;
+    let d = std::env::temp_dir().join(format!("squeal-collapse-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    let sets: Vec<String> = [
+        "transient.collapse_factor=0.5",
+        "transient.collapse_steps=5",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let scene = Scene::from_toml_str(&pulled_pad(false), d.clone(), &sets).unwrap();
+    let run = RunDir::create(&d.join("run")).unwrap();
+    let m = model::build(&scene, &run, &Progress::quiet()).unwrap();
+    let r =
+        transient::compute(&scene, &m, &Progress::quiet(), &TransientOptions::default()).unwrap();
+    match &r.status {
+        Status::StepCollapse {
+            h_collapse, steps, ..
+        } => {
+            assert_eq!(*h_collapse, 2.0 * 2.5e-6);
+            assert_eq!(*steps, 5);
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(r.steps, 5);
+    assert!(
+        matches!(&r.verdict.state, VerdictState::Unresolved { reasons }
+            if reasons.iter().any(|x| matches!(x, Unresolved::Stopped { .. }))),
+        "{:?}",
+        r.verdict.state
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
