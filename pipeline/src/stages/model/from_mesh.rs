@@ -91,18 +91,29 @@ fn fe_err(component: &str) -> impl Fn(squeal_fe::FeError) -> PipelineError + '_ 
     }
 }
 
-/// The quad4/quad8 faces of a face block as the contact crate takes them (node ids = grids,
-/// face id = index in the block).
+/// True for the quadratic face kinds (their consistent corner areas are ≤ 0).
+fn quadratic_faces(kind: CellKind) -> bool {
+    face_kind(kind).is_some_and(FaceKind::is_quadratic)
+}
+
+/// The contact crate's kind of a face cell kind (None: not a face).
+fn face_kind(kind: CellKind) -> Option<FaceKind> {
+    match kind {
+        CellKind::Quad4 => Some(FaceKind::Quad4),
+        CellKind::Quad8 => Some(FaceKind::Quad8),
+        _ => None,
+    }
+}
+
+/// The faces of a face block as the contact crate takes them (node ids = grids, face id =
+/// index in the block).
 fn rotor_faces(block: &CellBlock, mesh: &Mesh, grid_of: &[u64]) -> Result<Vec<RotorFace>, String> {
-    let kind = match block.kind {
-        CellKind::Quad4 => FaceKind::Quad4,
-        CellKind::Quad8 => FaceKind::Quad8,
-        k => {
-            return Err(format!(
-                "has {k:?} faces; surface pairing takes quad4 or quad8 faces"
-            ))
-        }
-    };
+    let kind = face_kind(block.kind).ok_or_else(|| {
+        format!(
+            "has {:?} faces; surface pairing takes quad4, quad8, tri3 or tri6 faces",
+            block.kind
+        )
+    })?;
     Ok((0..block.len())
         .map(|f| {
             let nodes = block.cell(f);
@@ -171,7 +182,51 @@ fn match_pairs(
             p0: pair.p0,
             temperature: pair.temperature,
         };
-        let mut set = match pair.pairing {
+        // No pairing named: mortar on quadratic pad faces, nodes otherwise (docs/pairing.md).
+        let pad_block = meshes[cp].faces.get(&pair.pad_faces);
+        let quadratic = pad_block.is_some_and(|b| quadratic_faces(b.kind));
+        let pairing = pair.pairing.unwrap_or(Pairing::default_for(quadratic));
+        if pair.pairing.is_none() && pairing == Pairing::Nodes {
+            let tie = pair.tie_options();
+            let def = squeal_contact::TieOptions::default();
+            let set = [
+                ("unmatched", tie.unmatched != def.unmatched),
+                ("extension", tie.extension != def.extension),
+                ("max_distance", tie.max_distance.is_some()),
+            ];
+            if let Some((key, _)) = set.iter().find(|(_, on)| *on) {
+                return Err(PipelineError::Scene {
+                    field: format!("contact[{i}].{key}"),
+                    message: format!(
+                        "is read only with pairing = \"surface\" or \"mortar\"; the pad faces \
+                         `{}` of `{}` are linear, so this pair matches coincident nodes unless \
+                         `pairing` says otherwise",
+                        pair.pad_faces, pair.pad
+                    ),
+                });
+            }
+        }
+        if quadratic && pairing != Pairing::Mortar {
+            warnings.push(Warning {
+                input: format!("contact[{i}].pairing"),
+                message: format!(
+                    "the pad faces `{}` of `{}` are quadratic: with pairing = \"{}\" each pad \
+                     node's gap carries its consistent nodal force, zero or tensile at the \
+                     faces' corners under a uniform pressure; the default pairing (\"mortar\", \
+                     docs/pairing.md) gives every gap a positive area",
+                    pair.pad_faces,
+                    pair.pad,
+                    if pairing == Pairing::Nodes {
+                        "nodes"
+                    } else {
+                        "surface"
+                    }
+                ),
+                value: 0.0,
+                tolerance: 0.0,
+            });
+        }
+        let mut set = match pairing {
             Pairing::Nodes => {
                 let rset = rmesh.node_sets.get(&pair.rotor_faces).ok_or_else(no_set)?;
                 let rotor_nodes: Vec<ContactNode> = rset
@@ -204,7 +259,7 @@ fn match_pairs(
                     what: what(),
                     source,
                 };
-                let out = if pair.pairing == Pairing::Mortar {
+                let out = if pairing == Pairing::Mortar {
                     let pmesh = &meshes[cp];
                     let block =
                         pmesh
@@ -330,7 +385,7 @@ pub fn build_from_mesh_cached(
     let mut gap_grids: std::collections::HashSet<u64> = gaps
         .gaps
         .iter()
-        .flat_map(|g| std::iter::once(g.pad_node).chain(g.rotor_nodes()))
+        .flat_map(|g| g.pad_nodes().into_iter().chain(g.rotor_nodes()))
         .collect();
     // The contact pair of each rotor gap grid (the patch of an interface basis).
     let mut patch_of: HashMap<u64, usize> = HashMap::new();

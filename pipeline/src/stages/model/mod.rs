@@ -160,7 +160,7 @@ impl ReducedModel {
         let mut missing = Vec::new();
         for g in &self.gaps.gaps {
             // A pad node must have grid DOFs; a rotor node may be recovered instead.
-            let pad = std::iter::once((g.pad_node, false));
+            let pad = g.pad_nodes().into_iter().map(|n| (n, false));
             for (node, may_recover) in pad.chain(g.rotor_nodes().into_iter().map(|n| (n, true))) {
                 if (1..=3).all(|c| {
                     let key = DofKey {

@@ -90,6 +90,9 @@ struct PairKey<'a> {
     /// Surface pairing's options (absent for node pairing, so node-paired keys are unchanged).
     #[serde(skip_serializing_if = "Option::is_none")]
     surface: Option<squeal_contact::TieOptions>,
+    /// No pairing named (the default by the pad faces' kind; absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    auto: Option<bool>,
     /// Mortar pairing (absent otherwise, so other keys are unchanged).
     #[serde(skip_serializing_if = "Option::is_none")]
     mortar: Option<bool>,
@@ -174,8 +177,11 @@ impl ModelKey {
                     rotor: &p.rotor,
                     rotor_faces: &p.rotor_faces,
                     tolerance: p.tolerance,
-                    surface: (p.pairing != crate::scene::Pairing::Nodes).then(|| p.tie_options()),
-                    mortar: (p.pairing == crate::scene::Pairing::Mortar).then_some(true),
+                    surface: (p.pairing != Some(crate::scene::Pairing::Nodes))
+                        .then(|| p.tie_options()),
+                    mortar: (p.pairing == Some(crate::scene::Pairing::Mortar)).then_some(true),
+                    // No pairing named: the pad faces' kind decides (the mesh is in the key).
+                    auto: p.pairing.is_none().then_some(true),
                 })
                 .collect(),
             pressure_loads: loads.map_or(&[], |l| &l.pressure),
