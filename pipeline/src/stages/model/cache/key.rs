@@ -8,6 +8,7 @@
 //!   read), and for a rotated component the `[rotor]` axis and origin it turns about;
 //! - `model.merge_tolerance`;
 //! - the Craig–Bampton options of `[reduction]` (`checks` excepted: it changes no matrix);
+//! - every `[[ties]]` entry;
 //! - each `[[contact]]` pair's pad, pad faces, rotor, rotor faces and matching tolerance, and
 //!   with `pairing = "surface"` its `unmatched`, `extension` and `max_distance`;
 //! - the load sets `loads.pressure` and `loads.force` (the unit brake load; PMAX scales it later);
@@ -115,6 +116,9 @@ struct KeyDoc<'a> {
     merge_tolerance: Real,
     reduction: ReductionKey,
     contact: Vec<PairKey<'a>>,
+    /// `[[ties]]` as written (absent when none, so other keys are unchanged).
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    ties: &'a [crate::scene::TieSpec],
     pressure_loads: &'a [PressureLoad],
     force_loads: &'a [NodeForce],
     element_damping: Vec<Real>,
@@ -184,6 +188,7 @@ impl ModelKey {
                     auto: p.pairing.is_none().then_some(true),
                 })
                 .collect(),
+            ties: &scene.ties,
             pressure_loads: loads.map_or(&[], |l| &l.pressure),
             force_loads: loads.map_or(&[], |l| &l.force),
             element_damping: scene
