@@ -571,6 +571,49 @@ fn rotor_rows_are_the_physical_gap_in_other_coordinates() {
     close(&g, &(&gp * &p), "G");
 }
 
+/// Each gap's blocks (`GapSet::gap_blocks`) scattered and summed are exactly G, D and C_f
+/// (`constraint_matrix`, `add_tangents`), for coincident gaps with fixed DOFs and a DOF
+/// shared by two gaps, and for a gap whose rotor point is given by recovery rows.
+#[test]
+fn gap_blocks_sum_to_g_d_and_c_f() {
+    let law = FrictionLaw::LinearSpeed {
+        mu0: 0.6,
+        slope: -0.02,
+    };
+    let mut with_rows = three_gaps(law.clone(), 1.5);
+    with_rows.gaps[0].rotor_rows = (0..3)
+        .map(|j| RotorRow {
+            dof: 3 + j,
+            weights: [0.9 - 0.1 * j as f64, 0.2 * j as f64, 0.3],
+        })
+        .collect();
+    with_rows.gaps[0].rotor_dofs = [None; 3];
+    for set in [three_gaps(law, 1.5), with_rows] {
+        let v: Vec<f64> = (0..12).map(|i| 0.2 * ((i * 3) % 5) as f64 - 0.4).collect();
+        let lam = [-1.0, -0.4, -2.2];
+        let (mut dl, mut cf) = (Mat::zeros(12, 3), Mat::zeros(12, 12));
+        set.add_tangents(&v, &lam, &mut dl, Some(&mut cf)).unwrap();
+        let g = set.constraint_matrix(12).unwrap();
+        let blocks = set.gap_blocks(&v, &lam).unwrap();
+        let mut g2 = Mat::<f64>::zeros(3, 12);
+        let mut dl2 = Mat::<f64>::zeros(12, 3);
+        let mut cf2 = Mat::<f64>::zeros(12, 12);
+        for (k, b) in blocks.iter().enumerate() {
+            assert!(b.dofs.windows(2).all(|w| w[0] < w[1]), "sorted, unique");
+            for (a, &i) in b.dofs.iter().enumerate() {
+                g2[(k, i)] += b.g[a];
+                dl2[(i, k)] += b.d[a];
+                for (c, &j) in b.dofs.iter().enumerate() {
+                    cf2[(i, j)] += b.c_f[(a, c)];
+                }
+            }
+        }
+        assert!((&g - &g2).norm_max() <= 1e-15 * g.norm_max());
+        assert!((&dl - &dl2).norm_max() <= 1e-15 * dl.norm_max());
+        assert!((&cf - &cf2).norm_max() <= 1e-14 * cf.norm_max());
+    }
+}
+
 /// A gap's own friction law replaces the set's for that gap only: with gap 1's law set to
 /// the set's law B, its forces equal those of a set whose law is B, and the other gaps keep
 /// law A's forces. An invalid own law is an error naming the gap.

@@ -478,7 +478,7 @@ fn pressure_resultants_and_orientation() {
         assert!((s[0] - p * 0.2 * 0.1).abs() < 1e-9 * p);
         // Reversing the node order of the face cells must not change anything.
         let before = face_areas(&mesh, "y1").unwrap();
-        let blk = mesh.faces.get_mut("y1").unwrap();
+        let blk = &mut mesh.faces.get_mut("y1").unwrap().blocks[0];
         let nn = blk.kind.n_nodes();
         for c in blk.conn.chunks_mut(nn) {
             c[..4].reverse();

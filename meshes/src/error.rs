@@ -53,8 +53,8 @@ pub enum MeshError {
         surface: String,
         node_tag: u64,
     },
-    /// A physical surface mixes quad4 and quad8 faces.
-    #[error("{file}:{line}: physical surface `{surface}` mixes {first:?} and {second:?} faces (element {element_tag})")]
+    /// A physical surface mixes linear and quadratic faces (quad4 and quad8, tri3 and tri6…).
+    #[error("{file}:{line}: physical surface `{surface}` mixes {first:?} and {second:?} faces (element {element_tag}): linear and quadratic faces cannot share a surface")]
     MixedFaceKinds {
         file: String,
         line: usize,

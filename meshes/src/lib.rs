@@ -5,6 +5,7 @@
 //! - [`msh`]: reads `.msh` 2.2 / 4.1 files into a [`Mesh`];
 //! - [`vtu`]: writes a [`Mesh`] and point/cell arrays as a VTK `.vtu` file.
 mod error;
+mod face_set;
 pub mod geo;
 pub mod gmsh;
 pub mod jacobian;
@@ -12,11 +13,13 @@ pub mod mesh;
 pub mod msh;
 mod query;
 pub mod structured;
+pub mod topology;
 pub mod vtu;
 
 pub use error::MeshError;
 pub use gmsh::{mesh_geo, mesh_geo_file, GmshOptions, GmshRun};
-pub use mesh::{CellBlock, CellKind, Mesh, Real};
+pub use mesh::{CellBlock, CellKind, Face, FaceSet, Mesh, Real};
 pub use msh::{parse_msh, read_msh};
 pub use query::hex_centroid_jacobian;
+pub use topology::LocalFace;
 pub use vtu::{write_vtu, CellArray, PointArray};

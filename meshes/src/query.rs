@@ -1,6 +1,6 @@
 //! Lookups and simple geometry on a [`Mesh`]: named sets, bounding box, cell orientation.
 
-use crate::{CellBlock, Mesh, MeshError, Real};
+use crate::{CellBlock, FaceSet, Mesh, MeshError, Real};
 
 impl Mesh {
     /// Sorted, unique node indices of the physical group `name` (any dimension).
@@ -16,7 +16,7 @@ impl Mesh {
     }
 
     /// Face cells of the physical surface `name`.
-    pub fn face_set(&self, name: &str) -> Result<&CellBlock, MeshError> {
+    pub fn face_set(&self, name: &str) -> Result<&FaceSet, MeshError> {
         self.faces.get(name).ok_or_else(|| MeshError::UnknownSet {
             what: "face set",
             name: name.to_string(),

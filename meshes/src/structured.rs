@@ -5,7 +5,7 @@
 //! the ξ, η, ζ directions are chosen so that every Jacobian is positive. Node ordering inside
 //! cells is squeal's (= VTK's), see [`crate::mesh`].
 
-use crate::mesh::{CellBlock, CellKind, Mesh, Real};
+use crate::mesh::{CellBlock, CellKind, FaceSet, Mesh, Real};
 use std::collections::BTreeMap;
 
 /// Corner offsets (in units of the cell size) of the hex8 / hex20 corners, VTK order.
@@ -209,10 +209,11 @@ impl Grid {
 }
 
 fn check_kind(kind: CellKind) -> CellKind {
-    // Face kinds have no structured volume meaning: treat them as their volume counterpart.
-    match kind {
-        CellKind::Hex8 | CellKind::Quad4 => CellKind::Hex8,
-        CellKind::Hex20 | CellKind::Quad8 => CellKind::Hex20,
+    // Structured grids are hexahedral: any other kind selects the hexahedron of its order.
+    if kind.is_quadratic() {
+        CellKind::Hex20
+    } else {
+        CellKind::Hex8
     }
 }
 
@@ -233,8 +234,8 @@ fn finish(nodes: Vec<[Real; 3]>, grid: &Grid, volume: &str) -> Mesh {
     }
 }
 
-/// Box `[0,lx]×[0,ly]×[0,lz]` of `nx×ny×nz` hex8 or hex20 cells (a quad kind selects its volume
-/// counterpart; zero counts are raised to 1).
+/// Box `[0,lx]×[0,ly]×[0,lz]` of `nx×ny×nz` hex8 or hex20 cells (another kind selects the
+/// hexahedron of its order; zero counts are raised to 1).
 ///
 /// Volume block `"block"`; node sets and quad4/quad8 face blocks `"x0","x1","y0","y1","z0","z1"`;
 /// node set `"z0_edges"`: nodes on the four edges of the face z = 0.
@@ -259,8 +260,10 @@ pub fn box_mesh(
         let val = if f % 2 == 1 { d[axis] - 1 } else { 0 };
         let set = grid.node_set(&|i, j, k| [i, j, k][axis] == val);
         mesh.node_sets.insert(name.to_string(), set);
-        mesh.faces
-            .insert(name.to_string(), grid.face_block(name, f));
+        mesh.faces.insert(
+            name.to_string(),
+            FaceSet::from_block(grid.face_block(name, f)),
+        );
     }
     let edges =
         grid.node_set(&|i, j, k| k == 0 && (i == 0 || i == d[0] - 1 || j == 0 || j == d[1] - 1));
@@ -303,8 +306,10 @@ pub fn annulus_mesh(
         let val = if f % 2 == 1 { d[axis] - 1 } else { 0 };
         let set = grid.node_set(&|i, j, k| [i, j, k][axis] == val);
         mesh.node_sets.insert(name.to_string(), set);
-        mesh.faces
-            .insert(name.to_string(), grid.face_block(name, f));
+        mesh.faces.insert(
+            name.to_string(),
+            FaceSet::from_block(grid.face_block(name, f)),
+        );
     }
     mesh
 }
@@ -342,7 +347,7 @@ mod tests {
         assert!(jac_sign_ok(&m));
         let m = box_mesh(1.0, 1.0, 1.0, 1, 1, 1, CellKind::Hex20);
         assert_eq!(m.nodes.len(), 20);
-        assert_eq!(m.faces["x0"].kind, CellKind::Quad8);
+        assert_eq!(m.faces["x0"].kind(), Some(CellKind::Quad8));
         assert_eq!(m.node_sets["z0_edges"].len(), 8);
         assert!(jac_sign_ok(&m));
         // Every node is used by some cell.

@@ -366,8 +366,8 @@ fn default_brake_hex20_is_valid_and_coincident() {
     let [rotor, pin, _, calm] = check_brake(&BrakeGeometry::default(), 2, "default");
     // hex20 rotor node count from the rotor's own formula (structured mesh).
     assert_eq!(rotor.nodes.len(), BrakeGeometry::default().rotor.n_nodes(2));
-    assert!(pin.faces["friction"].kind == CellKind::Quad8);
-    assert!(calm.faces["piston_face"].kind == CellKind::Quad8);
+    assert!(pin.faces["friction"].kind() == Some(CellKind::Quad8));
+    assert!(calm.faces["piston_face"].kind() == Some(CellKind::Quad8));
 }
 
 /// Pads touching the hub circle (an arc edge at ring 0) and an interior ring (chords), crossing

@@ -42,14 +42,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 fn face_nodes(mesh: &Mesh, name: &str) -> Vec<usize> {
-    let mut v: Vec<usize> = mesh
-        .faces
-        .get(name)
-        .map(|b| b.conn.clone())
-        .unwrap_or_default();
-    v.sort_unstable();
-    v.dedup();
-    v
+    mesh.faces.get(name).map(|b| b.nodes()).unwrap_or_default()
 }
 
 fn dist2(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -64,8 +57,8 @@ fn rotor_nodes_under(mesh: &Mesh, faces: &[&str], pad_points: &[[f64; 3]]) -> Ve
         let Some(block) = mesh.faces.get(*name) else {
             continue;
         };
-        for i in 0..block.len() {
-            let cell = block.cell(i);
+        for face in block.iter() {
+            let cell = face.nodes;
             let corners: Vec<[f64; 3]> = cell[..4].iter().map(|&n| mesh.nodes[n]).collect();
             let mut c = [0.0; 3];
             for p in &corners {

@@ -10,6 +10,7 @@ pub mod output;
 pub mod progress;
 pub mod scene;
 pub mod stages;
+pub mod uq;
 pub mod warning;
 
 pub use error::PipelineError;

@@ -322,9 +322,7 @@ fn cad_brake_example_parts_mesh_independently() {
     };
     let rotor = mesh("rotor");
     let face_nodes = |m: &squeal_meshes::Mesh, set: &str| -> Vec<[f64; 3]> {
-        let mut v = m.faces[set].conn.clone();
-        v.sort_unstable();
-        v.dedup();
+        let v = m.faces[set].nodes();
         v.iter().map(|&n| m.nodes[n]).collect()
     };
     for (pad, rotor_face, z) in [

@@ -175,7 +175,7 @@ fn patch_distorted(
             area: s,
         })
         .collect();
-    let block = &rotor.faces["z1"];
+    let block = &rotor.faces["z1"].blocks[0];
     let fk = if kind == CellKind::Hex8 {
         FaceKind::Quad4
     } else {
@@ -190,7 +190,7 @@ fn patch_distorted(
         })
         .collect();
     let mut gaps = if mortar {
-        let pb = &pad.faces["z0"];
+        let pb = &pad.faces["z0"].blocks[0];
         let pk = if pad_kind == CellKind::Hex8 {
             FaceKind::Quad4
         } else {

@@ -11,7 +11,7 @@ use faer::linalg::solvers::Solve;
 use faer::Mat;
 use squeal_fe::{assemble, pressure_load, AssemblyOptions, DofMap, Material};
 use squeal_meshes::structured::box_mesh;
-use squeal_meshes::{CellBlock, CellKind, Mesh};
+use squeal_meshes::{CellBlock, CellKind, FaceSet, Mesh};
 use squeal_pipeline::progress::Progress;
 use squeal_pipeline::stages::model::{self, grids, ties};
 use squeal_pipeline::{RunDir, Scene};
@@ -129,8 +129,10 @@ fn two_bodies(a: &Mesh, b: &Mesh) -> Mesh {
         ("cut_b", b, "x0", off),
         ("x1", b, "x1", off),
     ] {
-        m.faces
-            .insert(name.into(), shift(&mesh.faces[set], name, by));
+        m.faces.insert(
+            name.into(),
+            FaceSet::from_block(shift(&mesh.faces[set].blocks[0], name, by)),
+        );
         m.node_sets.insert(
             name.into(),
             mesh.node_sets[set].iter().map(|&n| n + by).collect(),
@@ -470,7 +472,7 @@ fn write_msh(mesh: &Mesh, path: &std::path::Path) {
             mesh.faces
                 .values()
                 .enumerate()
-                .map(|(i, b)| (mesh.volumes.len() + i + 1, b)),
+                .map(|(i, f)| (mesh.volumes.len() + i + 1, &f.blocks[0])),
         )
         .collect();
     let count: usize = blocks.iter().map(|(_, b)| b.len()).sum();

@@ -105,6 +105,14 @@ pub fn modes<'py>(
             CellKind::Hex20 => "hexahedron20",
             CellKind::Quad4 => "quad",
             CellKind::Quad8 => "quad8",
+            CellKind::Tet4 => "tetra",
+            CellKind::Tet10 => "tetra10",
+            CellKind::Wedge6 => "wedge",
+            CellKind::Wedge15 => "wedge15",
+            CellKind::Pyramid5 => "pyramid",
+            CellKind::Pyramid13 => "pyramid13",
+            CellKind::Tri3 => "triangle",
+            CellKind::Tri6 => "triangle6",
         };
         let conn = Array2::from_shape_fn((b.len(), k), |(i, j)| b.conn[i * k + j] as i64);
         cells.append((name, conn.into_pyarray(py)))?;

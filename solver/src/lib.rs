@@ -6,12 +6,19 @@
 //! - [`bsql`]: the BSQL brake-squeal system, paper eqs. (8)–(18), as a [`bdf::DaeSystem`],
 //!   with the steady sliding state and energy bookkeeping.
 //! - [`cea`]: complex eigenvalue analysis, paper eqs. (19)–(24).
+//! - [`condense`]: the band-limited model (in-band contact-linearised roots plus the static
+//!   correction) and its transient.
+//! - [`hb`]: limit cycles of the band-limited model by harmonic balance (AFT, continuation from
+//!   the Hopf point, Floquet stability).
 
 pub mod bdf;
 pub mod bsql;
 pub mod cea;
+pub mod condense;
 pub mod error;
 pub mod galpha;
+pub mod hb;
+pub mod insight;
 mod linalg;
 
 pub use error::SolverError;

@@ -82,7 +82,11 @@ fn check_msh(bytes: &[u8]) -> Result<Outcome, String> {
         Err(e) => return named(e.to_string(), MSH),
     };
     let n = m.nodes.len();
-    for b in m.volumes.iter().chain(m.faces.values()) {
+    for b in m
+        .volumes
+        .iter()
+        .chain(m.faces.values().flat_map(|s| &s.blocks))
+    {
         if b.conn.iter().any(|&i| i >= n) || b.conn.len() % b.kind.n_nodes() != 0 {
             return Err(format!(
                 "block {:?}: node index out of range or ragged",

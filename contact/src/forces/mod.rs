@@ -32,3 +32,4 @@ mod tangents;
 
 pub use kernel::GapOutput;
 pub use regularise::regularisation;
+pub use tangents::GapBlock;

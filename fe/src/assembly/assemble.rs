@@ -102,7 +102,7 @@ fn check_inputs(mesh: &Mesh, materials: &[Material], dofs: &DofMap) -> Result<()
     for (block, mat) in mesh.volumes.iter().zip(materials) {
         mat.validate()?;
         let name = block_name(block);
-        if !block.kind.is_volume() {
+        if !matches!(block.kind, CellKind::Hex8 | CellKind::Hex20) {
             return Err(FeError::WrongCellKind {
                 block: name,
                 kind: format!("{:?}", block.kind),

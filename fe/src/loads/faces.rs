@@ -69,26 +69,26 @@ pub fn face_areas(mesh: &Mesh, face_set: &str) -> Result<Vec<(usize, [Real; 3])>
             name: face_set.to_string(),
             available: mesh.faces.keys().cloned().collect::<Vec<_>>().join(", "),
         })?;
-    let (kind, order) = match block.kind {
-        CellKind::Quad4 => (CellKind::Quad4, 2),
-        CellKind::Quad8 => (CellKind::Quad8, 3),
-        k => {
+    for k in block.kinds() {
+        if !matches!(k, CellKind::Quad4 | CellKind::Quad8) {
             return Err(FeError::WrongCellKind {
                 block: face_set.to_string(),
                 kind: format!("{k:?}"),
                 expected: "quad4 or quad8",
-            })
+            });
         }
-    };
-    let nn = kind.n_nodes();
-    if block.conn.len() != nn * block.tags.len() {
-        return Err(FeError::Dimension {
-            what: "connectivity length of a face block",
-            got: block.conn.len(),
-            expected: nn * block.tags.len(),
-        });
     }
-    if let Some(&bad) = block.conn.iter().find(|&&v| v >= mesh.nodes.len()) {
+    for b in &block.blocks {
+        let nn = b.kind.n_nodes();
+        if b.conn.len() != nn * b.tags.len() {
+            return Err(FeError::Dimension {
+                what: "connectivity length of a face block",
+                got: b.conn.len(),
+                expected: nn * b.tags.len(),
+            });
+        }
+    }
+    if let Some(bad) = block.node_indices().find(|&v| v >= mesh.nodes.len()) {
         return Err(FeError::NodeOutOfRange {
             node: bad,
             n_nodes: mesh.nodes.len(),
@@ -97,7 +97,7 @@ pub fn face_areas(mesh: &Mesh, face_set: &str) -> Result<Vec<(usize, [Real; 3])>
     }
     // Volume cells incident to the face nodes only.
     let mut wanted = vec![false; mesh.nodes.len()];
-    block.conn.iter().for_each(|&v| wanted[v] = true);
+    block.node_indices().for_each(|v| wanted[v] = true);
     let mut incident: BTreeMap<usize, Vec<(usize, usize)>> = BTreeMap::new();
     for (bi, vb) in mesh.volumes.iter().enumerate() {
         for c in 0..vb.len() {
@@ -108,11 +108,11 @@ pub fn face_areas(mesh: &Mesh, face_set: &str) -> Result<Vec<(usize, [Real; 3])>
             }
         }
     }
-    let rule = quad_rule(order);
     let mut acc: BTreeMap<usize, [Real; 3]> = BTreeMap::new();
-    for f in 0..block.len() {
-        let nodes = block.cell(f);
-        let corners = &nodes[..4];
+    for face in block.iter() {
+        let (kind, nodes) = (face.kind, face.nodes);
+        let rule = quad_rule(if kind == CellKind::Quad8 { 3 } else { 2 });
+        let corners = &nodes[..kind.n_corners()];
         let cell = incident.get(&corners[0]).and_then(|cands| {
             cands.iter().find(|&&(bi, c)| {
                 let cn = mesh.volumes[bi].cell(c);
@@ -121,7 +121,7 @@ pub fn face_areas(mesh: &Mesh, face_set: &str) -> Result<Vec<(usize, [Real; 3])>
         });
         let &(bi, c) = cell.ok_or_else(|| FeError::OrphanFace {
             set: face_set.to_string(),
-            tag: block.tags[f],
+            tag: face.tag,
         })?;
         let cc = centroid(mesh, mesh.volumes[bi].cell(c));
         let fc = centroid(mesh, nodes);
@@ -130,7 +130,7 @@ pub fn face_areas(mesh: &Mesh, face_set: &str) -> Result<Vec<(usize, [Real; 3])>
         if len0.is_nan() || len0 <= 0.0 {
             return Err(FeError::DegenerateFace {
                 set: face_set.to_string(),
-                tag: block.tags[f],
+                tag: face.tag,
                 det: len0,
             });
         }

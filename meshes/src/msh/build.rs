@@ -137,22 +137,23 @@ pub(crate) fn build(raw: RawMesh, file: &str) -> Result<Mesh, MeshError> {
                 }
                 for &t in phys {
                     let name = name_of(dim, t);
-                    let block = mesh.faces.entry(name.clone()).or_insert_with(|| CellBlock {
-                        name: Some(name.clone()),
-                        kind,
-                        conn: Vec::new(),
-                        tags: Vec::new(),
-                    });
-                    if block.kind != kind {
+                    let set = mesh.faces.entry(name.clone()).or_default();
+                    // One surface may hold quadrilaterals and triangles, but not linear and
+                    // quadratic faces together.
+                    if let Some(first) = set
+                        .kinds()
+                        .find(|k| k.is_quadratic() != kind.is_quadratic())
+                    {
                         return Err(MeshError::MixedFaceKinds {
                             file: file.to_string(),
                             line: e.line,
                             surface: name,
-                            first: block.kind,
+                            first,
                             second: kind,
                             element_tag: e.tag,
                         });
                     }
+                    let block = set.block_mut(kind, Some(&name));
                     block.conn.extend_from_slice(&conn);
                     block.tags.push(e.tag);
                 }
@@ -244,7 +245,7 @@ fn orient(
                     cell[k] = old[f];
                 }
             }
-            CellKind::Quad4 | CellKind::Quad8 => {}
+            _ => {}
         }
     }
     Ok(())

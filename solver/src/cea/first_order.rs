@@ -39,6 +39,85 @@ pub(crate) fn first_order_eigen(
     let m = khat.nrows();
     let n2 = 2 * m;
     let a = first_order_matrix_of(khat, chat);
+    let (s_re, s_im, u, rho) = real_evd(&a, vectors)?;
+    // (eigenvalue, column of Re, column of Im and its sign) of the kept roots.
+    let mut kept: Vec<Kept> = Vec::with_capacity(m + 1);
+    let mut j = 0;
+    while j < n2 {
+        if s_im[j] == 0.0 {
+            kept.push((Cplx::new(s_re[j], 0.0), j, None));
+            j += 1;
+        } else {
+            // A pair: columns j, j+1 hold Re and Im of the vector of s_re[j] + i s_im[j].
+            let sign = if s_im[j] > 0.0 { 1.0 } else { -1.0 };
+            kept.push((Cplx::new(s_re[j], s_im[j].abs()), j, Some((j + 1, sign))));
+            j += 2;
+        }
+    }
+    let k = kept.len();
+    let w = vectors.then(|| {
+        Mat::from_fn(m, 2 * k, |i, c| {
+            if c < k {
+                u[(i, kept[c].1)]
+            } else {
+                kept[c - k].2.map_or(0.0, |(col, sign)| sign * u[(i, col)])
+            }
+        })
+    });
+    Ok(FirstOrder {
+        vals: kept.iter().map(|x| x.0).collect(),
+        rho,
+        w,
+    })
+}
+
+/// `A = [[0, σI], [−K̂/σ, −Ĉ]]`, `σ = sqrt(mean |K̂_ii|)` (see [`first_order_eigen`]).
+pub(crate) fn first_order_matrix_of(khat: &Mat<f64>, chat: Option<&Mat<f64>>) -> Mat<f64> {
+    let m = khat.nrows();
+    let sigma = balance(khat);
+    let mut a = Mat::<f64>::zeros(2 * m, 2 * m);
+    for i in 0..m {
+        a[(i, m + i)] = sigma;
+    }
+    for j in 0..m {
+        for i in 0..m {
+            a[(m + i, j)] = -khat[(i, j)] / sigma;
+        }
+    }
+    if let Some(c) = chat {
+        for j in 0..m {
+            for i in 0..m {
+                a[(m + i, m + j)] = -c[(i, j)];
+            }
+        }
+    }
+    a
+}
+
+/// The balancing scale `σ = sqrt(mean |K̂_ii|)` of [`first_order_matrix_of`] (1 when that is
+/// 0 or not finite).
+pub(crate) fn balance(khat: &Mat<f64>) -> f64 {
+    let m = khat.nrows();
+    let mean_k = (0..m).map(|i| khat[(i, i)].abs()).sum::<f64>() / m.max(1) as f64;
+    if mean_k > 0.0 && mean_k.is_finite() {
+        mean_k.sqrt()
+    } else {
+        1.0
+    }
+}
+
+/// (Re λ, Im λ, packed right eigenvectors, max |λ|) of [`real_evd`].
+pub(crate) type RealEvd = (Vec<f64>, Vec<f64>, Mat<f64>, f64);
+
+/// Every eigenvalue (real and imaginary parts) of a real square matrix, its right eigenvectors
+/// when `vectors` (faer's packed real form: a complex pair at columns j, j+1 holds Re and Im of
+/// the vector of `s_re[j] + i s_im[j]`; an empty matrix otherwise) and the largest |eigenvalue|,
+/// by faer's dense `evd_real` (Hessenberg + real Schur; sequential below 512).
+///
+/// # Errors
+/// Non-convergence and non-finite eigenvalues.
+pub(crate) fn real_evd(a: &Mat<f64>, vectors: bool) -> Result<RealEvd, CeaError> {
+    let n2 = a.nrows();
     // Small problems run sequentially: on the shared 2-core machine the projected sweep's
     // 200×200 solves took ~25 ms/step sequential vs ~30 ms with rayon (noisy, load ~4).
     let par = if n2 < SEQ_BELOW {
@@ -93,61 +172,7 @@ pub(crate) fn first_order_eigen(
         }
         rho = rho.max(re.hypot(im));
     }
-    // (eigenvalue, column of Re, column of Im and its sign) of the kept roots.
-    let mut kept: Vec<Kept> = Vec::with_capacity(m + 1);
-    let mut j = 0;
-    while j < n2 {
-        if s_im[j] == 0.0 {
-            kept.push((Cplx::new(s_re[j], 0.0), j, None));
-            j += 1;
-        } else {
-            // A pair: columns j, j+1 hold Re and Im of the vector of s_re[j] + i s_im[j].
-            let sign = if s_im[j] > 0.0 { 1.0 } else { -1.0 };
-            kept.push((Cplx::new(s_re[j], s_im[j].abs()), j, Some((j + 1, sign))));
-            j += 2;
-        }
-    }
-    let k = kept.len();
-    let w = vectors.then(|| {
-        Mat::from_fn(m, 2 * k, |i, c| {
-            if c < k {
-                u[(i, kept[c].1)]
-            } else {
-                kept[c - k].2.map_or(0.0, |(col, sign)| sign * u[(i, col)])
-            }
-        })
-    });
-    Ok(FirstOrder {
-        vals: kept.iter().map(|x| x.0).collect(),
-        rho,
-        w,
-    })
-}
-
-/// `A = [[0, σI], [−K̂/σ, −Ĉ]]`, `σ = sqrt(mean |K̂_ii|)` (see [`first_order_eigen`]).
-pub(crate) fn first_order_matrix_of(khat: &Mat<f64>, chat: Option<&Mat<f64>>) -> Mat<f64> {
-    let m = khat.nrows();
-    let mean_k = (0..m).map(|i| khat[(i, i)].abs()).sum::<f64>() / m.max(1) as f64;
-    let sigma = if mean_k > 0.0 && mean_k.is_finite() {
-        mean_k.sqrt()
-    } else {
-        1.0
-    };
-    let mut a = Mat::<f64>::zeros(2 * m, 2 * m);
-    for i in 0..m {
-        a[(i, m + i)] = sigma;
-    }
-    for j in 0..m {
-        for i in 0..m {
-            a[(m + i, j)] = -khat[(i, j)] / sigma;
-        }
-    }
-    if let Some(c) = chat {
-        for j in 0..m {
-            for i in 0..m {
-                a[(m + i, m + j)] = -c[(i, j)];
-            }
-        }
-    }
-    a
+    let re: Vec<f64> = (0..n2).map(|j| s_re[j]).collect();
+    let im: Vec<f64> = (0..n2).map(|j| s_im[j]).collect();
+    Ok((re, im, u, rho))
 }

@@ -36,11 +36,12 @@
 mod basis;
 mod check;
 mod critical;
-mod eigen;
+pub(crate) mod eigen;
 mod error;
-mod first_order;
+mod events;
+pub(crate) mod first_order;
 mod lanczos;
-mod operator;
+pub(crate) mod operator;
 mod options;
 mod project;
 mod reduce;
@@ -54,6 +55,7 @@ pub use check::{compare_eigenvalues, CheckKind, EigenvalueComparison, ExactCheck
 pub use critical::CriticalExact;
 pub use eigen::{complex_eigen, first_order_matrix};
 pub use error::CeaError;
+pub use events::ModeEvent;
 pub use options::{BasisSolver, CeaMethod, CeaOptions, ProjectionOptions, SweepOptions};
 pub use reduce::{reduce, Reduced};
 pub use refine::{RefineOptions, RefineStats, RefinedRoot, ShiftStats};

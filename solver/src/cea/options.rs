@@ -228,6 +228,20 @@ pub struct SweepOptions {
     pub exact_check: bool,
     /// With projection, also check every k-th step (k ≥ 1; default: 0: the ends only).
     pub exact_check_every: usize,
+    /// Weight of eigenvalue continuity in the tracking: a candidate's score is its MAC less
+    /// this weight × its distance from the track's linearly predicted eigenvalue relative to
+    /// |p| (default: 1; 0: MAC alone).
+    pub continuity_weight: f64,
+    /// Two tracked branches whose frequencies differ by at most this fraction are locked: the
+    /// start of a lock is reported as a coalescence (default: 5e-3).
+    pub lock_tol: f64,
+    /// A local minimum of two branches' relative frequency gap below this fraction (and
+    /// above `lock_tol`) across which their shapes are exchanged is reported as a veering
+    /// (default: 0.05).
+    pub veer_tol: f64,
+    /// Smallest MAC between one branch's shape before a veering and the other's after it
+    /// (default: 0.5).
+    pub exchange_mac: f64,
 }
 
 impl Default for SweepOptions {
@@ -245,6 +259,10 @@ impl Default for SweepOptions {
             keep_shapes: false,
             exact_check: true,
             exact_check_every: 0,
+            continuity_weight: 1.0,
+            lock_tol: 5e-3,
+            veer_tol: 0.05,
+            exchange_mac: 0.5,
         }
     }
 }
@@ -270,6 +288,30 @@ impl SweepOptions {
             self.exact_critical_tol,
             self.exact_critical_tol > 0.0,
             "must be > 0",
+        )?;
+        check(
+            "sweep.continuity_weight",
+            self.continuity_weight,
+            self.continuity_weight >= 0.0 && self.continuity_weight.is_finite(),
+            "must be finite and >= 0",
+        )?;
+        check(
+            "sweep.lock_tol",
+            self.lock_tol,
+            self.lock_tol >= 0.0 && self.lock_tol < 1.0,
+            "must be in [0, 1)",
+        )?;
+        check(
+            "sweep.veer_tol",
+            self.veer_tol,
+            self.veer_tol >= self.lock_tol && self.veer_tol < 1.0,
+            "must be in [lock_tol, 1)",
+        )?;
+        check(
+            "sweep.exchange_mac",
+            self.exchange_mac,
+            (0.0..=1.0).contains(&self.exchange_mac),
+            "must be in [0, 1]",
         )
     }
 }

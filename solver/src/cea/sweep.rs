@@ -2,6 +2,7 @@
 
 use super::critical::{Bracket, CriticalExact, Point};
 use super::eigen::exact;
+use super::events::{coalescences, veering, EventTolerances, ModeEvent, PairStep};
 use super::operator::check_inputs;
 use super::refine::{refine, RefineStats};
 use super::track::{assign, mac_matrix};
@@ -146,6 +147,8 @@ pub struct Sweep {
     pub steps: Vec<SweepStep>,
     /// Tracked modes.
     pub tracks: Vec<Track>,
+    /// Coalescences (lock-in) and veerings between tracked branches, by μ.
+    pub events: Vec<ModeEvent>,
     /// Statistics.
     pub stats: SweepStats,
 }
@@ -322,6 +325,13 @@ where
     // (track id, mode index) of the tracks alive at the previous step, and its modes.
     let mut alive: Vec<(usize, usize)> = Vec::new();
     let mut prev: Option<CeaResult> = None;
+    let mut prev2: Option<CeaResult> = None;
+    let mut events: Vec<ModeEvent> = Vec::new();
+    let tol = EventTolerances {
+        lock: opts.lock_tol,
+        veer: opts.veer_tol,
+        exchange_mac: opts.exchange_mac,
+    };
     let last = mus.len() - 1;
     for (s, &mu) in mus.iter().enumerate() {
         let check = (opts.exact_check && (s == 0 || s == last))
@@ -336,8 +346,30 @@ where
                 .collect();
             let b: Vec<&[Cplx]> = res.modes.iter().map(|m| m.shape.as_slice()).collect();
             let pa: Vec<Cplx> = alive.iter().map(|&(_, i)| pr.modes[i].eigenvalue).collect();
+            // Each alive track's eigenvalue predicted at μ by linear extrapolation from its
+            // last two steps (its last one when it is new).
+            let pred: Vec<Cplx> = alive
+                .iter()
+                .map(|&(tid, i)| {
+                    let p1 = pr.modes[i].eigenvalue;
+                    match (s >= 2).then(|| tracks[tid].modes[s - 2]).flatten() {
+                        Some(k) => {
+                            let p0 = steps[s - 2].modes[k].eigenvalue;
+                            p1 + (p1 - p0) * ((mu - mus[s - 1]) / (mus[s - 1] - mus[s - 2]))
+                        }
+                        None => p1,
+                    }
+                })
+                .collect();
             let pb: Vec<Cplx> = res.modes.iter().map(|m| m.eigenvalue).collect();
-            let map = assign(&mac_matrix(&a, &b), &pa, &pb, opts.mac_min);
+            let map = assign(
+                &mac_matrix(&a, &b),
+                &pa,
+                &pred,
+                &pb,
+                opts.mac_min,
+                opts.continuity_weight,
+            );
             for (k, &(tid, _)) in alive.iter().enumerate() {
                 if let Some(j) = map[k] {
                     tracks[tid].modes.push(Some(j));
@@ -367,6 +399,10 @@ where
                 });
                 next_alive.push((id, j));
             }
+        }
+        // Veerings with their closest approach at step s − 1 (shapes of s − 2 and s).
+        if let (Some(p1), Some(p2)) = (&prev, &prev2) {
+            find_veerings(&tracks, s, [p2, p1, &res], mus, &tol, &mut events);
         }
         // Onsets between step s−1 and s.
         if let Some(pr) = &prev {
@@ -506,17 +542,79 @@ where
             stats: res.stats.clone(),
         });
         alive = next_alive;
+        prev2 = prev.take();
         prev = Some(res);
     }
     drop(solver);
+    for a in 0..tracks.len() {
+        for b in a + 1..tracks.len() {
+            let shared: Vec<usize> = (0..mus.len())
+                .filter(|&s| tracks[a].modes[s].is_some() && tracks[b].modes[s].is_some())
+                .collect();
+            // Runs of consecutive shared steps.
+            for run in shared.chunk_by(|x, y| y == &(x + 1)) {
+                let pair: Vec<PairStep<'_>> = run
+                    .iter()
+                    .map(|&s| PairStep {
+                        mu: mus[s],
+                        a: &steps[s].modes[tracks[a].modes[s].expect("shared")],
+                        b: &steps[s].modes[tracks[b].modes[s].expect("shared")],
+                    })
+                    .collect();
+                events.extend(coalescences([a, b], run[0], &pair, &tol));
+            }
+        }
+    }
+    events.sort_by(|x, y| event_mu(x).total_cmp(&event_mu(y)));
     stats.n_tracks = tracks.len();
     stats.n_critical = tracks.iter().filter(|t| t.critical.is_some()).count();
     stats.time_s = start.elapsed().as_secs_f64();
     Ok(Sweep {
         steps,
         tracks,
+        events,
         stats,
     })
+}
+
+fn event_mu(e: &ModeEvent) -> f64 {
+    match e {
+        ModeEvent::Coalescence { mu, .. } | ModeEvent::Veering { mu, .. } => *mu,
+    }
+}
+
+/// Veerings whose closest approach is at step `s − 1`, between tracks alive at s − 2, s − 1
+/// and s whose frequencies are neighbours at s − 1 (`w` holds the three steps' results, with
+/// shapes).
+fn find_veerings(
+    tracks: &[Track],
+    s: usize,
+    w: [&CeaResult; 3],
+    mus: &[f64],
+    tol: &EventTolerances,
+    events: &mut Vec<ModeEvent>,
+) {
+    let idx = |t: &Track, k: usize| t.modes.get(k).copied().flatten();
+    let mut alive: Vec<(usize, [usize; 3])> = tracks
+        .iter()
+        .filter_map(|t| Some((t.id, [idx(t, s - 2)?, idx(t, s - 1)?, idx(t, s)?])))
+        .collect();
+    alive.sort_by(|x, y| {
+        w[1].modes[x.1[1]]
+            .frequency_hz
+            .total_cmp(&w[1].modes[y.1[1]].frequency_hz)
+    });
+    for pair in alive.windows(2) {
+        let ((ta, ia), (tb, ib)) = (pair[0], pair[1]);
+        let step = |k: usize| PairStep {
+            mu: mus[s - 2 + k],
+            a: &w[k].modes[ia[k]],
+            b: &w[k].modes[ib[k]],
+        };
+        if let Some(e) = veering([ta, tb], s - 1, [step(0), step(1), step(2)], tol) {
+            events.push(e);
+        }
+    }
 }
 
 /// Resolves `auto`, and builds the basis for `projection` (see [`CeaMethod::Auto`]).

@@ -44,22 +44,29 @@ pub(crate) fn mac_matrix(prev: &[&[Cplx]], next: &[&[Cplx]]) -> Mat<f64> {
     })
 }
 
-/// Greedy assignment: repeatedly pairs the (prev, next) with the largest MAC among the
-/// unpaired ones, down to `mac_min`. Equal MACs go to the closer eigenvalue.
-/// Returns, for each prev, its next index.
+/// Greedy assignment: repeatedly pairs the (prev, next) with the largest score among the
+/// unpaired ones with MAC ≥ `mac_min`, where the score is the MAC less `continuity_weight` ×
+/// the distance of the next eigenvalue from the track's predicted one relative to |p_prev|
+/// (eigenvalue continuity: near a coalescence both partners' shapes tend to the same vector
+/// and their MACs to 1, and the prediction tells them apart). Equal scores go to the closer
+/// eigenvalue. Returns, for each prev, its next index.
 pub(crate) fn assign(
     macm: &Mat<f64>,
     prev_p: &[Cplx],
+    pred_p: &[Cplx],
     next_p: &[Cplx],
     mac_min: f64,
+    continuity_weight: f64,
 ) -> Vec<Option<usize>> {
     let (np, nn) = (macm.nrows(), macm.ncols());
     let mut pairs: Vec<(f64, f64, usize, usize)> = Vec::new();
     for i in 0..np {
+        let scale = prev_p[i].norm().max(f64::MIN_POSITIVE);
         for j in 0..nn {
             let x = macm[(i, j)];
             if x >= mac_min && x > 0.0 {
-                pairs.push((x, (prev_p[i] - next_p[j]).norm(), i, j));
+                let d = (pred_p[i] - next_p[j]).norm();
+                pairs.push((x - continuity_weight * d / scale, d, i, j));
             }
         }
     }

@@ -1,6 +1,7 @@
 //! Shared models for the solver verification tests.
 #![allow(dead_code)]
 
+pub mod hoffmann;
 pub mod random;
 
 use faer::Mat;

@@ -124,9 +124,7 @@ pub fn face_figure(
     let (comp, sh) = (&model.recovery[ci], shapes.get(ci)?);
     let m = sh.modes.get(mode)?;
     let block = comp.mesh.faces.get(face)?;
-    let mut nodes: Vec<usize> = block.conn.clone();
-    nodes.sort_unstable();
-    nodes.dedup();
+    let nodes: Vec<usize> = block.nodes();
     if nodes.is_empty() {
         return None;
     }
@@ -159,11 +157,10 @@ pub fn face_figure(
     let axis_name = ["x", "y", "z"];
     let mut fig = Figure::new(title, axis_name[ax], axis_name[ay]);
     fig.size = (900, 900);
-    let kind_corners = 4;
-    let per = block.kind.n_nodes();
-    for cell in block.conn.chunks(per) {
-        let mut px: Vec<Real> = cell[..kind_corners].iter().map(|&i| x[i][ax]).collect();
-        let mut py: Vec<Real> = cell[..kind_corners].iter().map(|&i| x[i][ay]).collect();
+    for f in block.iter() {
+        let corners = &f.nodes[..f.kind.n_corners()];
+        let mut px: Vec<Real> = corners.iter().map(|&i| x[i][ax]).collect();
+        let mut py: Vec<Real> = corners.iter().map(|&i| x[i][ay]).collect();
         px.push(px[0]);
         py.push(py[0]);
         fig.series

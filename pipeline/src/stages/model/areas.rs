@@ -34,14 +34,14 @@ fn hrz_quad8() -> (Real, Real) {
 pub fn pad_areas(mesh: &Mesh, face_set: &str) -> Result<Vec<(usize, [Real; 3])>, FeError> {
     let consistent = face_areas(mesh, face_set)?;
     let block = &mesh.faces[face_set];
-    if block.kind != CellKind::Quad8 {
+    if block.kind() != Some(CellKind::Quad8) {
         return Ok(consistent);
     }
     let cons: BTreeMap<usize, [Real; 3]> = consistent.into_iter().collect();
     let (wc, wm) = hrz_quad8();
     let mut acc: BTreeMap<usize, [Real; 3]> = BTreeMap::new();
-    for f in 0..block.len() {
-        let nodes = block.cell(f);
+    for face in block.iter() {
+        let nodes = face.nodes;
         let x = |a: usize| mesh.nodes[nodes[a]];
         let (d1, d2) = (
             [x(2)[0] - x(0)[0], x(2)[1] - x(0)[1], x(2)[2] - x(0)[2]],

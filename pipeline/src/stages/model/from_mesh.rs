@@ -25,7 +25,7 @@ use squeal_contact::{
     MortarOptions, RotorFace,
 };
 use squeal_fe::{assemble, pressure_load, AssemblyOptions, DofMap};
-use squeal_meshes::{CellBlock, CellKind, Mesh};
+use squeal_meshes::{CellKind, FaceSet, Mesh};
 use squeal_reduction::cb::{self, CbCheck, CheckOptions};
 use squeal_reduction::superelement::{self, Component, DofKey, DofKind};
 use squeal_reduction::CbModel;
@@ -104,34 +104,35 @@ fn face_kind(kind: CellKind) -> Option<FaceKind> {
     match kind {
         CellKind::Quad4 => Some(FaceKind::Quad4),
         CellKind::Quad8 => Some(FaceKind::Quad8),
+        CellKind::Tri3 => Some(FaceKind::Tri3),
+        CellKind::Tri6 => Some(FaceKind::Tri6),
         _ => None,
     }
 }
 
-/// The faces of a face block as the contact crate takes them (node ids = grids, face id =
-/// index in the block).
+/// The faces of a face set (any mix of quad4, quad8, tri3, tri6) as the contact crate takes
+/// them (node ids = grids, face id = index in the set).
 pub(super) fn rotor_faces(
-    block: &CellBlock,
+    set: &FaceSet,
     mesh: &Mesh,
     grid_of: &[u64],
 ) -> Result<Vec<RotorFace>, String> {
-    let kind = face_kind(block.kind).ok_or_else(|| {
-        format!(
-            "has {:?} faces; surface pairing takes quad4, quad8, tri3 or tri6 faces",
-            block.kind
-        )
-    })?;
-    Ok((0..block.len())
-        .map(|f| {
-            let nodes = block.cell(f);
-            RotorFace {
-                id: f as u64,
-                kind,
-                nodes: nodes.iter().map(|&n| grid_of[n]).collect(),
-                coords: nodes.iter().map(|&n| mesh.nodes[n]).collect(),
-            }
-        })
-        .collect())
+    let mut out = Vec::with_capacity(set.len());
+    for face in set.iter() {
+        let kind = face_kind(face.kind).ok_or_else(|| {
+            format!(
+                "has {:?} faces; surface pairing takes quad4, quad8, tri3 or tri6 faces",
+                face.kind
+            )
+        })?;
+        out.push(RotorFace {
+            id: out.len() as u64,
+            kind,
+            nodes: face.nodes.iter().map(|&n| grid_of[n]).collect(),
+            coords: face.nodes.iter().map(|&n| mesh.nodes[n]).collect(),
+        });
+    }
+    Ok(out)
 }
 
 /// Gaps of every `[[contact]]` pair (coincident nodes or surface pairing), DOFs unassigned,
@@ -191,7 +192,7 @@ fn match_pairs(
         };
         // No pairing named: mortar on quadratic pad faces, nodes otherwise (docs/pairing.md).
         let pad_block = meshes[cp].faces.get(&pair.pad_faces);
-        let quadratic = pad_block.is_some_and(|b| quadratic_faces(b.kind));
+        let quadratic = pad_block.is_some_and(|set| set.kinds().any(quadratic_faces));
         let pairing = pair.pairing.unwrap_or(Pairing::default_for(quadratic));
         if pair.pairing.is_none() && pairing == Pairing::Nodes {
             let tie = pair.tie_options();
@@ -420,7 +421,7 @@ pub fn build_from_mesh_cached(
                 }
                 let mesh = &meshes[c];
                 let nodes: Vec<usize> = match (mesh.faces.get(set), mesh.node_sets.get(set)) {
-                    (Some(block), _) => block.conn.clone(),
+                    (Some(block), _) => block.node_indices().collect(),
                     (None, Some(ns)) => ns.clone(),
                     (None, None) => {
                         return Err(PipelineError::Scene {

@@ -1,0 +1,790 @@
+//! The band-limited transient: the condensed model closed by the exact contact law, as a
+//! semi-explicit index-1 DAE for the BDF.
+//!
+//! Unknowns y = [x; z]: the model's real states x (differential) and the contact outputs
+//! z = [v_c; q] (algebraic): the velocities of the contact DOFs and the linear normal force of
+//! every row (rigid: λ'⁰ + Ñ; compliant: G_k u/c_k). With the inputs f = [ramp(t) − ramp_ref;
+//! r(z)] (the load change, then the remainder at the contact DOFs, see the
+//! [module docs](super)):
+//! ```text
+//! F_x = x' − A_x x − B_x f = 0
+//! F_z = z − z⁰ − C_z x − D_z f = 0
+//! r(z) = F_f(λ'_true, v_c) − F_f⁰ − C_f⁰ v_c − D⁰ (q − λ'⁰) − Gᵀ (λ'_true − q)
+//! ```
+//! λ'_true = q for a bilateral row, min(q, λ'_open) for a unilateral compliant one (p_n =
+//! P0 − λ'/A ≥ 0; its force is continuous, no event). ∂F/∂y' = diag(I, 0).
+//!
+//! # Derivation (iteration matrix)
+//! J = ∂F/∂y + c_j ∂F/∂y' = [[c_j I − A_x, −B_r J_r], [−C_z, I − D_r J_r]] with J_r = ∂r/∂z,
+//! B_r, D_r the contact inputs' columns: ∂r/∂v_c = C_f(v_c, λ'_true) − C_f⁰ and ∂r/∂q_k =
+//! χ_k D_k − D⁰_k − G_kᵀ(χ_k − 1), χ_k = ∂λ'_true/∂q_k ∈ {0, 1}. J_r vanishes at the reference
+//! (the remainder's derivative is zero there), so the *linear* matrix J_r = 0 — block lower
+//! triangular, solved with the 2×2 blocks of c_j I − A_x and one product with C_z, no
+//! factorisation — serves while the response is small; after a Newton failure with a fresh
+//! matrix, or when the friction reports a contact near sticking, the full matrix is formed
+//! and factorised (dense LU of n_states + n_z).
+
+use super::BandModel;
+use crate::bdf::{DaeSystem, TolerancePartition, Tolerances};
+use crate::bsql::{FrictionForces, LoadHistory};
+use crate::linalg::lu::DenseLu;
+use crate::{Real, SolverError};
+use faer::Mat;
+use serde::{Deserialize, Serialize};
+
+/// The contact rows of the band-limited transient.
+#[derive(Debug, Clone)]
+pub struct BandContact {
+    /// G, every row (ng × n): rigid rows are the model's multipliers (in order), compliant rows
+    /// springs.
+    pub g: Mat<Real>,
+    /// Compliance c_k = 1/(k_n A_k) per row (0: rigid).
+    pub compliance: Vec<Real>,
+    /// λ'_open of a unilateral compliant row (None: bilateral).
+    pub open_force: Vec<Option<Real>>,
+}
+
+/// The state the model was linearised about.
+#[derive(Debug, Clone)]
+pub struct BandReference {
+    /// Displacements u⁰ (length n).
+    pub u: Vec<Real>,
+    /// Contact forces λ'⁰ (length ng).
+    pub lambda_dot: Vec<Real>,
+    /// The load factor ramp_ref there (1: the whole brake load).
+    pub ramp: Real,
+}
+
+/// Counters of the band-limited system.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct BandSystemStats {
+    /// Residual evaluations.
+    pub residual_evals: u64,
+    /// Set-ups of the linear (block-triangular) iteration matrix.
+    pub linear_setups: u64,
+    /// Factorisations of the full iteration matrix.
+    pub full_factorisations: u64,
+    /// Newton iterations of the steady states and initial values.
+    pub algebraic_iterations: u64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Matrix {
+    None,
+    Linear(Real),
+    Full,
+}
+
+/// The band-limited model as a [`DaeSystem`].
+#[allow(non_snake_case)]
+pub struct BandSystem<F: FrictionForces> {
+    model: BandModel,
+    friction: F,
+    load: LoadHistory,
+    reference: BandReference,
+    contact: BandContact,
+    /// Contact DOFs (the model's inputs).
+    dofs: Vec<usize>,
+    /// Row of the model's multipliers of each rigid row.
+    rigid_of: Vec<Option<usize>>,
+    /// F_f⁰, C_f⁰, D⁰ at the contact DOFs.
+    f0: Vec<Real>,
+    cf0: Mat<Real>,
+    d0: Mat<Real>,
+    /// G at the contact DOFs (ng × n_c).
+    g_c: Mat<Real>,
+    /// z⁰, C_z, D_z.
+    z0: Vec<Real>,
+    C_z: Mat<Real>,
+    D_z: Mat<Real>,
+    n_x: usize,
+    n_c: usize,
+    ng: usize,
+    /// First contact input.
+    o: usize,
+    // Workspace.
+    v_full: Vec<Real>,
+    f_full: Vec<Real>,
+    f_in: Vec<Real>,
+    lam: Vec<Real>,
+    d_full: Mat<Real>,
+    cf_full: Mat<Real>,
+    lu: DenseLu,
+    matrix: Matrix,
+    full_always: bool,
+    /// Scale s of the friction force, s F_f (default 1: the friction law as given); the
+    /// continuation parameter of the limit cycles (μ → s μ for a law proportional to μ).
+    scale: Real,
+    stats: BandSystemStats,
+}
+
+fn dim(what: &'static str, expected: usize, got: usize) -> Result<(), SolverError> {
+    if expected != got {
+        return Err(SolverError::DimensionMismatch {
+            what,
+            expected,
+            got,
+        });
+    }
+    Ok(())
+}
+
+#[allow(non_snake_case)]
+impl<F: FrictionForces> BandSystem<F> {
+    /// The system of `model` (its rigid rows the rows of `contact` with compliance 0, in order)
+    /// with the friction law, the loads (whose `p_brake` is the model's load input) and the
+    /// reference state.
+    ///
+    /// # Errors
+    /// Sizes that disagree; a unilateral rigid row; a friction force or tangent at a DOF that is
+    /// not a contact DOF of the model.
+    pub fn new(
+        model: BandModel,
+        mut friction: F,
+        load: LoadHistory,
+        reference: BandReference,
+        contact: BandContact,
+    ) -> Result<Self, SolverError> {
+        let n = model.n;
+        let ng = contact.g.nrows();
+        dim("band contact G (columns)", n, contact.g.ncols())?;
+        dim("band contact compliance", ng, contact.compliance.len())?;
+        dim("band contact open forces", ng, contact.open_force.len())?;
+        dim("band reference u", n, reference.u.len())?;
+        dim("band reference λ'", ng, reference.lambda_dot.len())?;
+        load.validate(n)?;
+        let has_load = !model.inputs.load.is_empty();
+        if has_load == load.p_brake.is_empty() {
+            return Err(SolverError::InvalidOption {
+                field: "band model load input",
+                value: format!(
+                    "model {has_load}, load history {}",
+                    !load.p_brake.is_empty()
+                ),
+                reason: "the model needs a load input exactly when the loads have a brake load",
+            });
+        }
+        let mut rigid_of = vec![None; ng];
+        let mut r = 0;
+        for k in 0..ng {
+            if contact.compliance[k] == 0.0 {
+                if contact.open_force[k].is_some() {
+                    return Err(SolverError::InvalidOption {
+                        field: "band contact open force",
+                        value: format!("row {k}"),
+                        reason: "a unilateral row of the band-limited model must be compliant",
+                    });
+                }
+                rigid_of[k] = Some(r);
+                r += 1;
+            }
+        }
+        dim("band model rigid rows", model.ng, r)?;
+        let dofs = model.inputs.contact_dofs.clone();
+        let n_c = dofs.len();
+        let mut is_contact = vec![false; n];
+        for &d in &dofs {
+            is_contact[d] = true;
+        }
+        // The friction at the reference, and where it acts.
+        let zero = vec![0.0; n];
+        let mut f_full = vec![0.0; n];
+        friction.add_forces(-1.0, &zero, &reference.lambda_dot, &mut f_full)?;
+        let mut d_full = Mat::zeros(n, ng);
+        let mut cf_full = Mat::zeros(n, n);
+        friction.add_tangents(
+            -1.0,
+            &zero,
+            &reference.lambda_dot,
+            &mut d_full,
+            Some(&mut cf_full),
+        )?;
+        for i in 0..n {
+            let touched = f_full[i] != 0.0
+                || (0..ng).any(|k| d_full[(i, k)] != 0.0 || contact.g[(k, i)] != 0.0)
+                || (0..n).any(|j| cf_full[(i, j)] != 0.0 || cf_full[(j, i)] != 0.0);
+            if touched && !is_contact[i] {
+                return Err(SolverError::InvalidOption {
+                    field: "band model contact DOFs",
+                    value: format!("DOF {i}"),
+                    reason: "the contact rows or the friction act on a DOF that is not an input",
+                });
+            }
+        }
+        let f0: Vec<Real> = dofs.iter().map(|&d| f_full[d]).collect();
+        let cf0 = Mat::from_fn(n_c, n_c, |a, b| cf_full[(dofs[a], dofs[b])]);
+        let d0 = Mat::from_fn(n_c, ng, |a, k| d_full[(dofs[a], k)]);
+        let g_c = Mat::from_fn(ng, n_c, |k, a| contact.g[(k, dofs[a])]);
+        // The outputs z = [v_c; q].
+        let n_x = model.n_states;
+        let n_in = model.inputs.len();
+        let n_z = n_c + ng;
+        let mut C_z = Mat::zeros(n_z, n_x);
+        let mut D_z = Mat::zeros(n_z, n_in);
+        let mut z0 = vec![0.0; n_z];
+        for (a, &d) in dofs.iter().enumerate() {
+            for j in 0..n_x {
+                C_z[(a, j)] = model.C_v[(d, j)];
+            }
+            for j in 0..n_in {
+                D_z[(a, j)] = model.D_v[(d, j)];
+            }
+        }
+        for k in 0..ng {
+            let row = n_c + k;
+            match rigid_of[k] {
+                Some(r) => {
+                    z0[row] = reference.lambda_dot[k];
+                    for j in 0..n_x {
+                        C_z[(row, j)] = model.C_N[(r, j)];
+                    }
+                    for j in 0..n_in {
+                        D_z[(row, j)] = model.D_N[(r, j)];
+                    }
+                }
+                None => {
+                    let kn = 1.0 / contact.compliance[k];
+                    z0[row] = kn
+                        * (0..n)
+                            .map(|i| contact.g[(k, i)] * reference.u[i])
+                            .sum::<Real>();
+                    for (a, &d) in dofs.iter().enumerate() {
+                        let gk = kn * g_c[(k, a)];
+                        if gk == 0.0 {
+                            continue;
+                        }
+                        for j in 0..n_x {
+                            C_z[(row, j)] += gk * model.C_u[(d, j)];
+                        }
+                        for j in 0..n_in {
+                            D_z[(row, j)] += gk * model.D_u[(d, j)];
+                        }
+                    }
+                }
+            }
+        }
+        let o = model.inputs.first_contact();
+        Ok(Self {
+            model,
+            friction,
+            load,
+            reference,
+            contact,
+            dofs,
+            rigid_of,
+            f0,
+            cf0,
+            d0,
+            g_c,
+            z0,
+            C_z,
+            D_z,
+            n_x,
+            n_c,
+            ng,
+            o,
+            v_full: vec![0.0; n],
+            f_full,
+            f_in: vec![0.0; n_in],
+            lam: vec![0.0; ng],
+            d_full,
+            cf_full,
+            lu: DenseLu::new(n_x + n_z),
+            matrix: Matrix::None,
+            full_always: false,
+            scale: 1.0,
+            stats: BandSystemStats::default(),
+        })
+    }
+
+    /// The condensed model.
+    pub fn model(&self) -> &BandModel {
+        &self.model
+    }
+
+    /// Counters.
+    pub fn stats(&self) -> &BandSystemStats {
+        &self.stats
+    }
+
+    /// Scales the friction force by `s` (μ → s μ for a law proportional to μ; default 1). The
+    /// linear part stays the one linearised at s = 1: the remainder carries the difference
+    /// exactly, (s − 1) F_f included.
+    pub fn set_friction_scale(&mut self, s: Real) {
+        self.scale = s;
+        self.matrix = Matrix::None;
+    }
+
+    /// The friction scale (see [`BandSystem::set_friction_scale`]).
+    pub fn friction_scale(&self) -> Real {
+        self.scale
+    }
+
+    /// Number of real states n_x (the differential unknowns come first in y).
+    pub fn n_states(&self) -> usize {
+        self.n_x
+    }
+
+    /// Form and factorise the full iteration matrix at every set-up (default: only after a
+    /// Newton failure with a fresh linear matrix, or near sticking).
+    pub fn set_full_matrix(&mut self, on: bool) {
+        self.full_always = on;
+        self.matrix = Matrix::None;
+    }
+
+    /// Tolerances: (rtol1, atol1) on the states and the contact velocities, (rtol2, atol2) on
+    /// the normal forces (atol2 ≥ 1e20 leaves them out, as BSQL's multipliers).
+    pub fn tolerances(&self, rtol1: Real, atol1: Real, rtol2: Real, atol2: Real) -> Tolerances {
+        let p = |len, rtol, atol| TolerancePartition { len, rtol, atol };
+        Tolerances::Partitions {
+            parts: vec![
+                p(self.n_x + self.n_c, rtol1, atol1),
+                p(self.ng, rtol2, atol2),
+            ],
+        }
+    }
+
+    /// The contact force λ'_true of every row from the linear normal forces q.
+    fn true_forces(&mut self, q: &[Real]) {
+        for k in 0..self.ng {
+            self.lam[k] = match self.contact.open_force[k] {
+                Some(open) => q[k].min(open),
+                None => q[k],
+            };
+        }
+    }
+
+    /// The inputs f = [ramp(t) − ramp_ref; r(z)] into `self.f_in`.
+    fn inputs(&mut self, t: Real, z: &[Real]) -> Result<(), SolverError> {
+        let (v_c, q) = z.split_at(self.n_c);
+        self.true_forces(q);
+        self.v_full.fill(0.0);
+        for (a, &d) in self.dofs.iter().enumerate() {
+            self.v_full[d] = v_c[a];
+        }
+        self.f_full.fill(0.0);
+        self.friction
+            .add_forces(t, &self.v_full, &self.lam, &mut self.f_full)?;
+        if self.o == 1 {
+            self.f_in[0] = self.load.ramp(t) - self.reference.ramp;
+        }
+        let (ng, n_c, o) = (self.ng, self.n_c, self.o);
+        for a in 0..n_c {
+            let mut r = self.scale * self.f_full[self.dofs[a]] - self.f0[a];
+            for b in 0..n_c {
+                r -= self.cf0[(a, b)] * v_c[b];
+            }
+            for k in 0..ng {
+                r -= self.d0[(a, k)] * (q[k] - self.reference.lambda_dot[k]);
+                r -= self.g_c[(k, a)] * (self.lam[k] - q[k]);
+            }
+            if !r.is_finite() {
+                return Err(SolverError::NonFinite {
+                    what: "band-limited remainder",
+                    t,
+                    index: self.dofs[a],
+                    value: r,
+                });
+            }
+            self.f_in[o + a] = r;
+        }
+        Ok(())
+    }
+
+    /// F_z = z − z⁰ − C_z x − D_z f into `out` (inputs already in `self.f_in`).
+    fn output_residual(&self, x: &[Real], z: &[Real], out: &mut [Real]) {
+        let n_in = self.f_in.len();
+        for (i, o) in out.iter_mut().enumerate() {
+            let mut s = z[i] - self.z0[i];
+            for j in 0..self.n_x {
+                s -= self.C_z[(i, j)] * x[j];
+            }
+            for j in 0..n_in {
+                s -= self.D_z[(i, j)] * self.f_in[j];
+            }
+            *o = s;
+        }
+    }
+
+    /// A_x x + B_x f into `out`.
+    fn state_rate(&self, x: &[Real], out: &mut [Real]) {
+        let n_in = self.f_in.len();
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = (0..n_in)
+                .map(|j| self.model.B_x[(i, j)] * self.f_in[j])
+                .sum();
+        }
+        self.model.add_linear(x, out);
+    }
+
+    /// J_r = ∂r/∂z (n_c × n_z) at (t, z) (after `inputs`).
+    fn remainder_jacobian(&mut self, t: Real, z: &[Real]) -> Result<Mat<Real>, SolverError> {
+        let (n_c, ng) = (self.n_c, self.ng);
+        self.d_full.fill(0.0);
+        self.cf_full.fill(0.0);
+        self.friction.add_tangents(
+            t,
+            &self.v_full,
+            &self.lam,
+            &mut self.d_full,
+            Some(&mut self.cf_full),
+        )?;
+        let q = &z[n_c..];
+        let mut jr = Mat::zeros(n_c, n_c + ng);
+        for a in 0..n_c {
+            let da = self.dofs[a];
+            for b in 0..n_c {
+                jr[(a, b)] = self.scale * self.cf_full[(da, self.dofs[b])] - self.cf0[(a, b)];
+            }
+            for k in 0..ng {
+                let chi = match self.contact.open_force[k] {
+                    Some(open) if q[k] > open => 0.0,
+                    _ => 1.0,
+                };
+                jr[(a, n_c + k)] = chi * self.scale * self.d_full[(da, k)]
+                    - self.d0[(a, k)]
+                    - self.g_c[(k, a)] * (chi - 1.0);
+            }
+        }
+        Ok(jr)
+    }
+
+    /// Solves z = c + H f(t, z) for z by Newton (∂/∂z = I − H_r J_r, H_r the contact inputs'
+    /// columns of H), from the z given.
+    fn solve_affine(
+        &mut self,
+        t: Real,
+        c: &[Real],
+        h: &Mat<Real>,
+        z: &mut [Real],
+    ) -> Result<(), SolverError> {
+        let n_z = z.len();
+        let n_in = self.f_in.len();
+        let mut res = vec![0.0; n_z];
+        let mut lu = DenseLu::new(n_z);
+        let max_iters = 50;
+        for it in 0..=max_iters {
+            self.inputs(t, z)?;
+            for i in 0..n_z {
+                res[i] = z[i] - c[i] - (0..n_in).map(|j| h[(i, j)] * self.f_in[j]).sum::<Real>();
+            }
+            let scale = z.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            let rn = res.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            if rn <= 1e-12 * scale {
+                return Ok(());
+            }
+            if it == max_iters {
+                return Err(SolverError::NewtonFailed {
+                    what: "band-limited contact outputs",
+                    iterations: it,
+                    residual: rn,
+                    tolerance: 1e-12 * scale,
+                });
+            }
+            let jr = self.remainder_jacobian(t, z)?;
+            let hr = h.subcols(self.o, self.n_c) * &jr;
+            for j in 0..n_z {
+                for i in 0..n_z {
+                    lu.a[(i, j)] = if i == j { 1.0 } else { 0.0 } - hr[(i, j)];
+                }
+            }
+            lu.factor("band-limited outputs", t)?;
+            lu.solve(&mut res)?;
+            for i in 0..n_z {
+                z[i] -= res[i];
+            }
+            self.stats.algebraic_iterations += 1;
+        }
+        Ok(())
+    }
+
+    /// x ← A_x⁻¹ x (the 2×2 blocks of the kept pairs, the real roots).
+    fn apply_a_inverse(&self, x: &mut [Real]) {
+        for (p, &o) in self.model.roots.iter().zip(&self.model.offsets) {
+            if p.im != 0.0 {
+                // [[σ, −ω], [ω, σ]]⁻¹ = [[σ, ω], [−ω, σ]] / |λ|².
+                let (a, b) = (x[o], x[o + 1]);
+                let d = p.norm_sqr();
+                x[o] = (p.re * a + p.im * b) / d;
+                x[o + 1] = (-p.im * a + p.re * b) / d;
+            } else {
+                x[o] /= p.re;
+            }
+        }
+    }
+
+    /// The steady state at time `t_steady` (x' = 0: x = −A_x⁻¹ B_x f, z = z⁰ + H_z(0) f with
+    /// the static map H_z(0) = D_z − C_z A_x⁻¹ B_x, solved for z by Newton), then the initial
+    /// values at `t0`: y0 = [x; z(t0)], y0' = [A_x x + B_x f(t0); 0] (z solved again at t0 with
+    /// x fixed: a step load changes the static response at once).
+    ///
+    /// # Errors
+    /// A callback failure or a Newton that does not converge.
+    pub fn initial_values(
+        &mut self,
+        t_steady: Real,
+        t0: Real,
+    ) -> Result<(Vec<Real>, Vec<Real>), SolverError> {
+        let (n_x, n_z) = (self.n_x, self.n_c + self.ng);
+        let n_in = self.f_in.len();
+        let mut ainv_b = self.model.B_x.clone();
+        for j in 0..n_in {
+            let mut col: Vec<Real> = (0..n_x).map(|i| ainv_b[(i, j)]).collect();
+            self.apply_a_inverse(&mut col);
+            for i in 0..n_x {
+                ainv_b[(i, j)] = col[i];
+            }
+        }
+        let h0 = &self.D_z - &self.C_z * &ainv_b;
+        let mut z = self.z0.clone();
+        let z0 = self.z0.clone();
+        self.solve_affine(t_steady, &z0, &h0, &mut z)?;
+        self.inputs(t_steady, &z)?;
+        let x: Vec<Real> = (0..n_x)
+            .map(|i| {
+                -(0..n_in)
+                    .map(|j| ainv_b[(i, j)] * self.f_in[j])
+                    .sum::<Real>()
+            })
+            .collect();
+        // At t0 with x fixed.
+        let c: Vec<Real> = (0..n_z)
+            .map(|i| self.z0[i] + (0..n_x).map(|j| self.C_z[(i, j)] * x[j]).sum::<Real>())
+            .collect();
+        let dz = self.D_z.clone();
+        self.solve_affine(t0, &c, &dz, &mut z)?;
+        let mut rate = vec![0.0; n_x];
+        self.inputs(t0, &z)?;
+        self.state_rate(&x, &mut rate);
+        let mut y = x;
+        y.extend_from_slice(&z);
+        let mut yp = rate;
+        yp.resize(n_x + n_z, 0.0);
+        Ok((y, yp))
+    }
+
+    /// The full model's variables at (t, y, y'): u, v (length n each) and the contact forces
+    /// λ' (length ng), for records and monitors; v' ≈ C_v x' (the static correction's rate left
+    /// out) into `vp` when given.
+    ///
+    /// # Errors
+    /// A friction callback failure.
+    pub fn physical(
+        &mut self,
+        t: Real,
+        y: &[Real],
+        yp: &[Real],
+        u: &mut [Real],
+        v: &mut [Real],
+        lambda_dot: &mut [Real],
+        vp: Option<&mut [Real]>,
+    ) -> Result<(), SolverError> {
+        let (x, z) = y.split_at(self.n_x);
+        self.inputs(t, z)?;
+        let n = self.model.n;
+        let n_in = self.f_in.len();
+        for i in 0..n {
+            let mut su = self.reference.u[i];
+            let mut sv = 0.0;
+            for j in 0..self.n_x {
+                su += self.model.C_u[(i, j)] * x[j];
+                sv += self.model.C_v[(i, j)] * x[j];
+            }
+            for j in 0..n_in {
+                su += self.model.D_u[(i, j)] * self.f_in[j];
+                sv += self.model.D_v[(i, j)] * self.f_in[j];
+            }
+            u[i] = su;
+            v[i] = sv;
+        }
+        lambda_dot.copy_from_slice(&self.lam);
+        if let Some(vp) = vp {
+            for (i, o) in vp.iter_mut().enumerate() {
+                *o = (0..self.n_x).map(|j| self.model.C_v[(i, j)] * yp[j]).sum();
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves the linear (block-triangular) iteration matrix in place.
+    fn solve_linear(&self, cj: Real, b: &mut [Real]) {
+        let (bx, bz) = b.split_at_mut(self.n_x);
+        for (p, &o) in self.model.roots.iter().zip(&self.model.offsets) {
+            if p.im != 0.0 {
+                // [[cj − σ, ω], [−ω, cj − σ]] [a; b] = rhs.
+                let (d, w) = (cj - p.re, p.im);
+                let det = d * d + w * w;
+                let (r0, r1) = (bx[o], bx[o + 1]);
+                bx[o] = (d * r0 - w * r1) / det;
+                bx[o + 1] = (w * r0 + d * r1) / det;
+            } else {
+                bx[o] /= cj - p.re;
+            }
+        }
+        for (i, z) in bz.iter_mut().enumerate() {
+            *z += (0..self.n_x)
+                .map(|j| self.C_z[(i, j)] * bx[j])
+                .sum::<Real>();
+        }
+    }
+}
+
+impl<F: FrictionForces> DaeSystem for BandSystem<F> {
+    fn len(&self) -> usize {
+        self.n_x + self.n_c + self.ng
+    }
+
+    fn residual(
+        &mut self,
+        t: Real,
+        y: &[Real],
+        yp: &[Real],
+        res: &mut [Real],
+    ) -> Result<(), SolverError> {
+        self.stats.residual_evals += 1;
+        let (x, z) = y.split_at(self.n_x);
+        self.inputs(t, z)?;
+        let (rx, rz) = res.split_at_mut(self.n_x);
+        self.state_rate(x, rx);
+        for (r, p) in rx.iter_mut().zip(yp) {
+            *r = p - *r;
+        }
+        self.output_residual(x, z, rz);
+        Ok(())
+    }
+
+    fn setup_jacobian(
+        &mut self,
+        t: Real,
+        y: &[Real],
+        _yp: &[Real],
+        cj: Real,
+    ) -> Result<(), SolverError> {
+        let (x, z) = y.split_at(self.n_x);
+        let _ = x;
+        self.inputs(t, z)?;
+        let near = self.friction.near_stick(t, &self.v_full, &self.lam);
+        if !(self.full_always || near) {
+            self.matrix = Matrix::Linear(cj);
+            self.stats.linear_setups += 1;
+            return Ok(());
+        }
+        self.matrix = Matrix::None;
+        let jr = self.remainder_jacobian(t, z)?;
+        let (n_x, n_c) = (self.n_x, self.n_c);
+        let n_z = n_c + self.ng;
+        let bj = self.model.B_x.subcols(self.o, n_c) * &jr;
+        let dj = self.D_z.subcols(self.o, n_c) * &jr;
+        let a = &mut self.lu.a;
+        a.fill(0.0);
+        for i in 0..n_x {
+            for j in 0..n_z {
+                a[(i, n_x + j)] = -bj[(i, j)];
+            }
+        }
+        for (p, &o) in self.model.roots.iter().zip(&self.model.offsets) {
+            if p.im != 0.0 {
+                a[(o, o)] = cj - p.re;
+                a[(o, o + 1)] = p.im;
+                a[(o + 1, o)] = -p.im;
+                a[(o + 1, o + 1)] = cj - p.re;
+            } else {
+                a[(o, o)] = cj - p.re;
+            }
+        }
+        for i in 0..n_z {
+            for j in 0..n_x {
+                a[(n_x + i, j)] = -self.C_z[(i, j)];
+            }
+            for j in 0..n_z {
+                a[(n_x + i, n_x + j)] = if i == j { 1.0 } else { 0.0 } - dj[(i, j)];
+            }
+        }
+        self.lu.factor("band-limited iteration", t)?;
+        self.stats.full_factorisations += 1;
+        self.matrix = Matrix::Full;
+        Ok(())
+    }
+
+    fn solve_jacobian(&mut self, b: &mut [Real]) -> Result<(), SolverError> {
+        match self.matrix {
+            Matrix::Linear(cj) => {
+                self.solve_linear(cj, b);
+                Ok(())
+            }
+            Matrix::Full => self.lu.solve(b),
+            Matrix::None => Err(SolverError::Callback {
+                t: Real::NAN,
+                message: "band-limited solve requested before a set-up".into(),
+            }),
+        }
+    }
+
+    fn newton_failed_with_fresh_matrix(&mut self) {
+        self.full_always = true;
+    }
+}
+
+impl<F: FrictionForces> BandSystem<F> {
+    /// The rigid row of the model's multipliers for each contact row (None: compliant).
+    pub fn rigid_rows(&self) -> &[Option<usize>] {
+        &self.rigid_of
+    }
+
+    /// Number of contact DOFs n_c (the first n_c outputs z are their velocities, the next ng
+    /// the rows' normal forces).
+    pub fn n_contact(&self) -> usize {
+        self.n_c
+    }
+
+    /// Number of contact rows ng.
+    pub fn n_rows(&self) -> usize {
+        self.ng
+    }
+
+    /// The contact DOFs.
+    pub fn contact_dofs(&self) -> &[usize] {
+        &self.dofs
+    }
+
+    /// The reference outputs z⁰ (zero velocities, the reference normal forces).
+    pub fn z_reference(&self) -> &[Real] {
+        &self.z0
+    }
+
+    /// C_z (n_z × n_x) and D_z (n_z × inputs): z = z⁰ + C_z x + D_z f.
+    #[allow(non_snake_case)]
+    pub fn output_maps(&self) -> (&Mat<Real>, &Mat<Real>) {
+        (&self.C_z, &self.D_z)
+    }
+
+    /// The inputs f(t, z) (length inputs: the load change, then the remainder at the contact
+    /// DOFs) and, when `jacobian`, J_r = ∂r/∂z (n_c × n_z).
+    ///
+    /// # Errors
+    /// A friction callback failure or a non-finite remainder.
+    pub fn evaluate(
+        &mut self,
+        t: Real,
+        z: &[Real],
+        jacobian: bool,
+    ) -> Result<(&[Real], Option<Mat<Real>>), SolverError> {
+        self.inputs(t, z)?;
+        let jr = if jacobian {
+            Some(self.remainder_jacobian(t, z)?)
+        } else {
+            None
+        };
+        Ok((&self.f_in, jr))
+    }
+
+    /// The contact rows (G, compliance, open forces).
+    pub fn contact(&self) -> &BandContact {
+        &self.contact
+    }
+
+    /// The contact forces λ'_true of the outputs z (after [`BandSystem::evaluate`] at z).
+    pub fn contact_forces(&self) -> &[Real] {
+        &self.lam
+    }
+}
