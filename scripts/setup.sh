@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # Installs what squeal needs beside the Rust toolchain, idempotently:
 # a project-local Python virtual environment (.venv) with the gmsh program (the mesher) and the
-# Python peers the tests cross-check against (meshio, numpy, scipy, pyNastran), and what the
+# Python peers the tests cross-check against (meshio, numpy, scipy, pyNastran, scikit-fem), and what the
 # Python package `squeal` is built and tested with (maturin, pytest, pandas, dask[distributed],
 # tqdm). The package itself is installed by scripts/install-python.sh.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 venv="$root/.venv"
-stamp="$venv/.squeal-setup-v3"
-pkgs=(gmsh meshio numpy scipy pyNastran pyyeti "maturin>=1.9,<2" pytest pandas "dask[distributed]" tqdm)
+stamp="$venv/.squeal-setup-v4"
+pkgs=(gmsh meshio numpy scipy pyNastran pyyeti "maturin>=1.9,<2" pytest pandas "dask[distributed]" tqdm scikit-fem)
 if [[ -f "$stamp" ]]; then
   exit 0
 fi

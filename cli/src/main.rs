@@ -199,9 +199,10 @@ enum Verb {
         /// Compare only the lowest N undamped modes of A.
         #[arg(long, value_name = "N")]
         modes: Option<usize>,
-        /// MAC below which two modes are not paired.
-        #[arg(long, value_name = "MIN", default_value_t = 0.5)]
-        pair_mac: f64,
+        /// MAC below which two modes are not paired, in [0, 1] and at most --tol-mac (default:
+        /// 0.5, or --tol-mac when that is lower).
+        #[arg(long, value_name = "MIN")]
+        pair_mac: Option<f64>,
         /// Analysis settings (friction, rotor, loads, [cea]) for the CEA of stored matrices.
         #[arg(long, value_name = "SCENE.toml")]
         scene: Option<PathBuf>,
@@ -237,9 +238,17 @@ fn run_dir(args: &RunArgs) -> Result<RunDir> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    bars::handle_ctrl_c();
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
+            let cancelled = e
+                .downcast_ref::<squeal_pipeline::PipelineError>()
+                .is_some_and(|p| p.is_cancelled());
+            if cancelled {
+                eprintln!("squeal: {e}");
+                return ExitCode::from(bars::EXIT_CANCELLED);
+            }
             // Each stage's error already carries its cause's text; print it once.
             eprintln!("squeal: error: {e}");
             ExitCode::FAILURE
@@ -247,9 +256,14 @@ fn main() -> ExitCode {
     }
 }
 
+/// Prints each warning on stderr (also when it is not a terminal, and with `-q`).
+fn print_warnings(ws: &[squeal_pipeline::Warning]) {
+    ws.iter().for_each(|w| eprintln!("squeal: {w}"));
+}
+
 fn run(cli: Cli) -> Result<ExitCode> {
     let progress = if cli.quiet {
-        Progress::quiet()
+        Progress::new(Arc::new(bars::Quiet)).silenced()
     } else {
         Progress::new(Arc::new(bars::Bars::default()))
     };
@@ -275,6 +289,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             let scene = Scene::load(&args.scene.scene, &args.scene.set)?;
             let dir = run_dir(&args)?;
             let report = stages::reduce::run(&scene, &dir, progress)?;
+            print_warnings(&report.warnings);
             progress.info(report.table());
         }
         Verb::Transient {
@@ -293,7 +308,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 cache.as_ref(),
             )?;
             let r = r.result;
-            r.warnings.iter().for_each(|w| eprintln!("squeal: {w}"));
+            print_warnings(&r.warnings);
             progress.info(format!(
                 "{} steps, {:.2} s: {}, growth rate {:?} /s, dominant frequency {:?} Hz ({})",
                 r.steps,
@@ -328,7 +343,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 cache: cache.dir().map(stages::model::ModelCache::new),
             };
             let r = stages::cea::run(&scene, &dir, progress, &args)?;
-            r.warnings.iter().for_each(|w| eprintln!("squeal: {w}"));
+            print_warnings(&r.warnings);
             let mut lines = format!(
                 "{} modes, {} unstable (max Re p = {:?})",
                 r.n_modes_reported, r.n_unstable, r.max_real_part
@@ -373,6 +388,11 @@ fn run(cli: Cli) -> Result<ExitCode> {
             };
             let name = run.scene.scene.display().to_string();
             let r = stages::sweep::run(&base, &name, &dir, progress, &args)?;
+            for p in &r.points {
+                for w in &p.warnings {
+                    eprintln!("squeal: value {}: {w}", p.label);
+                }
+            }
             progress.info(format!(
                 "{} values in {:.1} s (models built {}, read from the cache {}); table: {}",
                 r.points.len(),

@@ -308,3 +308,38 @@ fn two_cea_run_folders_side_by_side() {
     assert_eq!(code, 4, "{stderr}");
     assert!(stderr.contains("tol_root"), "{stderr}");
 }
+
+/// The tolerances are validated before anything is compared (issue 26): a MAC above 1, a
+/// pairing threshold above the MAC tolerance, and `--modes 0` with a mode tolerance (which
+/// checked nothing and passed models 9.5 % apart) are errors naming the option; `--tol-mac`
+/// below the default pairing threshold lowers it, so a model against itself passes.
+#[test]
+fn compare_tolerances_are_validated() {
+    let d = tmp("compare-options");
+    let red = d.join("red");
+    let (ok, _, stderr) = run(squeal()
+        .args(["-q", "reduce"])
+        .arg(scene())
+        .arg("--out")
+        .arg(&red));
+    assert!(ok, "{stderr}");
+    for (extra, named) in [
+        (&["--tol-mac", "1.5"][..], "compare.tol_mac"),
+        (
+            &["--pair-mac", "2", "--tol-mac", "0.9"][..],
+            "compare.pair_mac",
+        ),
+        (
+            &["--pair-mac", "0.95", "--tol-mac", "0.9"][..],
+            "compare.pair_mac",
+        ),
+        (&["--modes", "0", "--tol-freq", "1e-9"][..], "compare.modes"),
+        (&["--tol-root=-1"][..], "compare.tol_root"),
+    ] {
+        let (code, stderr) = compare(&red, &red, &d.join("bad"), extra);
+        assert_eq!(code, 1, "{extra:?}: {stderr}");
+        assert!(stderr.contains(named), "{extra:?}: {stderr}");
+    }
+    let (code, stderr) = compare(&red, &red, &d.join("low"), &["--tol-mac", "0.3"]);
+    assert_eq!(code, 0, "{stderr}");
+}

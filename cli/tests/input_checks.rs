@@ -665,3 +665,185 @@ fn sweep_with_a_failed_value_exits_3_after_writing_the_others() {
     );
     assert_eq!(json(&out.join("sweep.json"))["n_failed"], 0);
 }
+
+// ------------------------------------------------------------------ issue 26
+
+/// An indefinite stored KR is refused with its most negative eigenvalue; a gap normal with
+/// no component along its grids' DOFs names the gap and the normal; an empty DOF map is an
+/// error. Reference: the belt's (K, M) is diagonal, so its eigenvalues are k_ii/m_ii
+/// (−50/2 = −25 with KR[1,1] = −50).
+#[test]
+fn indefinite_stiffness_unusable_normal_and_empty_model_are_named() {
+    let mut m = models::belt();
+    m.k[(1, 1)] = -50.0;
+    let (_, scene) = fixture("input-k-indefinite", &m);
+    let e = build(&scene).unwrap_err();
+    assert!(
+        e.contains("m.op4") && e.contains("matrix KR is indefinite") && e.contains("-2.500000e1"),
+        "{e}"
+    );
+    // Belt DOFs: pad y, z and rotor z; a normal along x touches none of them.
+    let mut m = models::belt();
+    m.gaps[0].2 = [1.0, 0.0, 0.0];
+    let (_, scene) = fixture("input-normal-unusable", &m);
+    let e = build(&scene).unwrap_err();
+    assert!(
+        e.contains("m.gaps.csv")
+            && e.contains("gap 0 (pad grid 1, rotor grid 100001")
+            && e.contains("[1.0, 0.0, 0.0]")
+            && e.contains("pad: yz; rotor: z"),
+        "{e}"
+    );
+    let empty = squeal_pipeline::scene::StoredArrays {
+        k: faer::Mat::zeros(0, 0),
+        m: faer::Mat::zeros(0, 0),
+        b: None,
+        p_brake: None,
+        dofs: squeal_reduction::superelement::ReducedDofMap {
+            dofs: Vec::new(),
+            recovered: Vec::new(),
+        },
+        gaps: Vec::new(),
+    };
+    let s = Scene::with_arrays("[cea]\n", ".", &[], empty).unwrap();
+    let rd = RunDir::create(&tmp("input-empty-model")).unwrap();
+    let e = model::build(&s, &rd, &Progress::quiet())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("<arrays>.dofs") && e.contains("no DOF"), "{e}");
+}
+
+/// μ = 1e300 is refused when the scene is read, with the bound; a component whose fixed sets
+/// hold every node names the key, the sets and the mesh; a second `[[contact]]` table or a
+/// pair P0 on a stored model is an error (they would be ignored).
+#[test]
+fn huge_mu_all_fixed_and_ignored_pair_keys_are_refused() {
+    let tiny = root().join("examples/transient/tiny-brake.toml");
+    let (ok, _, err) = run(squeal()
+        .arg("check")
+        .arg(&tiny)
+        .args(["--set", "friction.law={kind=\"constant\",mu=1e300}"]));
+    assert!(!ok);
+    assert!(
+        err.contains("friction.mu") && err.contains("1e300") && err.contains("[0, 10]"),
+        "{err}"
+    );
+    let d = tmp("input-all-fixed");
+    let (ok, _, err) = run(squeal()
+        .args(["-q", "reduce"])
+        .arg(&tiny)
+        .arg("--out")
+        .arg(&d)
+        .args(["--set", "components.0.fixed=[{set=\"z0\"},{set=\"z1\"}]"]));
+    assert!(!ok);
+    assert!(
+        err.contains("components[0].fixed")
+            && err.contains("`z0`")
+            && err.contains("`z1`")
+            && err.contains("rotor.msh")
+            && err.contains("no free DOF"),
+        "{err}"
+    );
+    let (_, scene) = fixture("input-stored-pairs", &models::belt());
+    let pair = "{pad=\"pad\",pad_faces=\"f\",rotor=\"rotor\",rotor_faces=\"g\"}";
+    let two = format!("contact=[{pair},{pair}]");
+    let s = Scene::load(&scene, &[two]).unwrap();
+    let rd = RunDir::create(&tmp("input-stored-pairs-run")).unwrap();
+    let e = model::build(&s, &rd, &Progress::quiet())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("contact[1]") && e.contains("one contact pair"),
+        "{e}"
+    );
+    let s = Scene::load(
+        &scene,
+        &[format!("contact=[{pair}]"), "contact.0.p0=3.0".into()],
+    )
+    .unwrap();
+    let e = model::build(&s, &rd, &Progress::quiet())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("contact[0].p0") && e.contains("model.p0"), "{e}");
+}
+
+/// `[[contact]] separation = true` on a stored model (the tiny brake written by `squeal
+/// reduce`, its gap table one pair) opens the gaps as on the meshed model it came from: the
+/// same openings, closings and first separation time (the stored matrices are the meshed
+/// ones to 16–17 digits).
+#[test]
+fn separation_on_a_stored_model_opens_the_gaps_like_the_meshed_model() {
+    let tiny = root().join("examples/transient/tiny-brake.toml");
+    let d = tmp("input-stored-separation");
+    let sets = [
+        "contact.0.separation=true",
+        "loads.pmax=-2.0",
+        "transient.tfinal=0.05",
+    ];
+    let mut cmd = squeal();
+    cmd.args(["-q", "transient"])
+        .arg(&tiny)
+        .arg("--out")
+        .arg(d.join("meshed"));
+    for s in sets {
+        cmd.args(["--set", s]);
+    }
+    let (ok, _, err) = run(&mut cmd);
+    assert!(ok, "{err}");
+    let (ok, _, err) = run(squeal()
+        .args(["-q", "reduce"])
+        .arg(&tiny)
+        .arg("--out")
+        .arg(d.join("reduced")));
+    assert!(ok, "{err}");
+    // The same analysis settings over the stored files (the pressure set is in PBRAKE).
+    let mut doc: toml::Value = toml::from_str(&std::fs::read_to_string(&tiny).unwrap()).unwrap();
+    let t = doc.as_table_mut().unwrap();
+    t.remove("components");
+    t.remove("reduction");
+    t["loads"].as_table_mut().unwrap().remove("pressure");
+    t.insert(
+        "model".into(),
+        toml::Value::try_from(toml::toml! {
+            from = "op4"
+            matrices = "reduced/reduced.op4"
+            dofmap = "reduced/dofmap.json"
+            gaps = "reduced/gaps.json"
+            band_hz = 100.0
+        })
+        .unwrap(),
+    );
+    // The pair's P0 is in the gap table (1.0 per gap): the stored pair must not repeat it.
+    t["contact"].as_array_mut().unwrap()[0]
+        .as_table_mut()
+        .unwrap()
+        .remove("p0");
+    let stored = d.join("stored.toml");
+    std::fs::write(&stored, toml::to_string(&doc).unwrap()).unwrap();
+    let mut cmd = squeal();
+    cmd.args(["-q", "transient"])
+        .arg(&stored)
+        .arg("--out")
+        .arg(d.join("stored"));
+    for s in sets {
+        cmd.args(["--set", s]);
+    }
+    let (ok, _, err) = run(&mut cmd);
+    assert!(ok, "{err}");
+    let (a, b) = (
+        json(&d.join("meshed/summary.json")),
+        json(&d.join("stored/summary.json")),
+    );
+    let (sa, sb) = (&a["separation"], &b["separation"]);
+    println!("meshed {sa}\nstored {sb}");
+    assert!(sa["openings"].as_u64().unwrap() >= 1, "{sa}");
+    for k in ["openings", "closings"] {
+        assert_eq!(sa[k], sb[k], "{k}: meshed {sa} stored {sb}");
+    }
+    let (ta, tb) = (
+        sa["first_separation_t"].as_f64().unwrap(),
+        sb["first_separation_t"].as_f64().unwrap(),
+    );
+    assert!((ta - tb).abs() <= 1e-6 * ta.abs(), "{ta} vs {tb}");
+    assert!(b["active_effects"].to_string().contains("separation"));
+}

@@ -188,6 +188,40 @@ fn friction_laws_deserialize_with_snake_case_tags_and_reject_unknown_keys() {
         .unwrap_err()
         .to_string()
         .contains("friction.values"));
+    // μ is bounded by MU_MAX = 10 (the largest measured between solids): μ = 1e300 passed
+    // validation once and failed later as a singular Newton matrix.
+    for (law, field) in [
+        (FrictionLaw::Constant { mu: 1e300 }, "friction.mu"),
+        (
+            FrictionLaw::LinearSpeed {
+                mu0: 10.5,
+                slope: 0.0,
+            },
+            "friction.mu0",
+        ),
+        (
+            FrictionLaw::Table(FrictionTable {
+                pressures: vec![0.0, 1.0],
+                speeds: vec![],
+                temperatures: vec![],
+                values: vec![0.4, 11.0],
+            }),
+            "friction.values[1]",
+        ),
+    ] {
+        let e = law.validate().unwrap_err().to_string();
+        assert!(e.contains(field) && e.contains("[0, 10]"), "{e}");
+    }
+    let e = FrictionLaw::Constant { mu: 1e300 }
+        .validate()
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("1e300"), "{e}");
+    FrictionLaw::Constant {
+        mu: squeal_contact::friction::MU_MAX,
+    }
+    .validate()
+    .unwrap();
 }
 
 // ---------------------------------------------------------------- gap matching

@@ -77,4 +77,7 @@ pub enum FeError {
     /// A non-finite value appeared.
     #[error("non-finite value in {what}")]
     NonFinite { what: String },
+    /// The caller's [`Interrupt`](crate::Interrupt) asked to stop.
+    #[error("interrupted by the caller during {during}")]
+    Interrupted { during: &'static str },
 }

@@ -9,6 +9,7 @@
 
 pub mod assembly;
 pub mod dofs;
+pub mod elasticity;
 pub mod element;
 pub mod error;
 pub mod loads;
@@ -18,6 +19,8 @@ pub mod ordering;
 
 pub use assembly::{assemble, Assembled, AssemblyOptions, AssemblyStats, Hex8Formulation};
 pub use dofs::DofMap;
+pub use elasticity::{Elasticity, MaterialAxes, Orthotropic, SolidMaterial, TransverselyIsotropic};
+pub use element::kinds::element_matrices;
 pub use error::FeError;
 pub use loads::{face_areas, nodal_force, pressure_load};
 pub use material::Material;
@@ -25,4 +28,4 @@ pub use modal::{
     solve_modes, solve_modes_with, FactorKind, ModalOptions, ModalStats, ModalStatus, Modes,
 };
 pub use ordering::{dof_coordinates, nested_dissection, FillOrdering, NestedDissectionOptions};
-pub use squeal_meshes::{Mesh, Real};
+pub use squeal_meshes::{Interrupt, Mesh, Real};

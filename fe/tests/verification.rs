@@ -29,7 +29,16 @@ fn steel() -> Material {
 }
 
 fn modes(mesh: &Mesh, dofs: &DofMap, hex8: Hex8Formulation, opts: &ModalOptions) -> Modes {
-    let asm = assemble(mesh, &[steel()], dofs, &AssemblyOptions { hex8 }).unwrap();
+    let asm = assemble(
+        mesh,
+        &[steel()],
+        dofs,
+        &AssemblyOptions {
+            hex8,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let m = solve_modes(&asm.k, &asm.m, opts).unwrap();
     assert_eq!(m.status, ModalStatus::Converged, "stats: {:?}", m.stats);
     m
@@ -336,7 +345,16 @@ fn patch_error(mesh: &Mesh, hex8: Hex8Formulation) -> f64 {
         ]
     };
     let all = DofMap::new(mesh.nodes.len(), &[]).unwrap();
-    let asm = assemble(mesh, &[steel()], &all, &AssemblyOptions { hex8 }).unwrap();
+    let asm = assemble(
+        mesh,
+        &[steel()],
+        &all,
+        &AssemblyOptions {
+            hex8,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let k = asm.k.to_dense();
     let mut boundary = vec![false; mesh.nodes.len()];
     for (name, set) in &mesh.node_sets {
@@ -522,7 +540,13 @@ fn pressure_resultants_and_orientation() {
 fn assembly_errors_name_block_tag_and_value() {
     let mut mesh = box_mesh(1.0, 1.0, 1.0, 2, 1, 1, CellKind::Hex8);
     let dofs = DofMap::new(mesh.nodes.len(), &[]).unwrap();
-    let e = assemble(&mesh, &[], &dofs, &AssemblyOptions::default()).unwrap_err();
+    let e = assemble(
+        &mesh,
+        &[] as &[Material],
+        &dofs,
+        &AssemblyOptions::default(),
+    )
+    .unwrap_err();
     assert!(matches!(
         e,
         FeError::MaterialCount {
@@ -686,4 +710,42 @@ fn nested_dissection_fill_not_above_amd_on_annulus() {
     if nd.supernodal && amd.supernodal {
         assert!(nd.factor_flops <= amd.factor_flops);
     }
+}
+
+/// An interrupt (the caller's Ctrl-C) stops the assembly between element chunks and the
+/// Lanczos iteration at its next block step, returning `Interrupted` (issue 26); one that
+/// fires after the factorisation still stops the iteration. Without it the same solve
+/// converges.
+#[test]
+fn interrupt_stops_assembly_and_lanczos() {
+    let mesh = box_mesh(1.0, 0.2, 0.1, 12, 3, 2, CellKind::Hex8);
+    let dofs = DofMap::new(mesh.nodes.len(), &[]).unwrap();
+    let stop = AssemblyOptions {
+        interrupt: Interrupt::new(|| true),
+        ..Default::default()
+    };
+    let e = assemble(&mesh, &[steel()], &dofs, &stop).unwrap_err();
+    assert!(
+        matches!(e, FeError::Interrupted { during: "assembly" }),
+        "{e}"
+    );
+    let asm = assemble(&mesh, &[steel()], &dofs, &AssemblyOptions::default()).unwrap();
+    // Asked three times: before the factorisation (no), then at the Lanczos steps (yes).
+    let calls = std::sync::Arc::new(std::sync::atomic::AtomicUsize::new(0));
+    let c = calls.clone();
+    let opts = ModalOptions {
+        interrupt: Interrupt::new(move || c.fetch_add(1, std::sync::atomic::Ordering::SeqCst) >= 2),
+        ..lanczos_opts(6)
+    };
+    let e = solve_modes(&asm.k, &asm.m, &opts).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            FeError::Interrupted {
+                during: "Lanczos iterations"
+            }
+        ),
+        "{e}"
+    );
+    assert!(solve_modes(&asm.k, &asm.m, &lanczos_opts(6)).is_ok());
 }

@@ -27,8 +27,8 @@ pub enum MeshError {
         version: String,
         reason: String,
     },
-    /// An element type squeal has no element for (tetrahedra, prisms, hex27, triangles, ...).
-    #[error("{file}:{line}: element {element_tag} has gmsh type {gmsh_type} ({type_name}), which squeal does not support (volumes: hex8 = 5, hex20 = 17, hex27 = 12 read as hex20; faces: quad4 = 3, quad8 = 16, quad9 = 10 read as quad8; for hex20 mesh with `-order 2` and Mesh.SecondOrderIncomplete=1)")]
+    /// An element type squeal has no element for (higher orders, polyhedra, ...).
+    #[error("{file}:{line}: element {element_tag} has gmsh type {gmsh_type} ({type_name}), which squeal does not support (volumes: hex8 = 5, hex20 = 17, hex27 = 12 read as hex20, tet4 = 4, tet10 = 11, prism6 = 6, prism15 = 18, prism18 = 13 read as prism15, pyramid5 = 7, pyramid13 = 19, pyramid14 = 14 read as pyramid13; faces: quad4 = 3, quad8 = 16, quad9 = 10 read as quad8, tri3 = 2, tri6 = 9; for serendipity cells mesh with `-order 2` and Mesh.SecondOrderIncomplete=1)")]
     UnsupportedElement {
         file: String,
         line: usize,
@@ -63,16 +63,27 @@ pub enum MeshError {
         second: crate::CellKind,
         element_tag: u64,
     },
-    /// A hexahedron with (near) zero or non-finite volume at its centroid.
-    #[error("{file}:{line}: hexahedron {element_tag} is degenerate (Jacobian determinant {det:e} at its centroid)")]
+    /// A cell with (near) zero or non-finite volume at its centroid.
+    #[error("{file}:{line}: {cell} {element_tag} is degenerate (Jacobian determinant {det:e} at its centroid)")]
     DegenerateCell {
         file: String,
         line: usize,
         element_tag: u64,
         det: f64,
+        /// The cell's family ("hexahedron", "tetrahedron", "wedge", "pyramid").
+        cell: &'static str,
     },
-    /// A hexahedron positive at its centroid but inverted (det J ≤ 0) at one of its nodes.
-    #[error("{file}:{line}: hexahedron {element_tag} is inverted at its {kind} node {node_tag} (Jacobian determinant {det:.4e} there, {centroid_det:.4e} at its centroid): move the node back inside the cell")]
+    /// A hexahedron with repeated nodes that is no recognisable wedge, pyramid or tetrahedron.
+    #[error("{file}:{line}: {cell} {element_tag} repeats nodes but is no collapsed wedge, pyramid or tetrahedron: {reason}")]
+    CollapsedCell {
+        file: String,
+        line: usize,
+        element_tag: u64,
+        cell: &'static str,
+        reason: String,
+    },
+    /// A cell positive at its centroid but inverted (det J ≤ 0) at one of its nodes.
+    #[error("{file}:{line}: {cell} {element_tag} is inverted at its {kind} node {node_tag} (Jacobian determinant {det:.4e} there, {centroid_det:.4e} at its centroid): move the node back inside the cell")]
     InvertedAtNode {
         file: String,
         line: usize,
@@ -82,9 +93,13 @@ pub enum MeshError {
         node_tag: u64,
         det: f64,
         centroid_det: f64,
+        /// The cell's family ("hexahedron", "tetrahedron", "wedge", "pyramid").
+        cell: &'static str,
     },
-    /// The file has no hex8/hex20 volume cells.
-    #[error("{file}: no hex8/hex20 volume cells (is a physical volume defined, and was the mesh made with -3?)")]
+    /// The file has no volume cells.
+    #[error(
+        "{file}: no volume cells (is a physical volume defined, and was the mesh made with -3?)"
+    )]
     NoVolumeCells { file: String },
     /// A named node or face set that the mesh does not have.
     #[error("no {what} named `{name}` (the mesh has: {available})")]
@@ -110,6 +125,9 @@ pub enum MeshError {
         status: String,
         message: String,
     },
+    /// The caller's interrupt (`GmshOptions::interrupt`) asked to stop: gmsh was killed.
+    #[error("interrupted by the caller: `{command}` was stopped")]
+    Interrupted { command: String },
     /// An invalid gmsh option.
     #[error("gmsh option `{field}` = {value}: {reason}")]
     InvalidGmshOption {

@@ -23,6 +23,10 @@ pub struct GmshOptions {
     pub set_numbers: BTreeMap<String, Real>,
     /// Write msh 4.1 binary instead of ASCII (default: false).
     pub binary: bool,
+    /// Asked every 20 ms while gmsh runs; when set gmsh is killed, its partial output removed
+    /// and the run returns [`MeshError::Interrupted`] (default: never; not serialised).
+    #[serde(skip)]
+    pub interrupt: crate::Interrupt,
 }
 
 impl Default for GmshOptions {
@@ -31,6 +35,7 @@ impl Default for GmshOptions {
             order: 2,
             set_numbers: BTreeMap::new(),
             binary: false,
+            interrupt: crate::Interrupt::never(),
         }
     }
 }
@@ -223,15 +228,9 @@ fn run_gmsh(geo_path: &Path, out_msh: &Path, opts: &GmshOptions) -> Result<GmshR
     let command = display_command(&gmsh, &args);
 
     let start = Instant::now();
-    let output = gmsh
-        .command()
-        .args(&args)
-        .output()
-        .map_err(|e| MeshError::GmshFailed {
-            command: command.clone(),
-            status: "not started".into(),
-            message: e.to_string(),
-        })?;
+    let output = run_until_done(&gmsh, &args, &command, &opts.interrupt).inspect_err(|_| {
+        let _ = std::fs::remove_file(&tmp);
+    })?;
     let elapsed_s = start.elapsed().as_secs_f64();
     let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
     let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
@@ -270,6 +269,75 @@ fn run_gmsh(geo_path: &Path, out_msh: &Path, opts: &GmshOptions) -> Result<GmshR
         elapsed_s,
         stdout,
         stderr,
+    })
+}
+
+/// Runs gmsh to its end, its output read on two threads, polling `interrupt` every 20 ms:
+/// when it is set the child is killed and reaped, and the run is
+/// [`MeshError::Interrupted`].
+fn run_until_done(
+    gmsh: &GmshProgram,
+    args: &[OsString],
+    command: &str,
+    interrupt: &crate::Interrupt,
+) -> Result<std::process::Output, MeshError> {
+    use std::io::Read;
+    use std::process::Stdio;
+    let mut child = gmsh
+        .command()
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| MeshError::GmshFailed {
+            command: command.to_string(),
+            status: "not started".into(),
+            message: e.to_string(),
+        })?;
+    let reader = |pipe: Option<Box<dyn Read + Send>>| {
+        std::thread::spawn(move || {
+            let mut bytes = Vec::new();
+            if let Some(mut p) = pipe {
+                let _ = p.read_to_end(&mut bytes);
+            }
+            bytes
+        })
+    };
+    let out = reader(
+        child
+            .stdout
+            .take()
+            .map(|p| Box::new(p) as Box<dyn Read + Send>),
+    );
+    let err = reader(
+        child
+            .stderr
+            .take()
+            .map(|p| Box::new(p) as Box<dyn Read + Send>),
+    );
+    let failed = |e: std::io::Error| MeshError::GmshFailed {
+        command: command.to_string(),
+        status: "lost".into(),
+        message: e.to_string(),
+    };
+    let status = loop {
+        if let Some(s) = child.try_wait().map_err(failed)? {
+            break s;
+        }
+        if interrupt.is_set() {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(MeshError::Interrupted {
+                command: command.to_string(),
+            });
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    Ok(std::process::Output {
+        status,
+        stdout: out.join().unwrap_or_default(),
+        stderr: err.join().unwrap_or_default(),
     })
 }
 

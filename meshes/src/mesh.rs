@@ -173,6 +173,19 @@ impl CellKind {
         }
     }
 
+    /// The family's name ("hexahedron", "tetrahedron", "wedge", "pyramid", "quadrilateral",
+    /// "triangle"), as error messages name a cell.
+    pub fn family(self) -> &'static str {
+        match self.linear() {
+            CellKind::Hex8 => "hexahedron",
+            CellKind::Tet4 => "tetrahedron",
+            CellKind::Wedge6 => "wedge",
+            CellKind::Pyramid5 => "pyramid",
+            CellKind::Quad4 => "quadrilateral",
+            _ => "triangle",
+        }
+    }
+
     /// The local faces of a volume kind, each with its face kind and its local node indices
     /// (corners first, counter-clockwise seen from outside the cell, then the mid-edge nodes in
     /// the face kind's order). Empty for face kinds.

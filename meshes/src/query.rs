@@ -43,11 +43,11 @@ impl Mesh {
     }
 
     /// Jacobian determinant at the centroid of volume cell `cell` of block `block`
-    /// (from its 8 corners; positive for a well-oriented cell in squeal's node order).
+    /// (from its corners; positive for a well-oriented cell in squeal's node order).
     pub fn centroid_jacobian(&self, block: usize, cell: usize) -> Real {
-        let c = self.volumes[block].cell(cell);
-        let corners: [[Real; 3]; 8] = std::array::from_fn(|k| self.nodes[c[k]]);
-        hex_centroid_jacobian(&corners)
+        let b = &self.volumes[block];
+        let x: Vec<[Real; 3]> = b.cell(cell).iter().map(|&v| self.nodes[v]).collect();
+        crate::jacobian::centroid_jacobian(b.kind, &x)
     }
 }
 

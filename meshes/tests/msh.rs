@@ -411,19 +411,18 @@ fn err_text(text: &str) -> String {
 
 #[test]
 fn errors_name_file_line_and_value() {
-    // A tetrahedron: unsupported, with type, element tag and line.
-    let e =
-        err_text(&HEX8_V22.replace("3 5 2 1 1 10 11 12 13 14 15 16 17", "3 4 2 1 1 10 11 12 13"));
+    // A cubic tetrahedron (gmsh type 29): unsupported, with type, element tag and line.
+    let e = err_text(&HEX8_V22.replace(
+        "3 5 2 1 1 10 11 12 13 14 15 16 17",
+        "3 29 2 1 1 10 11 12 13",
+    ));
     assert!(
-        e.contains("bad.msh:27") && e.contains("type 4") && e.contains("element 3"),
+        e.contains("bad.msh:27") && e.contains("type 29") && e.contains("element 3"),
         "{e}"
     );
-    // A prism in 4.1 (hex27 is read as hex20: `v41_hex27_reads_as_its_hex20`).
-    let e = err_text(&HEX8_V41.replace("3 1 5 1\n", "3 1 6 1\n"));
-    assert!(
-        e.contains("type 6") && e.contains("6-node prism") && e.contains("element 3"),
-        "{e}"
-    );
+    // A cubic prism in 4.1 (type 90; hex27 is read as hex20: `v41_hex27_reads_as_its_hex20`).
+    let e = err_text(&HEX8_V41.replace("3 1 5 1\n", "3 1 90 1\n"));
+    assert!(e.contains("type 90") && e.contains("element 3"), "{e}");
     // Unknown node tag.
     let e = err_text(&HEX8_V22.replace("10 11 12 13 14 15 16 17", "10 11 12 13 14 15 16 18"));
     assert!(
@@ -758,4 +757,40 @@ fn gmsh_error_is_reported() {
         other => panic!("expected GmshFailed, got {other:?}"),
     }
     assert!(!path.exists());
+}
+
+/// A hexahedron written with repeated nodes (corners 2 = 3 and 6 = 7, an Ansys-style prism) is
+/// read as the wedge it is; a repetition that is no wedge, pyramid or tet is an error naming the
+/// element. The bottom face (a quad on a collapsed edge) would be degenerate, so the collapsed
+/// files carry no face element.
+#[test]
+fn collapsed_hex_is_read_as_its_wedge_or_refused() {
+    let text = HEX8_V22
+        .replace(
+            "3 5 2 1 1 10 11 12 13 14 15 16 17",
+            "3 5 2 1 1 10 11 12 12 14 15 16 16",
+        )
+        .replace("2 3 2 2 1 10 13 12 11\n", "")
+        .replace("$Elements\n4\n", "$Elements\n3\n");
+    let m = parse_msh(text.as_bytes(), "prism.msh").unwrap();
+    assert_eq!(m.volumes[0].kind, CellKind::Wedge6);
+    let tags: Vec<u64> = m.volumes[0]
+        .cell(0)
+        .iter()
+        .map(|&i| m.node_tags[i])
+        .collect();
+    assert_eq!(tags, [10, 11, 12, 14, 15, 16]);
+    assert!(m.centroid_jacobian(0, 0) > 0.0);
+    let bad = HEX8_V22
+        .replace(
+            "3 5 2 1 1 10 11 12 13 14 15 16 17",
+            "3 5 2 1 1 10 10 12 13 14 15 16 17",
+        )
+        .replace("2 3 2 2 1 10 13 12 11\n", "")
+        .replace("$Elements\n4\n", "$Elements\n3\n");
+    let e = err_text(&bad);
+    assert!(
+        e.contains("hexahedron 3") && e.contains("repeats nodes") && e.contains("0=1"),
+        "{e}"
+    );
 }

@@ -209,7 +209,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let fixed = fixed_dofs(c, mesh)?;
         let dofs = DofMap::new(mesh.nodes.len(), &fixed)?;
         let materials = c.block_materials(mesh)?;
-        let asm = assemble(mesh, &materials, &dofs, &AssemblyOptions { hex8: c.hex8 })?;
+        let asm = assemble(
+            mesh,
+            &materials,
+            &dofs,
+            &AssemblyOptions {
+                hex8: c.hex8,
+                ..Default::default()
+            },
+        )?;
         let assembly_s = t0.elapsed().as_secs_f64();
         let rss_assembly = peak_rss_kib();
         let boundary: Vec<usize> = bnodes

@@ -43,7 +43,8 @@
 
 use serde::Serialize;
 use squeal_pipeline::stages::model::{self, cache::ModelCache};
-use squeal_pipeline::stages::transient::driver::{drive, DriveOptions, IntegratorStats, Stepper};
+use squeal_pipeline::stages::transient::driver::{drive, DriveOptions};
+use squeal_pipeline::stages::transient::stepper::{IntegratorStats, Stepper};
 use squeal_pipeline::stages::transient::{prepare, start_state};
 use squeal_pipeline::{progress::Progress, RunDir, Scene};
 use squeal_solver::bdf::DaeSystem;
@@ -211,7 +212,7 @@ fn run_once(
     blocks: bool,
 ) -> Result<RunOut, Box<dyn std::error::Error>> {
     let spec = &prepared.spec;
-    let method = squeal_pipeline::stages::transient::driver::Method::Bdf {
+    let method = squeal_pipeline::stages::transient::stepper::Method::Bdf {
         rtol: spec.rtol1,
         max_order: spec.maxord,
     };

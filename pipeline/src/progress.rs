@@ -126,6 +126,29 @@ impl Progress {
         self.sink.as_ref().is_some_and(|s| s.cancelled())
     }
 
+    /// The same cancellation as the library crates ask it inside their long loops (assembly,
+    /// Craig–Bampton, Lanczos): a callback asking the sink; never, without a sink.
+    pub fn interrupt(&self) -> squeal_fe::Interrupt {
+        match &self.sink {
+            Some(_) => {
+                let p = self.silenced();
+                squeal_fe::Interrupt::new(move || p.is_cancelled())
+            }
+            None => squeal_fe::Interrupt::never(),
+        }
+    }
+
+    /// [`Progress::interrupt`] for `squeal_solver` (CEA Lanczos, refinement, sweeps).
+    pub fn solver_interrupt(&self) -> squeal_solver::Interrupt {
+        match &self.sink {
+            Some(_) => {
+                let p = self.silenced();
+                squeal_solver::Interrupt::new(move || p.is_cancelled())
+            }
+            None => squeal_solver::Interrupt::never(),
+        }
+    }
+
     /// `Err(PipelineError::Cancelled)` when the caller asked to stop; `what` says where.
     pub fn check(&self, what: &str) -> Result<(), PipelineError> {
         if self.is_cancelled() {

@@ -132,6 +132,18 @@ fn element_order_and_set_numbers_reach_gmsh() {
         e.contains("components[0].geometry") && e.contains("n l"),
         "{e}"
     );
+    // A misspelt name (issue 26): gmsh ignored it and meshed the defaults; now an error naming
+    // the key and the constants the file defines, before gmsh runs.
+    let s = Scene::from_toml_str(&text.replace("nl = 20", "nL = 20"), data(), &[]).unwrap();
+    let e = modes::compute(&s, Some("beam"), &work("misspelt"), &Progress::quiet())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("components[0].geometry.set_numbers.nL")
+            && e.contains("beam.geo")
+            && e.contains("H, L, W, nh, nl, nw"),
+        "{e}"
+    );
 }
 
 /// Every physical group the scene names for a `.geo` component must be in the file; the error

@@ -720,6 +720,25 @@ fn overhanging_pad_nodes_are_an_error_or_excluded_with_a_warning() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("contact[0].extension"), "{e}");
+    // Every pad node off the rotor (issue 26): the pair has no gap, and the error names the
+    // pair's key and the exclusion instead of a singular factorisation.
+    let off = tiny_brake(2, 3, "surface")
+        .replace("origin = [2.0, -0.5, 0.0]", "origin = [5.0, -0.5, 0.0]")
+        .replace(
+            "pairing = \"surface\"",
+            "pairing = \"surface\"\nunmatched = \"exclude\"",
+        );
+    let scene = Scene::from_toml_str(&off, d.clone(), &[]).unwrap();
+    let run = RunDir::create(&d.join("off")).unwrap();
+    let msg = model::build(&scene, &run, &Progress::quiet())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        msg.contains("contact[0].unmatched")
+            && msg.contains("\"exclude\" left this pair without a gap")
+            && msg.contains("all 9 pad node(s)"),
+        "{msg}"
+    );
 }
 
 /// Quadratic pads pair by mortar unless the scene says otherwise, and that is what keeps their

@@ -84,7 +84,7 @@ def compare(
     tol_root: Optional[float] = None,
     tol_summary: Optional[float] = None,
     modes: Optional[int] = None,
-    pair_mac: float = 0.5,
+    pair_mac: Optional[float] = None,
     scene: Optional[str] = None,
     cea: bool = True,
     cache: Optional[_Path] = None,
@@ -99,5 +99,6 @@ def sweep_value(
     cache_dir: _Path,
     run_dir: _Path,
     progress: _Progress = None,
+    cancel: Optional[Callable[[], bool]] = None,
 ) -> str: ...
 def model_key(scene: Scene) -> Optional[str]: ...

@@ -10,7 +10,7 @@ from typing import Any, Callable, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 
-from . import _squeal
+from . import _args, _squeal
 from ._squeal import Scene
 
 ProgressCallback = Callable[[Dict[str, Any]], None]
@@ -175,6 +175,11 @@ def modes(
 
     gmsh's ``.geo``/``.msh`` go into ``workdir`` (default: a temporary folder).
     """
+    f = "squeal.modes"
+    _args.scene(f, scene)
+    _args.text(f, "component", component)
+    workdir = _args.path(f, "workdir", workdir)
+    _args.callback(f, "progress", progress)
     with _Workdir(workdir) as w:
         d = _squeal.modes(scene, w, component=component, progress=progress)
     return ModesResult(**d)
@@ -189,6 +194,11 @@ def reduce(
 ) -> ReducedModel:
     """The reduced model of the scene: mesh → FE → Craig–Bampton → superelement → gaps → loads
     (or the stored model it names). ``cache``: a model-cache folder (as ``--cache``)."""
+    f = "squeal.reduce"
+    _args.scene(f, scene)
+    cache = _args.path(f, "cache", cache)
+    workdir = _args.path(f, "workdir", workdir)
+    _args.callback(f, "progress", progress)
     with _Workdir(workdir) as w:
         d = _squeal.reduce(scene, w, cache=_fs(cache), progress=progress)
     _warn(d["warnings"])
@@ -207,6 +217,11 @@ def transient(
     An integration that stops before TFINAL returns with ``success = False`` and the status in
     ``summary``; errors raise.
     """
+    f = "squeal.transient"
+    _args.scene(f, scene)
+    cache = _args.path(f, "cache", cache)
+    workdir = _args.path(f, "workdir", workdir)
+    _args.callback(f, "progress", progress)
     with _Workdir(workdir) as w:
         d = _squeal.transient(scene, w, cache=_fs(cache), progress=progress)
     _warn(d["warnings"])
@@ -224,8 +239,12 @@ def cea(
     """Complex eigenvalue analysis about the steady sliding state (or the restart state the
     scene's ``[cea]`` names). ``mu=(first, last, count)``: also a friction sweep with mode
     tracking, as ``squeal cea --mu first:last:count`` (in ``CeaResult.sweep``)."""
-    if mu is not None:
-        mu = (float(mu[0]), float(mu[1]), int(mu[2]))
+    f = "squeal.cea"
+    _args.scene(f, scene)
+    mu = _args.mu_range(f, mu)
+    cache = _args.path(f, "cache", cache)
+    workdir = _args.path(f, "workdir", workdir)
+    _args.callback(f, "progress", progress)
     with _Workdir(workdir) as w:
         d = _squeal.cea(scene, w, mu=mu, cache=_fs(cache), progress=progress)
     _warn(d["warnings"])
@@ -267,7 +286,7 @@ def compare(
     tol_root: Optional[float] = None,
     tol_summary: Optional[float] = None,
     modes: Optional[int] = None,
-    pair_mac: float = 0.5,
+    pair_mac: Optional[float] = None,
     scene: Optional[PathLike] = None,
     cea: bool = True,
     cache: Optional[PathLike] = None,
@@ -278,7 +297,24 @@ def compare(
     ``squeal reduce`` folders) or two run folders, as ``squeal compare A B``: undamped
     frequencies paired by MAC, matrix difference norms, CEA roots paired (Δf, ΔRe p),
     ``summary.json`` values side by side. ``out``: also write ``compare.json``/``compare.md``
-    there. ``scene``: friction, rotor and loads for the CEA of stored matrices."""
+    there. ``scene``: friction, rotor and loads for the CEA of stored matrices. ``pair_mac``:
+    the MAC below which two modes are not paired, in [0, 1] and at most ``tol_mac`` (default:
+    0.5, or ``tol_mac`` when that is lower). The tolerances are validated as ``squeal compare``
+    validates them (``SceneError`` naming the option)."""
+    f = "squeal.compare"
+    for name, v in (("a", a), ("b", b)):
+        if v is None:
+            raise _args.type_error(f, name, "a path (str or os.PathLike)", v)
+        _args.path(f, name, v)
+    for name, v in (("tol_freq", tol_freq), ("tol_mac", tol_mac), ("tol_matrix", tol_matrix),
+                    ("tol_root", tol_root), ("tol_summary", tol_summary), ("pair_mac", pair_mac)):
+        _args.number(f, name, v, low=0.0)
+    modes = _args.integer(f, "modes", modes, 0)
+    _args.path(f, "scene", scene)
+    _args.boolean(f, "cea", cea)
+    _args.path(f, "cache", cache)
+    out = _args.path(f, "out", out)
+    _args.callback(f, "progress", progress)
     with _Workdir(out) as w:
         d = _squeal.compare(
             _fs(a),

@@ -10,10 +10,11 @@ import re
 import tempfile
 import threading
 import time
+import uuid
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
-from . import _squeal
+from . import _args, _squeal
 from ._squeal import Scene, SquealError
 
 Value = Union[bool, int, float, str]
@@ -47,18 +48,23 @@ def _run_point(
     cache: str,
     run_dir: str,
     after: Any = None,
-    cancel: Optional[threading.Event] = None,
+    cancel: Optional[Callable[[], bool]] = None,
+    cancel_event: Optional[str] = None,
 ) -> Dict[str, Any]:
-    """One value (a task on a thread or a Dask worker): never raises for a failed value."""
+    """One value (a task on a thread or a Dask worker): never raises for a failed value.
 
-    def stop(_event: Dict[str, Any]) -> None:
-        if cancel is not None and cancel.is_set():
-            raise KeyboardInterrupt("sweep cancelled")
+    ``cancel()`` (threads) or the ``distributed.Event`` named ``cancel_event`` (Dask) stops it:
+    polled before it starts and every 100 ms while it runs (the library then stops inside its
+    loops, kills gmsh and stores nothing partial)."""
+    if cancel_event is not None:
+        from distributed import Event
 
+        cancel = Event(cancel_event).is_set
+    if cancel is not None and cancel():
+        return _failed_point(index, label, run_dir, "cancelled before it started")
     try:
         text = _squeal.sweep_value(
-            scene, assignments, label, index, analysis, cache, run_dir,
-            progress=stop if cancel is not None else None,
+            scene, assignments, label, index, analysis, cache, run_dir, cancel=cancel,
         )
         return json.loads(text)
     except SquealError as e:
@@ -102,11 +108,31 @@ def sweep(
     """
     import pandas as pd
 
+    f = "squeal.sweep"
+    _args.scene(f, scene)
+    if not isinstance(param, str):
+        if not isinstance(param, Sequence) or not param or not all(isinstance(k, str) for k in param):
+            raise _args.type_error(f, "param", "a dotted scene key (str) or a non-empty tuple of them", param)
+    if isinstance(values, (str, bytes)) or not isinstance(values, Iterable):
+        raise _args.type_error(f, "values", "a sequence of values (or of tuples, one entry per key)", values)
+    _args.text(f, "analysis", analysis, ("cea", "transient", "both"))
+    cache = _args.path(f, "cache", cache)
+    out = _args.path(f, "out", out)
+    jobs = _args.integer(f, "jobs", jobs, 1)
+    _args.callback(f, "progress", progress)
+    if client is not None and not hasattr(client, "submit"):
+        raise _args.type_error(f, "client", "a dask.distributed.Client or None", client)
+
     t0 = time.perf_counter()
     keys = [param] if isinstance(param, str) else list(param)
-    rows: List[Tuple[Value, ...]] = [
-        (v,) if isinstance(param, str) else tuple(v) for v in values
-    ]
+    rows: List[Tuple[Value, ...]] = []
+    for v in values:
+        if isinstance(param, str):
+            rows.append((v,))
+        elif isinstance(v, (str, bytes)) or not isinstance(v, Iterable):
+            raise _args.type_error(f, "values", f"tuples of {len(keys)} entries (one per key of `param`)", v)
+        else:
+            rows.append(tuple(v))
     if not rows:
         raise _squeal.SceneError("--values: no values to sweep")
     for r in rows:
@@ -143,13 +169,17 @@ def sweep(
     emit("begin", label=f"sweep ({len(tasks)} values)", bar=True)
     points: Dict[int, Dict[str, Any]] = {}
     if client is not None:
+        from distributed import Event, wait
+
         futures = {}
+        stop_name = f"squeal-sweep-cancel-{uuid.uuid4().hex}"
+        stop = Event(stop_name, client=client)
         order = sorted(tasks, key=lambda t: t[3] is None or first.get(t[3]) != t[0])
         for i, label, assignments, mkey, rdir in order:
             dep = futures.get(first[mkey]) if mkey is not None and first[mkey] != i else None
             futures[i] = client.submit(
                 _run_point, scene, assignments, label, i, analysis, cache, rdir, dep,
-                pure=False,
+                cancel_event=stop_name, pure=False,
             )
         try:
             from dask.distributed import as_completed
@@ -165,6 +195,11 @@ def sweep(
                 done += 1
                 emit("update", fraction=done / len(tasks), message=f"{points[i]['label']} done")
         except KeyboardInterrupt:
+            # Every task sees the event (before it starts, or within 100 ms while it runs)
+            # and ends without storing anything partial; wait for them, so that no worker
+            # writes into `out` or `cache` after this returns.
+            stop.set()
+            wait(list(futures.values()), timeout=30)
             client.cancel(list(futures.values()))
             raise
     else:
@@ -177,7 +212,7 @@ def sweep(
                 mkey = tasks[i][3]
                 if mkey is not None and first[mkey] != i:
                     futs[first[mkey]].exception()  # wait for the model's first value
-                return _run_point(*args, cancel=cancel)
+                return _run_point(*args, cancel=cancel.is_set)
 
             for i, label, assignments, mkey, rdir in order:
                 futs[i] = pool.submit(after_first, i, scene, assignments, label, i, analysis, cache, rdir)
@@ -196,6 +231,8 @@ def sweep(
                         remaining.discard(i)
                         emit("update", fraction=len(points) / len(tasks), message=f"{points[i]['label']} done")
             except KeyboardInterrupt:
+                # Running values stop within ~0.1 s (the pool's exit waits for them), queued
+                # ones never start.
                 cancel.set()
                 for f in futs.values():
                     f.cancel()

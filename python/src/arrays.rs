@@ -12,8 +12,51 @@ use squeal_reduction::superelement::{DofKind, ReducedDof, ReducedDofMap};
 
 type Real = f64;
 
-/// A 2-D float array (anything numpy converts) as a faer matrix.
+/// A complex array is refused unless every imaginary part is 0 (then its real part is exact):
+/// squeal's K, M, B are real. A structural damping K(1 + iη) has no place in the transient
+/// (a time-domain model needs a viscous form) and would otherwise lose its imaginary part to
+/// numpy's cast, with only a ComplexWarning.
+fn refuse_complex(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<()> {
+    let np = obj.py().import("numpy")?;
+    if !np.call_method1("iscomplexobj", (obj,))?.is_truthy()? {
+        return Ok(());
+    }
+    let a = np.call_method1("asarray", (obj,))?;
+    let abs_max = |x: Bound<'_, PyAny>| -> PyResult<f64> {
+        let m = np.call_method1("abs", (x,))?;
+        if m.getattr("size")?.extract::<usize>()? == 0 {
+            return Ok(0.0);
+        }
+        m.call_method0("max")?.extract::<f64>()
+    };
+    let im = abs_max(a.getattr("imag")?)?;
+    if im == 0.0 {
+        return Ok(());
+    }
+    let re = abs_max(a.getattr("real")?)?;
+    let at: Vec<usize> = np
+        .call_method1(
+            "unravel_index",
+            (
+                np.call_method1("argmax", (np.call_method1("abs", (a.getattr("imag")?,))?,))?,
+                a.getattr("shape")?,
+            ),
+        )?
+        .extract()?;
+    Err(InputError::new_err(format!(
+        "<arrays>.{name}: complex entries (largest |Im| = {im:e} at {at:?}, {:.3e} of the \
+         largest |Re| = {re:e}): squeal's K, M and B are real. A structural damping \
+         K(1 + i eta) is not supported (the transient is in the time domain): give its \
+         viscous equivalent as B = (eta / omega) K at a reference angular frequency omega, \
+         as NASTRAN's GE/W4 does",
+        if re > 0.0 { im / re } else { f64::INFINITY }
+    )))
+}
+
+/// A 2-D float array (anything numpy converts) as a faer matrix; complex entries are refused
+/// ([`refuse_complex`]).
 pub fn mat_from_py(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<faer::Mat<Real>> {
+    refuse_complex(obj, name)?;
     let a: PyArrayLike2<'_, Real, AllowTypeChange> = obj.extract().map_err(|e| {
         InputError::new_err(format!("<arrays>.{name}: not a 2-D float array ({e})"))
     })?;
@@ -23,6 +66,7 @@ pub fn mat_from_py(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<faer::Mat<Rea
 
 /// A 1-D float array as a vector.
 pub fn vec_from_py(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<Real>> {
+    refuse_complex(obj, name)?;
     let a: PyArrayLike1<'_, Real, AllowTypeChange> = obj.extract().map_err(|e| {
         InputError::new_err(format!("<arrays>.{name}: not a 1-D float array ({e})"))
     })?;

@@ -17,14 +17,36 @@ use squeal_pipeline::stages::{cea as cea_stage, modes as modes_stage, sweep, tra
 use squeal_pipeline::{PipelineError, RunDir, Scene};
 use std::path::{Path, PathBuf};
 
-/// Runs `f` without the GIL; maps its error through the hook (KeyboardInterrupt, callback
-/// exceptions, pipeline errors).
+/// Runs `f` without the GIL on a thread of its own while this thread polls for Ctrl-C and the
+/// hook's `cancel()` ([`Hook::poll`]); maps its error through the hook (KeyboardInterrupt,
+/// callback exceptions, pipeline errors).
 fn run<T: Send>(
     py: Python<'_>,
     hook: &Hook,
     f: impl FnOnce(&Hook) -> Result<T, PipelineError> + Send,
 ) -> PyResult<T> {
-    let r = py.detach(|| f(hook));
+    let r = py.detach(|| {
+        std::thread::scope(|s| {
+            let (done, finished) = std::sync::mpsc::channel::<()>();
+            let worker = s.spawn(move || {
+                let r = f(hook);
+                let _ = done.send(());
+                r
+            });
+            let mut polls = 0u32;
+            while let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
+                finished.recv_timeout(std::time::Duration::from_millis(20))
+            {
+                polls += 1;
+                hook.poll(polls % 5 == 0);
+            }
+            worker.join()
+        })
+    });
+    let r = match r {
+        Ok(r) => r,
+        Err(panic) => std::panic::resume_unwind(panic),
+    };
     match r {
         Ok(v) => {
             hook.finish()?;
@@ -73,7 +95,7 @@ pub fn modes<'py>(
     component: Option<String>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let hook = Hook::new(progress);
+    let hook = Hook::new(crate::args::callable("squeal", "progress", progress, py)?);
     let s = &scene.inner;
     let m = run(py, &hook, |h| {
         let dir = RunDir::create(&workdir)?;
@@ -132,7 +154,7 @@ pub fn reduce<'py>(
     cache: Option<PathBuf>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let hook = Hook::new(progress);
+    let hook = Hook::new(crate::args::callable("squeal", "progress", progress, py)?);
     let s = &scene.inner;
     let (m, u) = run(py, &hook, |h| build(s, &workdir, cache.as_ref(), h))?;
     let d = PyDict::new(py);
@@ -161,7 +183,7 @@ pub fn transient<'py>(
     cache: Option<PathBuf>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let hook = Hook::new(progress);
+    let hook = Hook::new(crate::args::callable("squeal", "progress", progress, py)?);
     let s = &scene.inner;
     let (r, u) = run(py, &hook, |h| {
         let (m, u) = build(s, &workdir, cache.as_ref(), h)?;
@@ -198,7 +220,7 @@ pub fn transient<'py>(
     )?;
     d.set_item(
         "energy_columns",
-        tr::records::ENERGY_HEADER
+        tr::ENERGY_HEADER
             .split(',')
             .map(|s| s.trim().to_string())
             .collect::<Vec<_>>(),
@@ -223,7 +245,7 @@ pub fn cea<'py>(
     cache: Option<PathBuf>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let hook = Hook::new(progress);
+    let hook = Hook::new(crate::args::callable("squeal", "progress", progress, py)?);
     let s = &scene.inner;
     let (c, m, u) = run(py, &hook, |h| {
         let (m, u) = build(s, &workdir, cache.as_ref(), h)?;
@@ -287,8 +309,9 @@ pub fn cea<'py>(
 /// One value of a design sweep: the scene with `assignments` ((key, value) pairs) set, the
 /// model through the cache in `cache_dir`, the analyses with their files in `run_dir`; returns
 /// the point (a `sweep.json` entry) as JSON text. A failure is recorded in the point.
+/// `cancel`: a callable polled every 100 ms; true stops the value (`Cancelled` is raised).
 #[pyfunction]
-#[pyo3(signature = (scene, assignments, label, index, analysis, cache_dir, run_dir, progress=None))]
+#[pyo3(signature = (scene, assignments, label, index, analysis, cache_dir, run_dir, progress=None, cancel=None))]
 pub fn sweep_value(
     py: Python<'_>,
     scene: &PyScene,
@@ -299,13 +322,17 @@ pub fn sweep_value(
     cache_dir: PathBuf,
     run_dir: PathBuf,
     progress: Option<Py<PyAny>>,
+    cancel: Option<Py<PyAny>>,
 ) -> PyResult<String> {
     let analysis = sweep::Analysis::parse(analysis).map_err(|e| crate::errors::to_py(&e))?;
     let mut texts = Vec::new();
     for (k, v) in &assignments {
         texts.push((k.clone(), value_text(v, k)?));
     }
-    let hook = Hook::new(progress);
+    let hook = Hook::with_cancel(
+        crate::args::callable("squeal.sweep_value", "progress", progress, py)?,
+        crate::args::callable("squeal.sweep_value", "cancel", cancel, py)?,
+    );
     let base = &scene.inner;
     run(py, &hook, |h| {
         let mut s = sweep::values::scene_for_all(base, &texts)?;
@@ -315,7 +342,7 @@ pub fn sweep_value(
         h.progress.check("sweep value")?;
         let vdir = RunDir::create(&run_dir)?;
         let cache = ModelCache::new(&cache_dir);
-        let mut p = sweep::run_value(index, &label, &s, &vdir, &cache, analysis, &h.progress);
+        let mut p = sweep::run_value(index, &label, &s, &vdir, &cache, analysis, &h.progress)?;
         if texts.len() > 1 {
             p.value = serde_json::Value::Array(
                 texts
@@ -351,7 +378,7 @@ pub fn model_key(scene: &PyScene) -> PyResult<Option<String>> {
 /// `compare.md`) into `workdir`.
 #[pyfunction]
 #[pyo3(signature = (a, b, workdir, tol_freq=None, tol_mac=None, tol_matrix=None, tol_root=None,
-    tol_summary=None, modes=None, pair_mac=0.5, scene=None, cea=true, cache=None, progress=None))]
+    tol_summary=None, modes=None, pair_mac=None, scene=None, cea=true, cache=None, progress=None))]
 pub fn compare<'py>(
     py: Python<'py>,
     a: PathBuf,
@@ -363,14 +390,14 @@ pub fn compare<'py>(
     tol_root: Option<f64>,
     tol_summary: Option<f64>,
     modes: Option<usize>,
-    pair_mac: f64,
+    pair_mac: Option<f64>,
     scene: Option<PathBuf>,
     cea: bool,
     cache: Option<PathBuf>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     use squeal_pipeline::stages::compare as cmp;
-    let hook = Hook::new(progress);
+    let hook = Hook::new(crate::args::callable("squeal", "progress", progress, py)?);
     let opts = cmp::CompareOptions {
         tol_freq,
         tol_mac,

@@ -7,6 +7,7 @@
 //! computation runs with the GIL released. The typed Python API (`squeal/__init__.py`) wraps
 //! these functions.
 
+mod args;
 mod arrays;
 mod compute;
 mod errors;

@@ -1,12 +1,18 @@
 //! Progress and cancellation from Python: the pipeline's [`ProgressSink`] calling a Python
-//! callable with one dict per event, and answering `cancelled()` from Ctrl-C
-//! (`Python::check_signals`, effective on the main thread) or a callback that raised.
+//! callable with one dict per event, and answering `cancelled()` from a flag. The computation
+//! runs on a thread of its own while the calling thread waits and polls ([`Hook::poll`]):
+//! `Python::check_signals` (Ctrl-C: effective when the caller is the main thread) every
+//! 20 ms, and the caller's `cancel()` callable (a sweep's task) every 100 ms. A signal
+//! handler's exception, a `cancel()` returning true, or a progress callback that raised sets
+//! the flag; the library asks it inside its long loops (assembly, Craig–Bampton, Lanczos,
+//! CEA sweeps, gmsh), so the run stops within a fraction of a second.
 
 use crate::errors;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use squeal_pipeline::progress::{Event, Progress, ProgressSink};
 use squeal_pipeline::PipelineError;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 /// Calls `callback({"kind", "task", "label", "message", "fraction", "bar"})` for every event;
@@ -14,7 +20,10 @@ use std::sync::{Arc, Mutex};
 /// the computation to stop.
 pub struct PySink {
     callback: Option<Py<PyAny>>,
+    /// `cancel()`: true asks the run to stop (polled by [`Hook::poll`]).
+    cancel: Option<Py<PyAny>>,
     error: Mutex<Option<PyErr>>,
+    stop: AtomicBool,
 }
 
 impl PySink {
@@ -23,6 +32,7 @@ impl PySink {
         if slot.is_none() {
             *slot = Some(e);
         }
+        self.stop.store(true, Ordering::SeqCst);
     }
 
     fn failed(&self) -> bool {
@@ -62,16 +72,7 @@ impl ProgressSink for PySink {
     }
 
     fn cancelled(&self) -> bool {
-        if self.failed() {
-            return true;
-        }
-        match Python::attach(|py| py.check_signals()) {
-            Ok(()) => false,
-            Err(e) => {
-                self.keep(e);
-                true
-            }
-        }
+        self.stop.load(Ordering::Relaxed)
     }
 }
 
@@ -83,14 +84,42 @@ pub struct Hook {
 
 impl Hook {
     pub fn new(callback: Option<Py<PyAny>>) -> Hook {
+        Hook::with_cancel(callback, None)
+    }
+
+    /// A hook whose run also stops when `cancel()` returns true.
+    pub fn with_cancel(callback: Option<Py<PyAny>>, cancel: Option<Py<PyAny>>) -> Hook {
         let sink = Arc::new(PySink {
             callback,
+            cancel,
             error: Mutex::new(None),
+            stop: AtomicBool::new(false),
         });
         Hook {
             progress: Progress::new(sink.clone()),
             sink,
         }
+    }
+
+    /// Runs Python's signal handlers (a KeyboardInterrupt stops the run) and, with
+    /// `ask_cancel`, the `cancel()` callable; called by the waiting thread.
+    pub fn poll(&self, ask_cancel: bool) {
+        if self.sink.stop.load(Ordering::Relaxed) {
+            return;
+        }
+        Python::attach(|py| {
+            if let Err(e) = py.check_signals() {
+                self.sink.keep(e);
+                return;
+            }
+            if let (true, Some(c)) = (ask_cancel, &self.sink.cancel) {
+                match c.call0(py).and_then(|v| v.is_truthy(py)) {
+                    Ok(true) => self.sink.stop.store(true, Ordering::SeqCst),
+                    Ok(false) => {}
+                    Err(e) => self.sink.keep(e),
+                }
+            }
+        });
     }
 
     /// The Python exception of a failed computation: the callback's or the signal handler's

@@ -1,5 +1,6 @@
 //! `squeal.Scene`: a typed, validated scene in memory.
 
+use crate::args;
 use crate::arrays;
 use crate::errors::{to_py, SceneError};
 use crate::values::{to_toml, toml_to_py, value_text};
@@ -21,9 +22,11 @@ pub struct PyScene {
     pub inner: Scene,
 }
 
-fn overrides(set: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
+/// `key=value` texts of a dict argument `arg` of `func` (keys: dotted scene keys).
+fn overrides(func: &str, arg: &str, set: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<String>> {
     let mut out = Vec::new();
-    if let Some(d) = set {
+    if let Some(d) = set.filter(|d| !d.is_none()) {
+        let d = args::str_dict(func, arg, d, "dotted scene key")?;
         for (k, v) in d.iter() {
             let key: String = k.extract()?;
             out.push(format!("{key}={}", value_text(&v, &key)?));
@@ -32,13 +35,22 @@ fn overrides(set: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
     Ok(out)
 }
 
+/// The `base_dir` argument: a path, default ".".
+fn base_dir_arg(func: &str, v: Option<&Bound<'_, PyAny>>) -> PyResult<PathBuf> {
+    match v {
+        Some(v) if !v.is_none() => args::path(func, "base_dir", v),
+        _ => Ok(PathBuf::from(".")),
+    }
+}
+
 #[pymethods]
 impl PyScene {
     /// Reads a scene file; `set` overrides values as `--set key=value` does.
     #[staticmethod]
     #[pyo3(signature = (path, set=None))]
-    fn from_file(path: PathBuf, set: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
-        let o = overrides(set)?;
+    fn from_file(path: &Bound<'_, PyAny>, set: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
+        let path = args::path("Scene.from_file", "path", path)?;
+        let o = overrides("Scene.from_file", "set", set)?;
         Scene::load(&path, &o)
             .map(|inner| Self { inner })
             .map_err(|e| to_py(&e))
@@ -46,26 +58,39 @@ impl PyScene {
 
     /// A scene from TOML text; relative paths in it are resolved against `base_dir`.
     #[staticmethod]
-    #[pyo3(signature = (text, base_dir=PathBuf::from("."), set=None))]
-    fn from_toml(text: &str, base_dir: PathBuf, set: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
-        let o = overrides(set)?;
-        Scene::from_toml_str(text, base_dir, &o)
+    #[pyo3(signature = (text, base_dir=None, set=None))]
+    fn from_toml(
+        text: &Bound<'_, PyAny>,
+        base_dir: Option<&Bound<'_, PyAny>>,
+        set: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let f = "Scene.from_toml";
+        let text = args::string(f, "text", text, "a str (the scene's TOML text)")?;
+        let base_dir = base_dir_arg(f, base_dir)?;
+        let o = overrides(f, "set", set)?;
+        Scene::from_toml_str(&text, base_dir, &o)
             .map(|inner| Self { inner })
             .map_err(|e| to_py(&e))
     }
 
     /// A scene from a dict with the TOML file's structure (None values are left out).
     #[staticmethod]
-    #[pyo3(signature = (data, base_dir=PathBuf::from("."), set=None))]
+    #[pyo3(signature = (data, base_dir=None, set=None))]
     fn from_dict(
-        data: &Bound<'_, PyDict>,
-        base_dir: PathBuf,
-        set: Option<&Bound<'_, PyDict>>,
+        data: &Bound<'_, PyAny>,
+        base_dir: Option<&Bound<'_, PyAny>>,
+        set: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let doc = to_toml(data.as_any(), "dict")?;
+        let f = "Scene.from_dict";
+        let data = args::str_dict(f, "data", data, "scene table name")?;
+        let doc = to_toml(data.as_any(), "data")?;
         let text = toml::to_string(&doc)
-            .map_err(|e| SceneError::new_err(format!("dict: cannot be written as TOML: {e}")))?;
-        Self::from_toml(&text, base_dir, set)
+            .map_err(|e| SceneError::new_err(format!("data: cannot be written as TOML: {e}")))?;
+        let base_dir = base_dir_arg(f, base_dir)?;
+        let o = overrides(f, "set", set)?;
+        Scene::from_toml_str(&text, base_dir, &o)
+            .map(|inner| Self { inner })
+            .map_err(|e| to_py(&e))
     }
 
     /// A scene over a stored reduced model given in memory (no files): `K`, `M` (n × n),
@@ -76,7 +101,7 @@ impl PyScene {
     /// `toml` holds the rest of the scene (`[friction]`, `[rotor]`, `[transient]`, `[cea]`, …)
     /// as TOML text or a dict.
     #[staticmethod]
-    #[pyo3(signature = (K, M, dofs, gaps=None, B=None, p_brake=None, toml=None, base_dir=PathBuf::from("."), set=None))]
+    #[pyo3(signature = (K, M, dofs, gaps=None, B=None, p_brake=None, toml=None, base_dir=None, set=None))]
     #[allow(non_snake_case)]
     fn from_arrays(
         K: &Bound<'_, PyAny>,
@@ -86,19 +111,22 @@ impl PyScene {
         B: Option<&Bound<'_, PyAny>>,
         p_brake: Option<&Bound<'_, PyAny>>,
         toml: Option<&Bound<'_, PyAny>>,
-        base_dir: PathBuf,
-        set: Option<&Bound<'_, PyDict>>,
+        base_dir: Option<&Bound<'_, PyAny>>,
+        set: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let f = "Scene.from_arrays";
         let text = match toml {
             None => String::new(),
+            Some(t) if t.is_none() => String::new(),
             Some(t) if t.is_instance_of::<PyDict>() => {
                 let doc = to_toml(t, "toml")?;
                 toml::to_string(&doc).map_err(|e| {
                     SceneError::new_err(format!("toml: cannot be written as TOML: {e}"))
                 })?
             }
-            Some(t) => t.extract::<String>()?,
+            Some(t) => args::string(f, "toml", t, "TOML text (str), a dict or None")?,
         };
+        let base_dir = base_dir_arg(f, base_dir)?;
         let a = StoredArrays {
             k: arrays::mat_from_py(K, "K")?,
             m: arrays::mat_from_py(M, "M")?,
@@ -112,7 +140,7 @@ impl PyScene {
                 .transpose()?
                 .unwrap_or_default(),
         };
-        let o = overrides(set)?;
+        let o = overrides(f, "set", set)?;
         Scene::with_arrays(&text, base_dir, &o, a)
             .map(|inner| Self { inner })
             .map_err(|e| to_py(&e))
@@ -121,18 +149,24 @@ impl PyScene {
     /// A copy with `key` set to `value` (a dotted key as `--set` writes it:
     /// `friction.law.mu0`, `components.0.geometry.thickness`); the whole scene is validated
     /// again and an invalid key or value raises SceneError naming it.
-    fn set(&self, key: &str, value: &Bound<'_, PyAny>) -> PyResult<Self> {
+    fn set(&self, key: &Bound<'_, PyAny>, value: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let key = args::string(
+            "Scene.set",
+            "key",
+            key,
+            "a str (a dotted scene key such as \"friction.law.mu0\")",
+        )?;
         let mut s = self.inner.clone();
-        s.set(key, &value_text(value, key)?)
+        s.set(&key, &value_text(value, &key)?)
             .map_err(|e| to_py(&e))?;
         Ok(Self { inner: s })
     }
 
     /// A copy with several keys set together (validated once all are set: values that must
     /// change together, such as both pads' arc); `values` maps dotted keys to values.
-    fn set_many(&self, values: &Bound<'_, PyDict>) -> PyResult<Self> {
+    fn set_many(&self, values: &Bound<'_, PyAny>) -> PyResult<Self> {
         let mut s = self.inner.clone();
-        s.set_all(&overrides(Some(values))?)
+        s.set_all(&overrides("Scene.set_many", "values", Some(values))?)
             .map_err(|e| to_py(&e))?;
         Ok(Self { inner: s })
     }
@@ -228,7 +262,9 @@ pub fn scene_from_state(
     arrays: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<PyScene> {
     match arrays {
-        None => PyScene::from_toml(text, base_dir, None),
+        None => Scene::from_toml_str(text, base_dir, &[])
+            .map(|inner| PyScene { inner })
+            .map_err(|e| to_py(&e)),
         Some(d) => {
             let get = |k: &str| -> PyResult<Option<Bound<'_, PyAny>>> {
                 Ok(d.get_item(k)?.filter(|v| !v.is_none()))
@@ -243,6 +279,7 @@ pub fn scene_from_state(
             let req =
                 |k: &str| get(k)?.ok_or_else(|| SceneError::new_err(format!("state: no {k}")));
             let text = text.into_pyobject(d.py())?.into_any();
+            let base_dir = base_dir.into_pyobject(d.py())?.into_any();
             PyScene::from_arrays(
                 &req("K")?,
                 &req("M")?,
@@ -251,7 +288,7 @@ pub fn scene_from_state(
                 get("B")?.as_ref(),
                 get("p_brake")?.as_ref(),
                 Some(&text),
-                base_dir,
+                Some(&base_dir),
                 None,
             )
         }

@@ -63,6 +63,22 @@ pub enum ReductionError {
         value: f64,
         transposed: f64,
     },
+    /// The block Lanczos of the fixed-interface modes reached its largest Krylov dimension
+    /// (`CbOptions::lanczos_max_dim`) before the modes it needs converged.
+    #[error(
+        "eigen solve of {what} ({n} DOFs): block Lanczos did not converge within Krylov \
+         dimension {dim} (lanczos_max_dim): {needed}"
+    )]
+    LanczosNotConverged {
+        what: String,
+        n: usize,
+        dim: usize,
+        /// What converged against what was needed.
+        needed: String,
+    },
+    /// The caller's interrupt (`CbOptions::interrupt`) asked to stop.
+    #[error("interrupted by the caller during {during}")]
+    Interrupted { during: &'static str },
     /// Superelement assembly: inconsistent component or key data.
     #[error("superelement `{component}`: {detail}")]
     Superelement { component: String, detail: String },

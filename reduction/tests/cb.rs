@@ -177,6 +177,42 @@ fn cb_frequencies_converge_from_above() {
 
 /// The block Lanczos path (used above `dense_max`) keeps the same fixed-interface modes as the
 /// dense path: same frequencies, and reduced models with the same eigenvalues.
+/// The fixed-interface Lanczos that runs out of Krylov dimension says what converged against
+/// what the cutoff needs (the wanted count is no longer the converged count) and names the
+/// option `lanczos_max_dim` (issue 26); an interrupt set before the reduction stops it with
+/// `Interrupted` and no model.
+#[test]
+fn lanczos_out_of_dimension_and_interrupt_are_reported() {
+    let (_, k, m, boundary) = plate();
+    let opts = CbOptions {
+        cutoff_hz: Some(20_000.0),
+        dense_max: 10,
+        lanczos_block: 4,
+        lanczos_max_dim: 8,
+        ..CbOptions::default()
+    };
+    let e = cb::reduce(&k, &m, &boundary, &opts).unwrap_err();
+    let text = e.to_string();
+    assert!(
+        matches!(
+            e,
+            squeal_reduction::ReductionError::LanczosNotConverged { dim: 8, .. }
+        ) && text.contains("lanczos_max_dim")
+            && text.contains("below the cutoff"),
+        "{text}"
+    );
+    let opts = CbOptions {
+        cutoff_hz: Some(20_000.0),
+        interrupt: squeal_fe::Interrupt::new(|| true),
+        ..CbOptions::default()
+    };
+    let e = cb::reduce(&k, &m, &boundary, &opts).unwrap_err();
+    assert!(
+        matches!(e, squeal_reduction::ReductionError::Interrupted { .. }),
+        "{e}"
+    );
+}
+
 #[test]
 fn lanczos_path_matches_dense_path() {
     let (_, k, m, boundary) = plate();

@@ -19,9 +19,11 @@ pub mod error;
 pub mod galpha;
 pub mod hb;
 pub mod insight;
+pub mod interrupt;
 mod linalg;
 
 pub use error::SolverError;
+pub use interrupt::Interrupt;
 
 /// Real scalar type of the crate.
 pub type Real = f64;

@@ -341,6 +341,63 @@ fn singular_iteration_matrix_is_a_clean_status() {
     }
 }
 
+/// A run that keeps stepping far below what its caller needs stops at once with a typed
+/// status (the hex20 brake once crawled at 1e-9 s steps to its step cap). An undamped
+/// oscillator at ω = 1e4 rad/s needs h ≈ 1e-6 s at rtol 1e-6 (BDF2: h ~ (rtol)^{1/3}/ω);
+/// with h_collapse = 1e-4 s (a caller whose band needs 1e-2 s) it stops after exactly
+/// `collapse_steps` steps below it, with the solution intact (analytic cos ωt); without
+/// h_collapse the same run reaches its end.
+#[test]
+fn steps_far_below_h_collapse_stop_with_a_typed_status() {
+    let omega = 1e4;
+    let opts = |h_collapse| BdfOptions {
+        tolerances: squeal_solver::bdf::Tolerances::Scalar {
+            rtol: 1e-6,
+            atol: 1e-9,
+        },
+        h_collapse,
+        collapse_steps: 50,
+        ..Default::default()
+    };
+    let mut sys = Oscillator::new(omega);
+    let mut bdf = Bdf::new(opts(Some(1e-4)), 0.0, &[1.0, 0.0], &[0.0, -omega * omega]).unwrap();
+    let st = bdf.integrate_to(&mut sys, 0.1).unwrap();
+    println!("{st:?}, {} steps", bdf.stats().steps);
+    match st {
+        Status::StepCollapse {
+            t,
+            h,
+            order,
+            h_collapse,
+            steps,
+        } => {
+            assert_eq!((steps, h_collapse), (50, 1e-4));
+            assert!(
+                h < 1e-4 && h > 0.0 && (1..=2).contains(&order),
+                "{h} {order}"
+            );
+            assert_eq!(bdf.stats().steps, 50, "every step was below h_collapse");
+            assert_eq!(t, bdf.t());
+            let exact = (omega * t).cos();
+            assert!(
+                (bdf.y()[0] - exact).abs() < 1e-3,
+                "{} vs {exact}",
+                bdf.y()[0]
+            );
+        }
+        other => panic!("expected StepCollapse, got {other:?}"),
+    }
+    let mut bdf = Bdf::new(opts(None), 0.0, &[1.0, 0.0], &[0.0, -omega * omega]).unwrap();
+    let st = bdf.integrate_to(&mut sys, 2e-3).unwrap();
+    assert!(st.is_success(), "{st:?}");
+    assert!(BdfOptions {
+        h_collapse: Some(-1.0),
+        ..Default::default()
+    }
+    .validate()
+    .is_err());
+}
+
 #[test]
 fn options_validate_and_round_trip() {
     let bad = BdfOptions {

@@ -552,3 +552,36 @@ fn auto_method_and_basis_mismatch() {
     let e = complex_eigen(&sys, &o).unwrap_err();
     assert!(e.to_string().contains("basis_cutoff_hz"), "{e}");
 }
+
+/// The caller's interrupt stops a friction sweep at its next point (issue 26): after the
+/// third solve on the Hoffmann model the sweep returns `Interrupted`, having built no more
+/// than the points it solved; without it the same sweep finishes all 26 points.
+#[test]
+fn interrupt_stops_a_sweep_between_points() {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Arc;
+    let built = Arc::new(AtomicUsize::new(0));
+    let b = built.clone();
+    let build = move |mu: f64| -> Result<CeaMatrices, CeaError> {
+        b.fetch_add(1, Ordering::SeqCst);
+        Ok(hoffmann(mu, 0.0, 0.0))
+    };
+    let seen = built.clone();
+    let opts = SweepOptions {
+        cea: CeaOptions {
+            interrupt: squeal_solver::Interrupt::new(move || seen.load(Ordering::SeqCst) >= 3),
+            ..CeaOptions::default()
+        },
+        ..SweepOptions::default()
+    };
+    let e = sweep(build, &mus(0.0, 0.5, 26), &opts).unwrap_err();
+    assert!(matches!(e, CeaError::Interrupted { .. }), "{e}");
+    assert!(built.load(Ordering::SeqCst) <= 4, "{built:?}");
+    let all = sweep(
+        |mu| Ok::<_, CeaError>(hoffmann(mu, 0.0, 0.0)),
+        &mus(0.0, 0.5, 26),
+        &SweepOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(all.steps.len(), 26);
+}

@@ -22,14 +22,18 @@ fn hoffmann_with_separation_limit_cycle_matches_the_time_integration() {
         ..Default::default()
     };
     let c = 0.1;
-    let (mut band, u0) = compliant_band(c, true, &load);
+    // The gap's relative coordinates as the contact I/O (3 outputs: the relative tangential
+    // velocity, the rotor point's normal velocity, the normal force).
+    let (mut band, u0) = compliant_band(c, true, true, &load);
+    assert_eq!(band.n_velocities() + band.n_rows(), 3);
     let root = *band
         .model()
         .roots
         .iter()
         .find(|p| p.re > 0.0)
         .expect("an unstable root");
-    let face = Mat::from_fn(1, 3, |_, j| if j == 2 { 1.0 } else { 0.0 });
+    // The face: the rotor point's normal velocity, the second velocity output.
+    let face = Mat::from_fn(1, 2, |_, j| if j == 1 { 1.0 } else { 0.0 });
     let opts = HbOptions::default();
     let lc = limit_cycle(&mut band, 10.0, root, &face, &opts).unwrap();
     println!(

@@ -667,6 +667,95 @@ fn fuzz_cache_entry() {
 // ------------------------------------------------------------------------------ corpus
 
 /// Inputs that once failed a target, replayed: `tests/data/fuzz/<target>/<file>`.
+// ------------------------------------------------------ in-memory surfaces (issue 26)
+
+/// `Scene::with_arrays` (Python's `Scene.from_arrays`) on the belt model mutated entry by
+/// entry, resized, with scene texts: built models are finite, symmetric, with usable gaps.
+#[test]
+fn fuzz_scene_from_arrays() {
+    use squeal_tests::fuzz::api;
+    let dir = out("arrays");
+    let belt = api::ArraysCase {
+        k: (0..9).map(|i| models::belt().k[(i / 3, i % 3)]).collect(),
+        m: (0..9).map(|i| models::belt().m[(i / 3, i % 3)]).collect(),
+        n_k: 3,
+        n_m: 3,
+        dofs: vec![(1, 2, true), (1, 3, true), (100_001, 3, true)],
+        gaps: vec![[0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 10.0]],
+        toml: "[cea]\n".into(),
+    };
+    assert_eq!(api::check_arrays(&dir, &belt), Ok(Outcome::Accepted));
+    fuzz(
+        "scene_from_arrays",
+        reports(),
+        api::arrays_case(),
+        400,
+        |c: &api::ArraysCase| format!("{c:?}").into_bytes(),
+        |c| api::check_arrays(&dir, c),
+    );
+}
+
+/// Scene documents as values (Python's `Scene.from_dict`): example scenes with values
+/// replaced by any TOML value, keys removed or added.
+#[test]
+fn fuzz_scene_from_dict() {
+    use squeal_tests::fuzz::api;
+    let dir = out("dict");
+    let docs: Vec<toml::Value> = [
+        "examples/transient/tiny-brake.toml",
+        "examples/accuracy/belt.toml",
+        "examples/cea/tiny-brake-cea.toml",
+    ]
+    .iter()
+    .map(|p| toml::from_str(&std::fs::read_to_string(workspace_root().join(p)).unwrap()).unwrap())
+    .collect();
+    for d in &docs {
+        let c = api::DocCase { doc: d.clone() };
+        let r = api::check_doc(&workspace_root().join("examples/accuracy"), &c);
+        assert!(r.is_ok(), "{r:?}");
+    }
+    fuzz(
+        "scene_from_dict",
+        reports(),
+        api::doc_case(docs),
+        1500,
+        |c: &api::DocCase| toml::to_string(&c.doc).unwrap_or_default().into_bytes(),
+        |c| api::check_doc(&dir, c),
+    );
+}
+
+/// `squeal compare` options on the belt model against a copy with KR[0,0] raised 5 %.
+#[test]
+fn fuzz_compare_options() {
+    use squeal_tests::fuzz::api;
+    let dir = out("compare");
+    let write = |name: &str, scale: f64| {
+        let mut m = models::belt();
+        m.k[(0, 0)] *= scale;
+        let d = dir.join(name);
+        m.write(&d, "reduced").unwrap();
+        std::fs::copy(d.join("reduced.dofmap.json"), d.join("dofmap.json")).unwrap();
+        d
+    };
+    let (a, b) = (write("a", 1.0), write("b", 1.05));
+    let ok = squeal_pipeline::stages::compare::CompareOptions {
+        tol_mac: Some(0.9),
+        ..Default::default()
+    };
+    assert_eq!(
+        api::check_compare(&a, &b, &dir.join("run"), &ok),
+        Ok(Outcome::Accepted)
+    );
+    fuzz(
+        "compare_options",
+        reports(),
+        api::compare_options(),
+        300,
+        |o| format!("{o:?}").into_bytes(),
+        |o| api::check_compare(&a, &b, &dir.join("run"), o),
+    );
+}
+
 #[test]
 fn regression_corpus_replays() {
     let corpus = workspace_root().join("tests/data/fuzz");

@@ -18,6 +18,7 @@ mod table;
 use crate::Real;
 use serde::{Deserialize, Serialize};
 
+pub use eval::MU_MAX;
 pub use table::FrictionTable;
 
 /// Value of a friction law and its partial derivatives at one (p, |V_t|, T).

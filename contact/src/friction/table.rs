@@ -173,11 +173,14 @@ impl FrictionTable {
             });
         }
         for (i, &v) in self.values.iter().enumerate() {
-            if !v.is_finite() || v < 0.0 {
+            if !(v.is_finite() && (0.0..=super::MU_MAX).contains(&v)) {
                 return Err(ContactError::InvalidOption {
                     field: format!("friction.values[{i}]"),
                     value: format!("{v}"),
-                    reason: "must be finite and >= 0".into(),
+                    reason: format!(
+                        "must be finite and in [0, {}] (friction::MU_MAX)",
+                        super::MU_MAX
+                    ),
                 });
             }
         }

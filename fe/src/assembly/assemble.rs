@@ -1,37 +1,40 @@
 //! Parallel element computation, scatter into the node graph, free-DOF matrices.
 
 use super::pattern::NodeGraph;
-use super::{Assembled, AssemblyOptions, AssemblyStats, Hex8Formulation};
-use crate::element::{hex20, hex8, hex8_incompatible};
-use crate::{DofMap, FeError, Material, Real};
+use super::{Assembled, AssemblyOptions, AssemblyStats};
+use crate::element::kinds::element_into;
+use crate::element::solid::BlockLaw;
+use crate::{DofMap, FeError, Real, SolidMaterial};
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use rayon::prelude::*;
-use squeal_meshes::{CellBlock, CellKind, Mesh};
+use squeal_meshes::{CellBlock, Mesh};
 use std::time::Instant;
 
 /// Cells computed in parallel before one serial scatter.
 const CHUNK: usize = 512;
 
-/// Element stiffness (column-major, 3N×3N) and scalar mass (N×N) of one cell.
-type ElementPair = (Vec<Real>, Vec<Real>);
-
 /// Assembles the stiffness K and consistent mass M over the free DOFs of `dofs`.
 ///
-/// `materials[i]` belongs to `mesh.volumes[i]`. Hex8 cells use `opts.hex8`, hex20 cells
-/// 3×3×3 Gauss. Elements are computed in parallel (rayon). The matrices have full symmetric
-/// storage (both triangles) with sorted row indices; fixed DOFs are removed.
+/// `materials[i]` belongs to `mesh.volumes[i]`: an isotropic [`crate::Material`] or any
+/// [`SolidMaterial`] (anisotropic elasticity with material axes). Hex8 cells use `opts.hex8`;
+/// every kind's quadrature rule is in [`crate::element::kinds`]. Elements are computed in
+/// parallel (rayon) into buffers allocated once per block, with no allocation per element.
+/// The matrices have full symmetric storage (both triangles) with sorted row indices; fixed
+/// DOFs are removed.
 ///
-/// Errors: material count mismatch, invalid material, face kinds among the volumes,
-/// connectivity out of range, non-positive Jacobian (naming block, element tag and value).
-pub fn assemble(
+/// Errors: material count mismatch, invalid material (named by its block), face kinds among
+/// the volumes, connectivity out of range, non-positive Jacobian (naming block, element tag
+/// and value).
+pub fn assemble<M: Clone + Into<SolidMaterial>>(
     mesh: &Mesh,
-    materials: &[Material],
+    materials: &[M],
     dofs: &DofMap,
     opts: &AssemblyOptions,
 ) -> Result<Assembled, FeError> {
     let t0 = Instant::now();
     opts.validate()?;
-    check_inputs(mesh, materials, dofs)?;
+    let materials: Vec<SolidMaterial> = materials.iter().cloned().map(Into::into).collect();
+    check_inputs(mesh, &materials, dofs)?;
     let graph = NodeGraph::new(mesh);
     let pattern_s = t0.elapsed().as_secs_f64();
 
@@ -40,17 +43,27 @@ pub fn assemble(
     let mut kblk = vec![[0.0 as Real; 9]; npairs];
     let mut mblk = vec![0.0 as Real; npairs];
     let mut n_elements = 0;
-    for (block, mat) in mesh.volumes.iter().zip(materials) {
+    for (block, mat) in mesh.volumes.iter().zip(&materials) {
         n_elements += block.len();
+        let law = BlockLaw::new(mat);
         let nn = block.kind.n_nodes();
         let d = 3 * nn;
+        let per = d * d + nn * nn;
+        let mut buf = vec![0.0 as Real; per * CHUNK.min(block.len())];
         for start in (0..block.len()).step_by(CHUNK) {
+            if opts.interrupt.is_set() {
+                return Err(FeError::Interrupted { during: "assembly" });
+            }
             let end = (start + CHUNK).min(block.len());
-            let mats: Vec<ElementPair> = (start..end)
-                .into_par_iter()
-                .map(|c| element(mesh, block, c, mat, opts))
-                .collect::<Result<_, _>>()?;
-            for (c, (ke, me)) in (start..end).zip(mats) {
+            buf[..per * (end - start)]
+                .par_chunks_mut(per)
+                .enumerate()
+                .try_for_each(|(i, out)| {
+                    let (ke, me) = out.split_at_mut(d * d);
+                    element(mesh, block, start + i, &law, opts, ke, me)
+                })?;
+            for (c, out) in (start..end).zip(buf.chunks(per)) {
+                let (ke, me) = out.split_at(d * d);
                 let nd = block.cell(c);
                 for b in 0..nn {
                     for a in 0..nn {
@@ -86,7 +99,7 @@ pub fn assemble(
     Ok(Assembled { k, m, stats })
 }
 
-fn check_inputs(mesh: &Mesh, materials: &[Material], dofs: &DofMap) -> Result<(), FeError> {
+fn check_inputs(mesh: &Mesh, materials: &[SolidMaterial], dofs: &DofMap) -> Result<(), FeError> {
     if materials.len() != mesh.volumes.len() {
         return Err(FeError::MaterialCount {
             expected: mesh.volumes.len(),
@@ -100,13 +113,13 @@ fn check_inputs(mesh: &Mesh, materials: &[Material], dofs: &DofMap) -> Result<()
         });
     }
     for (block, mat) in mesh.volumes.iter().zip(materials) {
-        mat.validate()?;
         let name = block_name(block);
-        if !matches!(block.kind, CellKind::Hex8 | CellKind::Hex20) {
+        mat.validate(&format!("material of block '{name}'"))?;
+        if !block.kind.is_volume() {
             return Err(FeError::WrongCellKind {
                 block: name,
                 kind: format!("{:?}", block.kind),
-                expected: "hex8 or hex20",
+                expected: "a volume kind (hex, tet, wedge, pyramid)",
             });
         }
         let nn = block.kind.n_nodes();
@@ -124,6 +137,15 @@ fn check_inputs(mesh: &Mesh, materials: &[Material], dofs: &DofMap) -> Result<()
                 context: format!("connectivity of block '{name}'"),
             });
         }
+        if let crate::MaterialAxes::PerCell(frames) = &mat.axes {
+            if frames.len() != block.len() {
+                return Err(FeError::Dimension {
+                    what: "material frames per cell of a block",
+                    got: frames.len(),
+                    expected: block.len(),
+                });
+            }
+        }
     }
     Ok(())
 }
@@ -135,49 +157,60 @@ pub(crate) fn block_name(block: &CellBlock) -> String {
         .unwrap_or_else(|| "<unnamed>".to_string())
 }
 
-/// Element matrices of cell `c`; Jacobian failures are named by block and tag.
+/// Element matrices of cell `c` into `ke` / `me`; Jacobian failures are named by block and tag.
 fn element(
     mesh: &Mesh,
     block: &CellBlock,
     c: usize,
-    mat: &Material,
+    law: &BlockLaw,
     opts: &AssemblyOptions,
-) -> Result<ElementPair, FeError> {
-    let nd = block.cell(c);
+    ke: &mut [Real],
+    me: &mut [Real],
+) -> Result<(), FeError> {
     let named = |e: FeError| match e {
         FeError::ElementJacobian { det, .. } => FeError::NonPositiveJacobian {
             block: block_name(block),
             tag: block.tags[c],
             det,
         },
+        FeError::InvalidValue {
+            field,
+            value,
+            reason,
+        } => FeError::InvalidValue {
+            field: format!(
+                "block '{}', element tag {}: {field}",
+                block_name(block),
+                block.tags[c]
+            ),
+            value,
+            reason,
+        },
         other => other,
     };
-    match block.kind {
-        CellKind::Hex20 => {
-            let x: [[Real; 3]; 20] = std::array::from_fn(|a| mesh.nodes[nd[a]]);
-            let k = hex20::stiffness(&x, mat).map_err(named)?;
-            let m = hex20::mass_scalar(&x, mat.density).map_err(named)?;
-            Ok((k.as_slice().to_vec(), m.as_slice().to_vec()))
-        }
-        _ => {
-            let x: [[Real; 3]; 8] = std::array::from_fn(|a| mesh.nodes[nd[a]]);
-            let k = match opts.hex8 {
-                Hex8Formulation::Incompatible => hex8_incompatible::stiffness(&x, mat),
-                Hex8Formulation::Standard => hex8::stiffness(&x, mat),
+    let cell_law = law.cell(c).map_err(named)?;
+    element_into(
+        block.kind,
+        opts.hex8,
+        block.cell(c),
+        &mesh.nodes,
+        &cell_law,
+        law.density(),
+        ke,
+        me,
+    )
+    .map_err(|e| match e {
+        // The incompatible-mode condensation reports its failure with a positive det.
+        FeError::ElementJacobian { det, .. }
+            if det > 0.0 && block.kind == squeal_meshes::CellKind::Hex8 =>
+        {
+            FeError::SingularIncompatible {
+                block: block_name(block),
+                tag: block.tags[c],
             }
-            .map_err(|e| match e {
-                FeError::ElementJacobian { det, .. } if det > 0.0 => {
-                    FeError::SingularIncompatible {
-                        block: block_name(block),
-                        tag: block.tags[c],
-                    }
-                }
-                other => named(other),
-            })?;
-            let m = hex8::mass_scalar(&x, mat.density).map_err(named)?;
-            Ok((k.as_slice().to_vec(), m.as_slice().to_vec()))
         }
-    }
+        other => named(other),
+    })
 }
 
 /// Free-DOF CSC matrices from node-block values; rows sorted because free numbering is

@@ -21,11 +21,15 @@ pub enum Hex8Formulation {
 }
 
 /// Assembly options.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct AssemblyOptions {
     /// Formulation of hex8 cells (default: `incompatible`).
     pub hex8: Hex8Formulation,
+    /// Asked between chunks of elements; when set the assembly returns
+    /// `FeError::Interrupted` (default: never).
+    #[serde(skip)]
+    pub interrupt: crate::Interrupt,
 }
 
 impl AssemblyOptions {

@@ -1,6 +1,7 @@
 //! Serendipity hex20, 3×3×3 Gauss integration (2×2×2 would admit spurious modes).
 
-use super::{add_stiffness, expand_mass, gradients, jacobian, quadrature::hex_rule, shape};
+use super::rules::hexahedron;
+use super::{add_stiffness, expand_mass, gradients, jacobian, shape};
 use crate::{FeError, Material, Real};
 use nalgebra::SMatrix;
 
@@ -11,7 +12,7 @@ pub type Mat60 = SMatrix<Real, 60, 60>;
 pub fn stiffness(x: &[[Real; 3]; 20], mat: &Material) -> Result<Box<Mat60>, FeError> {
     let (lambda, mu) = mat.lame();
     let mut k = Box::new(Mat60::zeros());
-    for (xi, w) in hex_rule(3) {
+    for &(xi, w) in hexahedron(3) {
         let (_, dn) = shape::hex20(xi);
         let (j, det) = jacobian(x, &dn, xi)?;
         let g = gradients(&j, det, &dn);
@@ -26,7 +27,7 @@ pub(crate) fn mass_scalar(
     rho: Real,
 ) -> Result<SMatrix<Real, 20, 20>, FeError> {
     let mut m = SMatrix::<Real, 20, 20>::zeros();
-    for (xi, w) in hex_rule(3) {
+    for &(xi, w) in hexahedron(3) {
         let (n, dn) = shape::hex20(xi);
         let (_, det) = jacobian(x, &dn, xi)?;
         let s = rho * w * det;

@@ -1,6 +1,7 @@
 //! Plain trilinear hex8, full 2×2×2 Gauss integration (locks in bending).
 
-use super::{add_stiffness, expand_mass, gradients, jacobian, quadrature::hex_rule, shape};
+use super::rules::hexahedron;
+use super::{add_stiffness, expand_mass, gradients, jacobian, shape};
 use crate::{FeError, Material, Real};
 use nalgebra::SMatrix;
 
@@ -11,7 +12,7 @@ pub type Mat24 = SMatrix<Real, 24, 24>;
 pub fn stiffness(x: &[[Real; 3]; 8], mat: &Material) -> Result<Mat24, FeError> {
     let (lambda, mu) = mat.lame();
     let mut k = Mat24::zeros();
-    for (xi, w) in hex_rule(2) {
+    for &(xi, w) in hexahedron(2) {
         let (_, dn) = shape::hex8(xi);
         let (j, det) = jacobian(x, &dn, xi)?;
         let g = gradients(&j, det, &dn);
@@ -23,7 +24,7 @@ pub fn stiffness(x: &[[Real; 3]; 8], mat: &Material) -> Result<Mat24, FeError> {
 /// Scalar consistent mass m_ab = ∫ ρ N_a N_b dV (2×2×2 Gauss).
 pub(crate) fn mass_scalar(x: &[[Real; 3]; 8], rho: Real) -> Result<SMatrix<Real, 8, 8>, FeError> {
     let mut m = SMatrix::<Real, 8, 8>::zeros();
-    for (xi, w) in hex_rule(2) {
+    for &(xi, w) in hexahedron(2) {
         let (n, dn) = shape::hex8(xi);
         let (_, det) = jacobian(x, &dn, xi)?;
         let s = rho * w * det;

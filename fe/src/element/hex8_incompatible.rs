@@ -7,7 +7,9 @@
 //! are reproduced on any (distorted) element and the patch test passes. The 9 internal DOFs are
 //! condensed statically: K = K_uu − K_uα K_αα⁻¹ K_αu.
 
-use super::{add_stiffness, gradients, jacobian, quadrature::hex_rule, shape};
+use super::rules::hexahedron;
+use super::solid::{add_point, Law};
+use super::{gradients, jacobian, shape};
 use crate::{FeError, Material, Real};
 use nalgebra::SMatrix;
 
@@ -15,7 +17,13 @@ pub use super::hex8::Mat24;
 
 /// Stiffness of the incompatible-mode hex8 (2×2×2 Gauss), condensed to the 24 nodal DOFs.
 pub fn stiffness(x: &[[Real; 3]; 8], mat: &Material) -> Result<Mat24, FeError> {
-    condense(&full_stiffness(x, mat, true)?)
+    let (lambda, mu) = mat.lame();
+    stiffness_law(x, &Law::Isotropic { lambda, mu })
+}
+
+/// [`stiffness`] under any constitutive law (anisotropic materials).
+pub(crate) fn stiffness_law(x: &[[Real; 3]; 8], law: &Law) -> Result<Mat24, FeError> {
+    condense(&full_stiffness_law(x, law, true)?)
 }
 
 /// Static condensation K = K_uu − K_uα K_αα⁻¹ K_αu of the 9 incompatible DOFs.
@@ -36,12 +44,21 @@ fn condense(k: &SMatrix<Real, 33, 33>) -> Result<Mat24, FeError> {
 
 /// Uncondensed 33×33 stiffness (24 nodal + 9 incompatible DOFs); `taylor = false` drops
 /// Taylor's correction (Wilson's original element, which fails the patch test when distorted).
+#[cfg(test)]
 pub(crate) fn full_stiffness(
     x: &[[Real; 3]; 8],
     mat: &Material,
     taylor: bool,
 ) -> Result<SMatrix<Real, 33, 33>, FeError> {
     let (lambda, mu) = mat.lame();
+    full_stiffness_law(x, &Law::Isotropic { lambda, mu }, taylor)
+}
+
+fn full_stiffness_law(
+    x: &[[Real; 3]; 8],
+    law: &Law,
+    taylor: bool,
+) -> Result<SMatrix<Real, 33, 33>, FeError> {
     let (_, dn0) = shape::hex8([0.0; 3]);
     let (j0, det0) = jacobian(x, &dn0, [0.0; 3])?;
     let j0_inv = j0.try_inverse().ok_or(FeError::ElementJacobian {
@@ -50,8 +67,8 @@ pub(crate) fn full_stiffness(
     })?;
     // 8 nodal functions + 3 bubble functions → 33 DOFs.
     let mut k = SMatrix::<Real, 33, 33>::zeros();
-    for (xi, w) in hex_rule(2) {
-        let (_, dn) = shape::hex8(xi);
+    for &(xi, w) in hexahedron(2) {
+        let (n, dn) = shape::hex8(xi);
         let (j, det) = jacobian(x, &dn, xi)?;
         let gn = gradients(&j, det, &dn);
         let mut g = [[0.0; 3]; 11];
@@ -69,7 +86,9 @@ pub(crate) fn full_stiffness(
                 g[8 + kk][i] = scale * jinv[(kk, i)] * dp;
             }
         }
-        add_stiffness(&mut k, &g, w * det, lambda, mu);
+        add_point(&mut k, &g, w * det, law, || {
+            std::array::from_fn(|i| (0..8).map(|a| n[a] * x[a][i]).sum())
+        })?;
     }
     Ok(k)
 }

@@ -3,18 +3,30 @@
 //! - [`hex8_incompatible`]: trilinear hex with Wilson's 9 incompatible modes and Taylor's
 //!   correction (default hex8; no shear locking in bending),
 //! - [`hex8`]: plain trilinear hex, 2×2×2 Gauss (locks in bending; kept for comparison),
-//! - [`hex20`]: serendipity hex, 3×3×3 Gauss.
+//! - [`hex20`]: serendipity hex, 3×3×3 Gauss;
+//! - tet4/tet10 ([`simplex`]), wedge6/wedge15 ([`wedge`]), pyramid5/pyramid13 ([`pyramid`]):
+//!   the generic isoparametric element of [`solid`] with the rules of [`rules`], dispatched
+//!   per cell kind in [`kinds`] (its table states each element's rule and why it is exact);
+//! - anisotropic materials enter every kind through [`crate::elasticity`].
 //!
 //! DOF order inside an element: node-major, `3 a + i` for node `a`, component `i`.
 
 pub mod hex20;
 pub mod hex8;
 pub mod hex8_incompatible;
+pub mod kinds;
+pub mod pyramid;
 pub mod quadrature;
+pub mod rules;
 pub mod shape;
+pub mod simplex;
+pub(crate) mod solid;
+pub mod wedge;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_kinds;
 
 use crate::{FeError, Real};
 use nalgebra::{Matrix3, SMatrix};

@@ -1,6 +1,6 @@
 //! Outward area vectors of face sets, ∫ N_a n dA per node.
 
-use crate::element::{quadrature::quad_rule, shape};
+use crate::element::{quadrature::quad_rule, rules, shape, simplex};
 use crate::{FeError, Mesh, Real};
 use squeal_meshes::CellKind;
 use std::collections::BTreeMap;
@@ -39,6 +39,14 @@ fn area_density(
             let (n, d) = shape::quad8(xi);
             (n.to_vec(), d.to_vec())
         }
+        CellKind::Tri3 => {
+            let (n, d) = simplex::tri3(xi);
+            (n.to_vec(), d.to_vec())
+        }
+        CellKind::Tri6 => {
+            let (n, d) = simplex::tri6(xi);
+            (n.to_vec(), d.to_vec())
+        }
         _ => {
             let (n, d) = shape::quad4(xi);
             (n.to_vec(), d.to_vec())
@@ -58,8 +66,11 @@ fn area_density(
 /// Lumped outward area vectors S_a = ∫ N_a n dA of the face set `face_set`, one entry per
 /// node of the set, sorted by node (n is the outward normal of the adjacent volume cell).
 ///
-/// For quad8 faces the consistent corner values point inward (∫ N_corner dA = −A/12 on a flat
-/// face) — this is the exact consistent integral; the sum over a face is its area vector.
+/// Faces may be quad4, quad8, tri3 or tri6, mixed in one set. Rules: quad4 2×2 Gauss, quad8
+/// 3×3, tri3 the degree-2 triangle rule, tri6 the degree-4 one: exact for N_a (x_ξ × x_η) on
+/// flat and on curved (quadratic) faces. For quad8 faces the consistent corner values point
+/// inward (∫ N_corner dA = −A/12 on a flat face) and tri6 corners carry nothing (∫ N_corner dA
+/// = 0) — these are the exact consistent integrals; the sum over a face is its area vector.
 pub fn face_areas(mesh: &Mesh, face_set: &str) -> Result<Vec<(usize, [Real; 3])>, FeError> {
     let block = mesh
         .faces
@@ -70,11 +81,11 @@ pub fn face_areas(mesh: &Mesh, face_set: &str) -> Result<Vec<(usize, [Real; 3])>
             available: mesh.faces.keys().cloned().collect::<Vec<_>>().join(", "),
         })?;
     for k in block.kinds() {
-        if !matches!(k, CellKind::Quad4 | CellKind::Quad8) {
+        if k.is_volume() {
             return Err(FeError::WrongCellKind {
                 block: face_set.to_string(),
                 kind: format!("{k:?}"),
-                expected: "quad4 or quad8",
+                expected: "quad4, quad8, tri3 or tri6",
             });
         }
     }
@@ -111,7 +122,12 @@ pub fn face_areas(mesh: &Mesh, face_set: &str) -> Result<Vec<(usize, [Real; 3])>
     let mut acc: BTreeMap<usize, [Real; 3]> = BTreeMap::new();
     for face in block.iter() {
         let (kind, nodes) = (face.kind, face.nodes);
-        let rule = quad_rule(if kind == CellKind::Quad8 { 3 } else { 2 });
+        let rule: Vec<([Real; 2], Real)> = match kind {
+            CellKind::Quad8 => quad_rule(3),
+            CellKind::Tri3 => rules::triangle(2).to_vec(),
+            CellKind::Tri6 => rules::triangle(4).to_vec(),
+            _ => quad_rule(2),
+        };
         let corners = &nodes[..kind.n_corners()];
         let cell = incident.get(&corners[0]).and_then(|cands| {
             cands.iter().find(|&&(bi, c)| {
@@ -125,7 +141,12 @@ pub fn face_areas(mesh: &Mesh, face_set: &str) -> Result<Vec<(usize, [Real; 3])>
         })?;
         let cc = centroid(mesh, mesh.volumes[bi].cell(c));
         let fc = centroid(mesh, nodes);
-        let (_, n0) = area_density(mesh, nodes, kind, [0.0, 0.0]);
+        let centre = if kind.n_corners() == 3 {
+            [1.0 / 3.0, 1.0 / 3.0]
+        } else {
+            [0.0, 0.0]
+        };
+        let (_, n0) = area_density(mesh, nodes, kind, centre);
         let len0 = (n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]).sqrt();
         if len0.is_nan() || len0 <= 0.0 {
             return Err(FeError::DegenerateFace {

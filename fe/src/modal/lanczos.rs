@@ -167,7 +167,8 @@ pub(crate) fn lanczos(
     tol: Real,
     max_restarts: usize,
     seed: u64,
-) -> LanczosOut {
+    interrupt: &crate::Interrupt,
+) -> Result<LanczosOut, crate::FeError> {
     let n = m.nrows();
     let b = block_size;
     let mut mmax = max_basis;
@@ -208,6 +209,11 @@ pub(crate) fn lanczos(
     let (mut iterations, mut restarts) = (0usize, 0usize);
     let mut used_basis = 0;
     loop {
+        if interrupt.is_set() {
+            return Err(crate::FeError::Interrupted {
+                during: "Lanczos iterations",
+            });
+        }
         // Apply Op to the block cur..tot and extend the basis.
         let mut w = mv.as_ref().subcols(cur, b).to_owned();
         let ts = std::time::Instant::now();
@@ -307,7 +313,7 @@ pub(crate) fn lanczos(
                 y.as_ref().subcols(0, count),
                 1.0,
             );
-            return LanczosOut {
+            return Ok(LanczosOut {
                 x,
                 converged: converged.min(count),
                 done,
@@ -317,7 +323,7 @@ pub(crate) fn lanczos(
                 m_products: ctx.m_products,
                 max_basis: used_basis,
                 solve_s: ctx.solve_s,
-            };
+            });
         }
         if tot + b <= mmax + b && tot <= mmax {
             continue;
@@ -333,7 +339,7 @@ pub(crate) fn lanczos(
                 y.as_ref().subcols(0, count),
                 1.0,
             );
-            return LanczosOut {
+            return Ok(LanczosOut {
                 x,
                 converged: converged.min(count),
                 done: false,
@@ -343,7 +349,7 @@ pub(crate) fn lanczos(
                 m_products: ctx.m_products,
                 max_basis: used_basis,
                 solve_s: ctx.solve_s,
-            };
+            });
         }
         restarts += 1;
         if nev_target + 2 * b > mmax {

@@ -40,6 +40,10 @@ pub struct ModalOptions {
     pub ordering: FillOrdering,
     /// Nested-dissection parameters (default: [`NestedDissectionOptions::default`]).
     pub nested_dissection: NestedDissectionOptions,
+    /// Asked before the factorisation and at every Lanczos block step; when set the solve
+    /// returns `FeError::Interrupted` (default: never).
+    #[serde(skip)]
+    pub interrupt: crate::Interrupt,
 }
 
 impl Default for ModalOptions {
@@ -56,6 +60,7 @@ impl Default for ModalOptions {
             seed: 7,
             ordering: FillOrdering::Auto,
             nested_dissection: NestedDissectionOptions::default(),
+            interrupt: crate::Interrupt::never(),
         }
     }
 }

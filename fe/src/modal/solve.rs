@@ -162,6 +162,11 @@ pub fn solve_modes_with(
             }
             _ => None,
         };
+        if opts.interrupt.is_set() {
+            return Err(FeError::Interrupted {
+                during: "the modal solve's factorisation",
+            });
+        }
         let f = factorise(k, m, sigma, perm.as_ref())?;
         drop(perm);
         stats.factor_s = t1.elapsed().as_secs_f64();
@@ -192,7 +197,8 @@ pub fn solve_modes_with(
             opts.tol,
             opts.max_restarts,
             opts.seed,
-        );
+            &opts.interrupt,
+        )?;
         stats.lanczos_s = t2.elapsed().as_secs_f64();
         stats.iterations = out.iterations;
         stats.restarts = out.restarts;

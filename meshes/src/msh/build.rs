@@ -2,10 +2,12 @@
 //! volume, faces per physical surface, node sets per physical group, hex20 reordering and
 //! orientation.
 
-use super::element_types::{HEX20_FLIP, HEX20_FROM_GMSH, HEX8_FLIP};
+use super::element_types::{
+    HEX20_FROM_GMSH, PYRAMID13_FROM_GMSH, TET10_FROM_GMSH, WEDGE15_FROM_GMSH,
+};
 use super::{RawElement, RawMesh};
-use crate::jacobian::hex_node_jacobians;
-use crate::query::hex_centroid_jacobian;
+use crate::collapse::recognise_collapsed_hex;
+use crate::jacobian::{centroid_jacobian, mirror, node_jacobians};
 use crate::{CellBlock, CellKind, Mesh, MeshError};
 use std::collections::{BTreeMap, HashMap};
 
@@ -92,15 +94,44 @@ pub(crate) fn build(raw: RawMesh, file: &str) -> Result<Mesh, MeshError> {
             Some(kind) if kind.is_volume() => {
                 cell.clear();
                 let nodes = kept_of(e);
-                match kind {
-                    CellKind::Hex20 => cell.extend(HEX20_FROM_GMSH.iter().map(|&k| nodes[k])),
-                    _ => cell.extend_from_slice(nodes),
+                let perm: &[usize] = match kind {
+                    CellKind::Hex20 => &HEX20_FROM_GMSH,
+                    CellKind::Tet10 => &TET10_FROM_GMSH,
+                    CellKind::Wedge15 => &WEDGE15_FROM_GMSH,
+                    CellKind::Pyramid13 => &PYRAMID13_FROM_GMSH,
+                    _ => &[],
+                };
+                if perm.is_empty() {
+                    cell.extend_from_slice(nodes);
+                } else {
+                    cell.extend(perm.iter().map(|&k| nodes[k]));
                 }
                 for c in cell.iter_mut() {
                     *c = new_index[*c];
                 }
+                // A hexahedron with repeated nodes: the wedge, pyramid or tet it collapses to.
+                let mut kind = kind;
+                if matches!(kind, CellKind::Hex8 | CellKind::Hex20) {
+                    match recognise_collapsed_hex(&cell) {
+                        Ok(None) => {}
+                        Ok(Some((k, v))) => {
+                            kind = k;
+                            cell.clear();
+                            cell.extend(v);
+                        }
+                        Err(c) => {
+                            return Err(MeshError::CollapsedCell {
+                                file: file.to_string(),
+                                line: e.line,
+                                element_tag: e.tag,
+                                cell: kind.family(),
+                                reason: c.reason,
+                            })
+                        }
+                    }
+                }
                 orient(&mesh.nodes, kind, &mut cell, file, e)?;
-                check_nodes(&mesh, &cell, file, e)?;
+                check_nodes(&mesh, kind, &cell, file, e)?;
                 let name = phys.first().map(|&t| name_of(dim, t));
                 let b = *block_of.entry((name.clone(), kind)).or_insert_with(|| {
                     mesh.volumes.push(CellBlock {
@@ -179,29 +210,40 @@ pub(crate) fn build(raw: RawMesh, file: &str) -> Result<Mesh, MeshError> {
     Ok(mesh)
 }
 
-/// After [`orient`]: det J at every corner (hex8) or every node (hex20) of the cell must be
-/// positive (above 1e-12 × the cell's size cubed), else the cell is folded near that node.
-fn check_nodes(mesh: &Mesh, cell: &[usize], file: &str, e: &RawElement) -> Result<(), MeshError> {
+/// After [`orient`]: det J at every node of the cell (a linear kind's corners, a quadratic
+/// kind's corners and mid-edge nodes, a pyramid's apex from each base corner's direction) must
+/// be positive (above 1e-12 × the cell's size cubed), else the cell is folded near that node.
+fn check_nodes(
+    mesh: &Mesh,
+    kind: CellKind,
+    cell: &[usize],
+    file: &str,
+    e: &RawElement,
+) -> Result<(), MeshError> {
     let x: Vec<[f64; 3]> = cell.iter().map(|&i| mesh.nodes[i]).collect();
-    let corners: [[f64; 3]; 8] = std::array::from_fn(|k| x[k]);
-    let centroid_det = hex_centroid_jacobian(&corners);
-    let tol = 1e-12 * cell_size(&corners).powi(3);
-    match hex_node_jacobians(&x).first() {
+    let centroid_det = centroid_jacobian(kind, &x);
+    let tol = 1e-12 * cell_size(&x[..kind.n_corners()]).powi(3);
+    match node_jacobians(kind, &x).first() {
         Some(&(a, det)) if det.is_nan() || det <= tol => Err(MeshError::InvertedAtNode {
             file: file.to_string(),
             line: e.line,
             element_tag: e.tag,
-            kind: if a < 8 { "corner" } else { "mid-edge" },
+            kind: if a < kind.n_corners() {
+                "corner"
+            } else {
+                "mid-edge"
+            },
             node_tag: mesh.node_tags[cell[a]],
             det,
             centroid_det,
+            cell: kind.family(),
         }),
         _ => Ok(()),
     }
 }
 
 /// The largest corner-to-corner extent of a cell (max norm).
-fn cell_size(corners: &[[f64; 3]; 8]) -> f64 {
+fn cell_size(corners: &[[f64; 3]]) -> f64 {
     let mut size: f64 = 0.0;
     for a in corners {
         for b in corners {
@@ -212,7 +254,7 @@ fn cell_size(corners: &[[f64; 3]; 8]) -> f64 {
     size
 }
 
-/// Flips a hex with a negative centroid Jacobian; a (near) zero one is an error.
+/// Mirrors a cell with a negative centroid Jacobian; a (near) zero one is an error.
 fn orient(
     nodes: &[[f64; 3]],
     kind: CellKind,
@@ -220,32 +262,23 @@ fn orient(
     file: &str,
     e: &RawElement,
 ) -> Result<(), MeshError> {
-    let corners: [[f64; 3]; 8] = std::array::from_fn(|k| nodes[cell[k]]);
-    let det = hex_centroid_jacobian(&corners);
+    let x: Vec<[f64; 3]> = cell.iter().map(|&i| nodes[i]).collect();
+    let det = centroid_jacobian(kind, &x);
     // Scale: the cube of the largest corner-to-corner extent of the cell.
-    let size = cell_size(&corners);
+    let size = cell_size(&x[..kind.n_corners()]);
     if !det.is_finite() || det.abs() <= 1e-12 * size.powi(3) {
         return Err(MeshError::DegenerateCell {
             file: file.to_string(),
             line: e.line,
             element_tag: e.tag,
             det,
+            cell: kind.family(),
         });
     }
     if det < 0.0 {
         let old: Vec<usize> = cell.to_vec();
-        match kind {
-            CellKind::Hex8 => {
-                for (k, &f) in HEX8_FLIP.iter().enumerate() {
-                    cell[k] = old[f];
-                }
-            }
-            CellKind::Hex20 => {
-                for (k, &f) in HEX20_FLIP.iter().enumerate() {
-                    cell[k] = old[f];
-                }
-            }
-            _ => {}
+        for (k, &f) in mirror(kind).iter().enumerate() {
+            cell[k] = old[f];
         }
     }
     Ok(())

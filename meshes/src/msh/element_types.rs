@@ -14,7 +14,8 @@ pub(crate) enum GmshType {
     /// A cell squeal stores.
     Cell(CellKind),
     /// A complete second-order gmsh cell (type 10, 9-node quadrangle; type 12, 27-node
-    /// hexahedron) stored as the serendipity cell `CellKind` (quad8, hex20): gmsh lists the
+    /// hexahedron; type 13, 18-node prism; type 14, 14-node pyramid) stored as the serendipity
+    /// cell `CellKind` (quad8, hex20, wedge15, pyramid13): gmsh lists the
     /// serendipity nodes first, in the same order, then the face and body nodes, which are
     /// dropped. gmsh writes these when `Mesh.SecondOrderIncomplete` does not take effect.
     Complete(CellKind),
@@ -27,6 +28,16 @@ impl GmshType {
             15 => GmshType::Point,
             1 => GmshType::Line2,
             8 => GmshType::Line3,
+            2 => GmshType::Cell(CellKind::Tri3),
+            9 => GmshType::Cell(CellKind::Tri6),
+            4 => GmshType::Cell(CellKind::Tet4),
+            11 => GmshType::Cell(CellKind::Tet10),
+            6 => GmshType::Cell(CellKind::Wedge6),
+            18 => GmshType::Cell(CellKind::Wedge15),
+            13 => GmshType::Complete(CellKind::Wedge15),
+            7 => GmshType::Cell(CellKind::Pyramid5),
+            19 => GmshType::Cell(CellKind::Pyramid13),
+            14 => GmshType::Complete(CellKind::Pyramid13),
             3 => GmshType::Cell(CellKind::Quad4),
             16 => GmshType::Cell(CellKind::Quad8),
             5 => GmshType::Cell(CellKind::Hex8),
@@ -45,6 +56,8 @@ impl GmshType {
             GmshType::Cell(k) => k.n_nodes(),
             GmshType::Complete(CellKind::Quad8) => 9,
             GmshType::Complete(CellKind::Hex20) => 27,
+            GmshType::Complete(CellKind::Wedge15) => 18,
+            GmshType::Complete(CellKind::Pyramid13) => 14,
             GmshType::Complete(k) => k.n_nodes(),
         }
     }
@@ -105,14 +118,18 @@ pub(crate) const HEX20_FROM_GMSH: [usize; 20] = [
     0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 13, 9, 16, 18, 19, 17, 10, 12, 14, 15,
 ];
 
-/// Node permutation that turns a hex with negative orientation into a positive one by
-/// swapping its bottom and top faces (squeal order): `new[k] = old[FLIP[k]]`.
-pub(crate) const HEX8_FLIP: [usize; 8] = [4, 5, 6, 7, 0, 1, 2, 3];
-/// As [`HEX8_FLIP`] for hex20: corners swapped, the bottom and top edge rings swapped,
-/// the vertical edges kept.
-pub(crate) const HEX20_FLIP: [usize; 20] = [
-    4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11, 16, 17, 18, 19,
-];
+/// `squeal[k] = gmsh[TET10_FROM_GMSH[k]]`: gmsh's tet10 has 8:(2,3) 9:(1,3), squeal
+/// 8:(1,3) 9:(2,3).
+pub(crate) const TET10_FROM_GMSH: [usize; 10] = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8];
+/// `squeal[k] = gmsh[WEDGE15_FROM_GMSH[k]]`: gmsh's prism15 (and the first 15 nodes of its
+/// prism18) has edges 6:(0,1) 7:(0,2) 8:(0,3) 9:(1,2) 10:(1,4) 11:(2,5) 12:(3,4) 13:(3,5)
+/// 14:(4,5).
+pub(crate) const WEDGE15_FROM_GMSH: [usize; 15] =
+    [0, 1, 2, 3, 4, 5, 6, 9, 7, 12, 14, 13, 8, 10, 11];
+/// `squeal[k] = gmsh[PYRAMID13_FROM_GMSH[k]]`: gmsh's pyramid13 (and the first 13 nodes of
+/// its pyramid14) has edges 5:(0,1) 6:(0,3) 7:(0,4) 8:(1,2) 9:(1,4) 10:(2,3) 11:(2,4)
+/// 12:(3,4).
+pub(crate) const PYRAMID13_FROM_GMSH: [usize; 13] = [0, 1, 2, 3, 4, 5, 8, 10, 6, 7, 9, 11, 12];
 
 #[cfg(test)]
 mod tests {
@@ -130,7 +147,7 @@ mod tests {
             }
         }
         let mut seen = [false; 20];
-        for &g in &HEX20_FLIP {
+        for &g in crate::jacobian::mirror(CellKind::Hex20) {
             assert!(!seen[g]);
             seen[g] = true;
         }
@@ -176,9 +193,73 @@ mod tests {
         // Flipping maps each squeal edge to the edge between the flipped corners.
         for k in 8..20 {
             let (a, b) = squeal[k - 8];
-            let (fa, fb) = (HEX20_FLIP[a], HEX20_FLIP[b]);
-            let (oa, ob) = squeal[HEX20_FLIP[k] - 8];
+            let flip = crate::jacobian::mirror(CellKind::Hex20);
+            let (fa, fb) = (flip[a], flip[b]);
+            let (oa, ob) = squeal[flip[k] - 8];
             assert_eq!(norm((fa, fb)), norm((oa, ob)), "flipped node {k}");
         }
+    }
+
+    /// The permutations put gmsh's nodes where squeal's natural coordinates are: the gmsh
+    /// local coordinates below are gmsh 4.15's `getElementProperties` for types 11, 18 and 19
+    /// (tet10, prism15, pyramid13).
+    #[test]
+    fn tet_wedge_pyramid_permutations_match_gmsh_coordinates() {
+        let tet10: [[f64; 3]; 10] = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.5, 0.0, 0.0],
+            [0.5, 0.5, 0.0],
+            [0.0, 0.5, 0.0],
+            [0.0, 0.0, 0.5],
+            [0.0, 0.5, 0.5],
+            [0.5, 0.0, 0.5],
+        ];
+        let prism15: [[f64; 3]; 15] = [
+            [0.0, 0.0, -1.0],
+            [1.0, 0.0, -1.0],
+            [0.0, 1.0, -1.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 1.0],
+            [0.0, 1.0, 1.0],
+            [0.5, 0.0, -1.0],
+            [0.0, 0.5, -1.0],
+            [0.0, 0.0, 0.0],
+            [0.5, 0.5, -1.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.5, 0.0, 1.0],
+            [0.0, 0.5, 1.0],
+            [0.5, 0.5, 1.0],
+        ];
+        let pyramid13: [[f64; 3]; 13] = [
+            [-1.0, -1.0, 0.0],
+            [1.0, -1.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [-1.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.0, -1.0, 0.0],
+            [-1.0, 0.0, 0.0],
+            [-0.5, -0.5, 0.5],
+            [1.0, 0.0, 0.0],
+            [0.5, -0.5, 0.5],
+            [0.0, 1.0, 0.0],
+            [0.5, 0.5, 0.5],
+            [-0.5, 0.5, 0.5],
+        ];
+        let check = |kind: CellKind, gmsh: &[[f64; 3]], perm: &[usize]| {
+            for (k, &g) in perm.iter().enumerate() {
+                assert_eq!(
+                    crate::topology::node_coords(kind, k),
+                    gmsh[g],
+                    "{kind} node {k}"
+                );
+            }
+        };
+        check(CellKind::Tet10, &tet10, &TET10_FROM_GMSH);
+        check(CellKind::Wedge15, &prism15, &WEDGE15_FROM_GMSH);
+        check(CellKind::Pyramid13, &pyramid13, &PYRAMID13_FROM_GMSH);
     }
 }

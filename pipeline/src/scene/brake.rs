@@ -3,7 +3,7 @@
 
 use super::{ComponentSpec, GeometrySpec, Scene};
 use crate::error::PipelineError;
-use squeal_fe::Material;
+use squeal_fe::SolidMaterial;
 use squeal_meshes::geo::{CaliperGeometry, PadGeometry, RotorGeometry};
 use squeal_meshes::Mesh;
 
@@ -113,8 +113,7 @@ impl Scene {
             _ => {}
         }
         for (volume, m) in &c.materials {
-            m.validate()
-                .map_err(|e| scene_err(format!("components[{i}].materials.{volume}"), e))?;
+            m.validate(&format!("components[{i}].materials.{volume}"))?;
         }
         Ok(())
     }
@@ -124,7 +123,7 @@ impl ComponentSpec {
     /// One material per volume block of `mesh` (in `mesh.volumes` order): the entry of
     /// `materials` named as the block's physical volume, else `material`. A `materials` name
     /// that no block has is an error (a typo would otherwise silently give `material`).
-    pub fn block_materials(&self, mesh: &Mesh) -> Result<Vec<Material>, PipelineError> {
+    pub fn block_materials(&self, mesh: &Mesh) -> Result<Vec<SolidMaterial>, PipelineError> {
         let names: Vec<&str> = mesh
             .volumes
             .iter()
@@ -139,17 +138,23 @@ impl ComponentSpec {
                 ),
             ));
         }
-        Ok(mesh
-            .volumes
+        mesh.volumes
             .iter()
             .map(|b| {
-                b.name
+                match b
+                    .name
                     .as_ref()
-                    .and_then(|n| self.materials.get(n))
-                    .copied()
-                    .unwrap_or(self.material)
+                    .and_then(|n| self.materials.get(n).map(|m| (n, m)))
+                {
+                    Some((n, m)) => {
+                        m.solid(&format!("components[name = {}].materials.{n}", self.name))
+                    }
+                    None => self
+                        .material
+                        .solid(&format!("components[name = {}].material", self.name)),
+                }
             })
-            .collect())
+            .collect()
     }
 }
 
@@ -239,8 +244,12 @@ material = { young = 3.0e7, poisson = 0.29, density = 7.33e-4 }
             });
         }
         let m = c.block_materials(&mesh).unwrap();
-        assert_eq!(m[0].young, 1.0e6);
-        assert_eq!(m[1].young, 3.0e7);
+        let young = |m: &SolidMaterial| match m.elasticity {
+            squeal_fe::Elasticity::Isotropic { young, .. } => young,
+            _ => f64::NAN,
+        };
+        assert_eq!(young(&m[0]), 1.0e6);
+        assert_eq!(young(&m[1]), 3.0e7);
         mesh.volumes[0].name = Some("linning".into());
         let e = c.block_materials(&mesh).unwrap_err().to_string();
         assert!(e.contains("lining") && e.contains("linning"), "{e}");

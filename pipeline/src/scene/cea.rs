@@ -173,6 +173,17 @@ impl CeaSweepSpec {
         if let Some(x) = v.iter().find(|x| !x.is_finite()) {
             return Err(err("mu_values", format!("{x} is not finite")));
         }
+        let field = if self.mu.is_some() { "mu" } else { "mu_values" };
+        let max = squeal_contact::friction::MU_MAX;
+        if let Some(x) = v.iter().find(|x| !(0.0..=max).contains(*x)) {
+            return Err(err(
+                field,
+                format!(
+                    "{x} is not in [0, {max}] (the largest friction coefficients measured \
+                     between solids are below {max}: squeal_contact::friction::MU_MAX)"
+                ),
+            ));
+        }
         Ok(v)
     }
 

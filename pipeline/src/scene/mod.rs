@@ -8,6 +8,7 @@ pub mod arrays;
 mod brake;
 pub mod cea;
 pub mod contact;
+pub mod material;
 mod overrides;
 pub mod reduction;
 pub mod ties;
@@ -17,6 +18,7 @@ pub use accuracy::AccuracySpec;
 pub use arrays::{ArraysRef, StoredArrays};
 pub use cea::{CeaSpec, CeaState, CeaSweepSpec, SweepVary};
 pub use contact::{ContactPair, FrictionSpec, Pairing, RotorSpec};
+pub use material::MaterialSpec;
 pub use overrides::apply_override;
 pub use reduction::{ModelSource, ModelSpec, ReductionSpec};
 pub use ties::{TieKind, TiePairing, TieSide, TieSpec};
@@ -25,7 +27,7 @@ pub use transient::{DampingSpec, Integrator, LoadsSpec, OutputSpec, TransientSpe
 use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
 use squeal_fe::modal::ModalOptions;
-use squeal_fe::{Hex8Formulation, Material};
+use squeal_fe::Hex8Formulation;
 use squeal_meshes::geo::{BlockGeometry, CaliperDims, PadPlacement, RotorGeometry};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -108,12 +110,13 @@ pub struct ComponentSpec {
     /// Formulation of hex8 elements (default: incompatible).
     #[serde(default)]
     pub hex8: Hex8Formulation,
-    /// Isotropic linear-elastic material.
-    pub material: Material,
+    /// Material: isotropic (`young`, `poisson`, `density`) or anisotropic with material axes
+    /// (see [`material::MaterialSpec`]).
+    pub material: MaterialSpec,
     /// Materials of named physical volumes, overriding `material` for them, e.g. a pad's
     /// `{ lining = {...}, backplate = {...} }` (default: none).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
-    pub materials: BTreeMap<String, Material>,
+    pub materials: BTreeMap<String, MaterialSpec>,
     /// Fixed (SPC) node sets (default: none, a free-free component).
     #[serde(default)]
     pub fixed: Vec<FixedSpec>,
@@ -376,10 +379,7 @@ impl Scene {
                     message: format!("`{}` is used twice", c.name),
                 });
             }
-            c.material.validate().map_err(|e| PipelineError::Scene {
-                field: format!("components[{i}].material"),
-                message: e.to_string(),
-            })?;
+            c.material.validate(&format!("components[{i}].material"))?;
             match &c.geometry {
                 GeometrySpec::Rotor(g) => g.validate(),
                 GeometrySpec::Block(g) => g.validate(),

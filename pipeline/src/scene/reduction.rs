@@ -27,6 +27,10 @@ pub struct ReductionSpec {
     /// Run the Craig–Bampton checks (symmetry, M_qq = I, K_bq = 0, rigid-body mass, frequencies
     /// against the full component) and write `checks.json` (default: true).
     pub checks: bool,
+    /// Largest Krylov dimension of the block Lanczos computing a large component's
+    /// fixed-interface modes (interiors above 1500 DOFs) before it gives up (default: 600);
+    /// raise it when the error says the modes below the cutoff did not converge.
+    pub lanczos_max_dim: usize,
 }
 
 impl Default for ReductionSpec {
@@ -37,6 +41,7 @@ impl Default for ReductionSpec {
             cutoff_factor: 2.0,
             n_modes: None,
             checks: true,
+            lanczos_max_dim: CbOptions::default().lanczos_max_dim,
         }
     }
 }
@@ -49,6 +54,7 @@ impl ReductionSpec {
             cutoff_hz: self.cutoff_hz,
             cutoff_factor: self.cutoff_factor,
             n_modes: self.n_modes,
+            lanczos_max_dim: self.lanczos_max_dim,
             ..CbOptions::default()
         }
     }

@@ -72,6 +72,48 @@ pub fn fixed_dofs(c: &ComponentSpec, mesh: &Mesh) -> Result<Vec<(usize, usize)>,
     Ok(fixed)
 }
 
+/// A component whose `fixed` sets hold every DOF of its mesh has nothing left to move (and
+/// the first factorisation or gap assignment would fail naming neither): an error naming the
+/// component, its fixed sets and the mesh file.
+pub fn check_not_all_fixed(
+    scene: &Scene,
+    c: &ComponentSpec,
+    mesh: &Mesh,
+    fixed: &[(usize, usize)],
+    mesh_file: &str,
+) -> Result<(), PipelineError> {
+    let n = mesh.nodes.len();
+    let mut held = vec![false; 3 * n];
+    for &(node, k) in fixed {
+        if node < n && k < 3 {
+            held[3 * node + k] = true;
+        }
+    }
+    if held.iter().all(|&h| h) {
+        let i = scene
+            .components
+            .iter()
+            .position(|x| x.name == c.name)
+            .unwrap_or(0);
+        let sets: Vec<String> = c
+            .fixed
+            .iter()
+            .map(|f| format!("`{}` ({})", f.set, f.dofs))
+            .collect();
+        return Err(PipelineError::Scene {
+            field: format!("components[{i}].fixed"),
+            message: format!(
+                "the fixed set(s) {} of `{}` hold every DOF of its {n} nodes (mesh {mesh_file}): \
+                 the component has no free DOF; fix only where it is held (e.g. a hub or an \
+                 abutment set)",
+                sets.join(", "),
+                c.name
+            ),
+        });
+    }
+    Ok(())
+}
+
 /// What the modal analysis of one component found, in memory.
 #[derive(Debug, Clone)]
 pub struct ModesComputed {
@@ -93,18 +135,20 @@ pub fn compute(
 ) -> Result<ModesComputed, PipelineError> {
     let start = Instant::now();
     let c = scene.component(component)?;
-    let opts = scene.modes.clone().unwrap_or_default();
-    let fe_err = |source| PipelineError::Fe {
-        component: c.name.clone(),
-        source,
-    };
+    let mut opts = scene.modes.clone().unwrap_or_default();
+    opts.interrupt = progress.interrupt();
+    let fe_err = |source| PipelineError::fe(&c.name, source);
     let (mesh, mesh_report) = mesh_component(scene, c, work, progress)?;
     let fixed = fixed_dofs(c, &mesh)?;
+    check_not_all_fixed(scene, c, &mesh, &fixed, &mesh_report.msh_path)?;
     let dofs = DofMap::new(mesh.nodes.len(), &fixed).map_err(fe_err)?;
     let materials = c.block_materials(&mesh)?;
     progress.check("modes")?;
     let step = progress.step(format!("assembling K, M ({} DOFs)", dofs.n_free()));
-    let asm_opts = AssemblyOptions { hex8: c.hex8 };
+    let asm_opts = AssemblyOptions {
+        hex8: c.hex8,
+        interrupt: progress.interrupt(),
+    };
     let assembled = assemble(&mesh, &materials, &dofs, &asm_opts).map_err(fe_err)?;
     step.done(format!("assembled K, M ({} DOFs)", dofs.n_free()));
     progress.check("modes")?;

@@ -29,6 +29,8 @@ pub struct ReduceReport {
     pub components: Vec<ComponentReport>,
     pub files: StoredFiles,
     pub total_s: f64,
+    /// Inputs accepted with a measured value to know about ([`crate::warning`]).
+    pub warnings: Vec<crate::warning::Warning>,
 }
 
 fn is_zero(n: &usize) -> bool {
@@ -107,6 +109,7 @@ pub fn run(
         components: model.components.clone(),
         files,
         total_s: start.elapsed().as_secs_f64(),
+        warnings: model.warnings.clone(),
     };
     dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
     dir.write_json(

@@ -357,7 +357,15 @@ fn full_frequencies(
             max_dim: 900,
             tol: 1e-9,
         };
-        eigen::lanczos(&solve, m, sigma, want, params, "full model")?
+        eigen::lanczos(
+            &solve,
+            m,
+            sigma,
+            want,
+            params,
+            "full model",
+            &squeal_fe::Interrupt::never(),
+        )?
     };
     Ok(pairs
         .values

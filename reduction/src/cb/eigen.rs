@@ -236,6 +236,7 @@ pub(crate) fn lanczos(
     want: Want,
     params: LanczosParams,
     what: &str,
+    interrupt: &squeal_fe::Interrupt,
 ) -> Result<Eigenpairs, ReductionError> {
     let n = m.nrows();
     let p = params.block.min(n).max(1);
@@ -251,6 +252,11 @@ pub(crate) fn lanczos(
     let theta_min = want.lambda_max.map(|l| 1.0 / (l - sigma));
     let mut step = 0usize;
     loop {
+        if interrupt.is_set() {
+            return Err(ReductionError::Interrupted {
+                during: "the fixed-interface Lanczos iterations",
+            });
+        }
         let j = step;
         let dim = basis.len;
         let mut w = basis.mq.subcols(dim - p, p).to_owned();
@@ -327,14 +333,24 @@ pub(crate) fn lanczos(
         if done || exhausted {
             let whole_space = next.is_none() && n_conv == dim;
             if !done && !whole_space {
-                return Err(eig_err(
-                    what,
-                    n,
-                    format!(
-                        "block Lanczos did not converge within Krylov dimension {dim} \
-                         ({n_conv} Ritz pairs converged, {wanted_in_run} wanted); raise lanczos_max_dim"
+                // What convergence still needed: the count asked for, or (a cutoff) every
+                // mode below it and a block of p converged beyond it.
+                let needed = match (want.n_max, theta_min) {
+                    (Some(nm), _) => format!(
+                        "{wanted_in_run} of the {nm} modes asked for converged \
+                         ({n_conv} Ritz pairs in all)"
                     ),
-                ));
+                    (None, _) => format!(
+                        "{n_conv} Ritz pairs converged, {wanted_in_run} of them below the \
+                         cutoff; the cutoff is trusted once {p} more converge beyond it"
+                    ),
+                };
+                return Err(ReductionError::LanczosNotConverged {
+                    what: what.to_string(),
+                    n,
+                    dim,
+                    needed,
+                });
             }
             let keep = want.n_max.map_or(wanted_in_run, |nm| nm.min(wanted_in_run));
             let sel = Mat::<Real>::from_fn(dim, keep, |r, c| u[(r, order[c])]);

@@ -33,6 +33,11 @@ pub struct CbOptions {
     pub lanczos_max_dim: usize,
     /// Relative residual below which a Lanczos Ritz pair counts as converged (default: 1e-9).
     pub lanczos_tol: Real,
+    /// Asked between the phases of the reduction, at every block of constraint modes, every
+    /// Lanczos step and every block of the reduced products; when set the reduction returns
+    /// [`ReductionError::Interrupted`] (default: never). Not hashed, not serialised.
+    #[serde(skip)]
+    pub interrupt: squeal_fe::Interrupt,
 }
 
 impl Default for CbOptions {
@@ -47,6 +52,7 @@ impl Default for CbOptions {
             lanczos_block: 16,
             lanczos_max_dim: 600,
             lanczos_tol: 1e-9,
+            interrupt: squeal_fe::Interrupt::never(),
         }
     }
 }
@@ -119,6 +125,15 @@ impl CbOptions {
             return Err(bad("lanczos_tol", self.lanczos_tol, "must be in (0, 1e-2)"));
         }
         Ok(())
+    }
+
+    /// `Err(ReductionError::Interrupted)` when the caller asked to stop.
+    pub(crate) fn check_interrupt(&self, during: &'static str) -> Result<(), ReductionError> {
+        if self.interrupt.is_set() {
+            Err(ReductionError::Interrupted { during })
+        } else {
+            Ok(())
+        }
     }
 
     /// The cutoff frequency in Hz, if any (explicit, or factor × frequency of interest).

@@ -129,6 +129,7 @@ pub fn reduce_interface(
     let partition_s = t_start.elapsed().as_secs_f64();
 
     // One sparse Cholesky of K_ii.
+    opts.check_interrupt("the Craig–Bampton partition")?;
     let t = Instant::now();
     let interior_coords: Option<Vec<[Real; 3]>> =
         dof_coords.map(|c| part.interior.iter().map(|&i| c[i]).collect());
@@ -155,6 +156,7 @@ pub fn reduce_interface(
     let factor_s = t.elapsed().as_secs_f64();
 
     // Constraint modes Ψ = −K_ii⁻¹ K_ib, solved in parallel column blocks.
+    opts.check_interrupt("the factorisation of K_ii")?;
     let t = Instant::now();
     let mut psi = Mat::<Real>::zeros(ni, nb);
     add_sparse(psi.as_mut(), &Kp.ib, -1.0);
@@ -167,9 +169,14 @@ pub fn reduce_interface(
                 .clamp(1, CONSTRAINT_BLOCK_MAX),
             c => c,
         };
-        psi.par_col_chunks_mut(chunk)
-            .for_each(|block| llt.solve_in_place(block));
+        // A block not yet started when the caller asks to stop is skipped (Ψ is dropped).
+        psi.par_col_chunks_mut(chunk).for_each(|block| {
+            if !opts.interrupt.is_set() {
+                llt.solve_in_place(block)
+            }
+        });
     }
+    opts.check_interrupt("the constraint modes")?;
     check_finite(psi.as_ref(), "constraint modes Ψ")?;
     mem.constraint_modes = peak_rss_kib();
     let constraint_modes_s = t.elapsed().as_secs_f64();
@@ -212,6 +219,7 @@ pub fn reduce_interface(
                 want,
                 params,
                 "fixed-interface K_ii, M_ii",
+                &opts.interrupt,
             )?;
             (Some(p), EigenMethod::BlockLanczos)
         }
@@ -237,10 +245,12 @@ pub fn reduce_interface(
     for (j, &l) in lambda.iter().enumerate() {
         kr[(nb + j, nb + j)] = l;
     }
-    let mr = reduced_mass_like(&Mp, psi.as_ref(), phi.as_ref(), true);
+    opts.check_interrupt("the fixed-interface modes")?;
+    let mr = reduced_mass_like(&Mp, psi.as_ref(), phi.as_ref(), true, &opts.interrupt)?;
     let br = Bp
         .as_ref()
-        .map(|bp| reduced_mass_like(bp, psi.as_ref(), phi.as_ref(), false));
+        .map(|bp| reduced_mass_like(bp, psi.as_ref(), phi.as_ref(), false, &opts.interrupt))
+        .transpose()?;
     check_finite(kr.as_ref(), "reduced stiffness")?;
     check_finite(mr.as_ref(), "reduced mass")?;
     mem.products = peak_rss_kib();
@@ -352,7 +362,8 @@ fn reduced_mass_like(
     psi: MatRef<'_, Real>,
     phi: MatRef<'_, Real>,
     unit_modal: bool,
-) -> Mat<Real> {
+    interrupt: &squeal_fe::Interrupt,
+) -> Result<Mat<Real>, ReductionError> {
     let (nb, nq) = (psi.ncols(), phi.ncols());
     let mut out = Mat::<Real>::zeros(nb + nq, nb + nq);
     // W = A_ii Ψ + A_ib in column blocks, never whole: on a brake rotor Ψ is gigabytes, and
@@ -365,6 +376,11 @@ fn reduced_mass_like(
         a.ib.val(),
     );
     for c0 in (0..nb).step_by(W_BLOCK) {
+        if interrupt.is_set() {
+            return Err(ReductionError::Interrupted {
+                during: "the reduced mass and damping",
+            });
+        }
         let c = W_BLOCK.min(nb - c0);
         let mut w = sym_spmm(&a.ii, psi.subcols(c0, c));
         for j in 0..c {
@@ -394,7 +410,7 @@ fn reduced_mass_like(
             out.submatrix_mut(nb, nb, nq, nq).copy_from(&qq);
         }
     }
-    out
+    Ok(out)
 }
 
 fn check_finite(a: MatRef<'_, Real>, what: &str) -> Result<(), ReductionError> {

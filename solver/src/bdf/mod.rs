@@ -13,6 +13,8 @@
 //! - [`interpolate`]: the interpolating polynomial for output between steps.
 //! - [`initial`]: consistent initial derivatives.
 //! - [`roots`]: restart at an event ([`Bdf::reinit`]) and root location on the interpolant.
+//! - [`warm`]: restart at order 2 from a Taylor start ([`Bdf::reinit_taylor`]) and y'' of the
+//!   DAE ([`warm::second_derivative`]).
 //! - [`state`]: the serialisable state for restarts, and the statistics.
 
 pub mod coeffs;
@@ -25,6 +27,7 @@ pub mod roots;
 pub mod state;
 pub mod step;
 mod validate;
+pub mod warm;
 
 use serde::Serialize;
 
@@ -132,6 +135,20 @@ pub enum Status {
     Interrupted {
         /// Time of the last accepted step.
         t: Real,
+    },
+    /// `collapse_steps` consecutive accepted steps were shorter than `h_collapse`
+    /// ([`BdfOptions::h_collapse`]); `y()`/`yp()` hold the last step's solution.
+    StepCollapse {
+        /// Time of the last accepted step.
+        t: Real,
+        /// Its step size.
+        h: Real,
+        /// Its order.
+        order: usize,
+        /// The threshold the steps stayed below.
+        h_collapse: Real,
+        /// Consecutive accepted steps below it.
+        steps: u64,
     },
 }
 
@@ -381,11 +398,28 @@ impl Bdf {
                 return Ok(status);
             }
             steps += 1;
+            let h_collapse = self.opts.h_collapse.unwrap_or(0.0);
+            if self.st.h_used < h_collapse {
+                self.st.collapse_count += 1;
+            } else {
+                self.st.collapse_count = 0;
+            }
             let go_on = on_step(sys, self.st.t, &self.st.phi[0], &self.st.yp)?;
             if !go_on {
                 self.w.y_out.copy_from_slice(&self.st.phi[0]);
                 self.w.yp_out.copy_from_slice(&self.st.yp);
                 return Ok(Status::Interrupted { t: self.st.t });
+            }
+            if self.st.collapse_count >= self.opts.collapse_steps as u64 {
+                self.w.y_out.copy_from_slice(&self.st.phi[0]);
+                self.w.yp_out.copy_from_slice(&self.st.yp);
+                return Ok(Status::StepCollapse {
+                    t: self.st.t,
+                    h: self.st.h_used,
+                    order: self.st.k_used,
+                    h_collapse,
+                    steps: self.st.collapse_count,
+                });
             }
         }
     }

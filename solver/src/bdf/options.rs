@@ -140,6 +140,13 @@ pub struct BdfOptions {
     pub max_error_test_failures: usize,
     /// Maximum Newton convergence failures on one step (IDA's maxncf, default: 10).
     pub max_convergence_failures: usize,
+    /// Stop with `Status::StepCollapse` once `collapse_steps` consecutive accepted steps were
+    /// all shorter than this (default: None = never). A caller that knows the shortest step
+    /// its question needs (a frequency band) sets it well below that: a run that keeps
+    /// stepping there resolves something else, and says so at once instead of crawling.
+    pub h_collapse: Option<Real>,
+    /// Consecutive accepted steps shorter than `h_collapse` that make a collapse (default: 200).
+    pub collapse_steps: usize,
 }
 
 impl Default for BdfOptions {
@@ -159,6 +166,8 @@ impl Default for BdfOptions {
             max_newton_iters: 4,
             max_error_test_failures: 10,
             max_convergence_failures: 10,
+            h_collapse: None,
+            collapse_steps: 200,
         }
     }
 }
@@ -211,6 +220,14 @@ impl BdfOptions {
         }
         if self.max_convergence_failures == 0 {
             return bad("max_convergence_failures", "0".into(), "must be >= 1");
+        }
+        if let Some(h) = self.h_collapse {
+            if !(h > 0.0 && h.is_finite()) {
+                return bad("h_collapse", h.to_string(), "must be finite and > 0");
+            }
+        }
+        if self.collapse_steps == 0 {
+            return bad("collapse_steps", "0".into(), "must be >= 1");
         }
         Ok(())
     }

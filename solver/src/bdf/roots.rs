@@ -6,7 +6,9 @@
 //! interpolant ([`Bdf::interpolate`]) by the Illinois variant of regula falsi: the secant
 //! point of the bracket [t_lo, t_hi], halving the retained end's value when the same end is
 //! kept twice, until the bracket is below `t_tol`. Only decreasing crossings (g > 0 → g ≤ 0)
-//! are events (IDA's `rootdir = −1`); the bracket always keeps g(t_lo) > 0 ≥ g(t_hi).
+//! are events (IDA's `rootdir = −1`); the bracket always keeps g(t_lo) > 0 ≥ g(t_hi). A
+//! crossing that starts at zero (g(t_lo) ≤ 0 > g(t_hi): a function that sat at zero and left
+//! it downwards) has its root at t_lo.
 
 use super::{Bdf, BdfState};
 use crate::{Real, SolverError};
@@ -45,6 +47,7 @@ impl Bdf {
         // The start-up phase (order 1, doubling h) counts steps from here.
         st.start_step = stats.steps;
         st.stats = stats;
+        st.collapse_count = self.st.collapse_count;
         let h = match self.opts.fixed_step {
             Some(hf) => hf,
             None => h.min(self.opts.h_max.unwrap_or(Real::INFINITY)),
@@ -64,6 +67,7 @@ impl Bdf {
 
     /// Locate a decreasing root of `g` on the last step, where g(t_lo) = `g_lo` > 0 and
     /// g(t_n) = `g_hi` ≤ 0 (t_lo = t_n − h_used); `t_tol` is the width at which to stop.
+    /// With `g_lo` ≤ 0 (a crossing that starts at zero) the root is t_lo.
     pub fn locate_root<G>(
         &self,
         g_lo: Real,
@@ -79,6 +83,10 @@ impl Bdf {
         let (mut a, mut b) = (self.st.t - self.st.h_used, self.st.t);
         let (mut ga, mut gb) = (g_lo, g_hi);
         let mut found = RootFound { t: b, evals: 0 };
+        if ga <= 0.0 && gb <= 0.0 {
+            found.t = a;
+            return Ok(found);
+        }
         if !(ga > 0.0 && gb <= 0.0) {
             return Ok(found);
         }

@@ -116,12 +116,25 @@ pub struct BdfState {
     /// (0 unless [`super::Bdf::reinit`] restarted the integration at an event).
     #[serde(default)]
     pub start_step: u64,
+    /// The (re)start was warm ([`super::Bdf::reinit_taylor`]): the difference arrays already
+    /// hold an order-2 past, so the first step is not a cold start (false for a cold start).
+    #[serde(default)]
+    pub warm: bool,
+    /// Consecutive accepted steps shorter than `BdfOptions::h_collapse` (kept over restarts).
+    #[serde(default)]
+    pub collapse_count: u64,
 }
 
 impl BdfState {
     /// Steps accepted since the last (re)start.
     pub(crate) fn steps_since_start(&self) -> u64 {
         self.stats.steps.saturating_sub(self.start_step)
+    }
+
+    /// No step since a cold (re)start: the difference arrays hold y and y' only (φ_1 = y' until
+    /// h is chosen, then h y'), and the first step is of order 1.
+    pub(crate) fn cold_start(&self) -> bool {
+        self.steps_since_start() == 0 && !self.warm
     }
 }
 
@@ -162,6 +175,8 @@ impl BdfState {
                 ..Default::default()
             },
             start_step: 0,
+            warm: false,
+            collapse_count: 0,
         }
     }
 }

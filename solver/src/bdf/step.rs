@@ -14,7 +14,7 @@ impl Bdf {
         &mut self,
         sys: &mut S,
     ) -> Result<Option<Status>, SolverError> {
-        if self.st.steps_since_start() == 0 {
+        if self.st.cold_start() {
             self.st.k_used = 0;
             self.st.h_used = 0.0;
             self.st.psi[0] = self.st.h;
@@ -102,7 +102,7 @@ impl Bdf {
                     residual_norm: self.w.last_res_norm,
                 }));
             }
-            if self.st.steps_since_start() == 0 {
+            if self.st.cold_start() {
                 self.st.psi[0] = self.st.h;
                 for x in self.st.phi[1].iter_mut() {
                     *x *= rr;

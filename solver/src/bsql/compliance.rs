@@ -18,7 +18,8 @@
 //! (∂F/∂y' = −c_k on λ'_k: the system stays index 0 and the row tends to the position
 //! constraint as c_k → 0). An open gap (separation) keeps its row λ'_k = λ'_{open,k} = P_0 A_k;
 //! it opens where p_n = 0, i.e. G_k u = c_k λ'_{open,k}, and closes when G_k u returns there
-//! (the force is continuous: no impact for a compliant row).
+//! (the force is continuous: no impact for a compliant row). With the smooth unilateral law of
+//! [`super::smooth`] the row opens and closes through the law itself, with no event.
 //!
 //! # Derivation (iteration matrix)
 //! With J = ∂F/∂y + c_j ∂F/∂y', the row reads $G_k δu − c_k c_j δλ_k = r_{λ,k}$; the u-row
@@ -104,11 +105,13 @@ impl<F: FrictionForces> BsqlSystem<F> {
         (0..self.n).map(|i| self.G[(k, i)] * x[i]).sum()
     }
 
-    /// F_λ,k = G_k u − c_k λ'_k for the closed compliant rows (the others are left as they are).
+    /// F_λ,k = G_k u − c_k λ'_k for the closed compliant rows (S_k(G_k u) − c_k λ'_k with the
+    /// smooth unilateral law, [`super::smooth`]; the other rows are left as they are).
     pub(crate) fn compliant_residual(&self, u: &[Real], lamp: &[Real], rl: &mut [Real]) {
         for (k, &c) in self.compliance.iter().enumerate() {
             if c > 0.0 && !self.open[k] {
-                rl[k] = self.g_row_dot(k, u) - c * lamp[k]; // F_λ = G u − c λ'
+                let g = self.smooth_row(k, self.g_row_dot(k, u)).0;
+                rl[k] = g - c * lamp[k]; // F_λ = G u − c λ'
             }
         }
     }
@@ -132,9 +135,11 @@ impl<F: FrictionForces> BsqlSystem<F> {
                 continue;
             }
             let rho = Self::compliant_row_scale(c, cj, s);
+            // S_k' of the smooth unilateral law (1 for a linear row).
+            let slope = self.smooth_slope_of(k);
             for i in 0..n {
                 self.lu.a[(n + k, i)] = match cj {
-                    Some(_) => rho * self.lu.a[(n + k, i)],
+                    Some(_) => rho * slope * self.lu.a[(n + k, i)],
                     None => 0.0,
                 };
             }
@@ -153,7 +158,7 @@ impl<F: FrictionForces> BsqlSystem<F> {
                 self.rhs[n + k] = rho
                     * s
                     * match cj {
-                        Some(cj) => cj * bl[k] - self.g_row_dot(k, bu),
+                        Some(cj) => cj * bl[k] - self.smooth_slope_of(k) * self.g_row_dot(k, bu),
                         None => bl[k],
                     };
             }
@@ -168,6 +173,8 @@ impl<F: FrictionForces> BsqlSystem<F> {
                 e += if self.open[k] {
                     let l = self.lambda_dot_open[k];
                     l * self.g_row_dot(k, u) - 0.5 * c * l * l
+                } else if self.smooth_width_of(k) > 0.0 {
+                    self.smooth_row_energy(k, self.g_row_dot(k, u))
                 } else {
                     0.5 * c * lamp[k] * lamp[k]
                 };

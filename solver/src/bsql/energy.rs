@@ -175,7 +175,7 @@ impl EnergyBalance {
 #[allow(non_snake_case)]
 impl<F: FrictionForces> BsqlSystem<F> {
     /// Energies and powers at an accepted step (t, y, y'), and update the constraint-drift
-    /// monitor ‖G v‖∞ (rigid rows). Call it from the integrator's per-step callback.
+    /// monitor ‖G v‖∞ (closed rigid rows). Call it from the integrator's per-step callback.
     pub fn observe(&mut self, t: Real, y: &[Real], yp: &[Real]) -> Result<PowerTerms, SolverError> {
         let (n, ng) = (self.n, self.ng);
         if y.len() != 2 * n + ng || yp.len() != y.len() {
@@ -215,10 +215,10 @@ impl<F: FrictionForces> BsqlSystem<F> {
         self.friction.add_forces(t, v, lamp, &mut self.f_n)?;
         p.friction = dot(v, &self.f_n);
         p.external = self.load.dot(t, v);
-        // Constraint drift ‖G v‖∞.
-        // A compliant row has G v ≠ 0 by design: the drift is the rigid rows'.
+        // Constraint drift ‖G v‖∞ over the closed rigid rows: a compliant row has G v ≠ 0 by
+        // design, and an open (separated) row's G v is its separation speed, not a drift.
         let drift = (0..ng)
-            .filter(|&k| self.compliance_of(k) <= 0.0)
+            .filter(|&k| self.compliance_of(k) <= 0.0 && !self.open[k])
             .fold(0.0, |m: Real, k| m.max(self.gv[k].abs()));
         self.stats.constraint_drift = drift;
         self.stats.max_constraint_drift = self.stats.max_constraint_drift.max(drift);

@@ -158,6 +158,9 @@ impl<F: FrictionForces> BsqlSystem<F> {
         cj: Option<Real>,
     ) -> Result<Real, SolverError> {
         let (n, ng) = (self.n, self.ng);
+        if cj.is_some() && self.has_smooth_unilateral() {
+            self.update_smooth_slopes(&y[n + ng..]);
+        }
         let v = &y[..n];
         let lamp = &yp[n..n + ng];
         // Friction tangents at the current point.

@@ -21,6 +21,7 @@
 //! - [`energy`]: energy bookkeeping per accepted step.
 //! - [`unilateral`]: separation and re-contact of constraints (events, plastic impact).
 //! - [`compliance`]: optional normal contact compliance (a penalty spring per row).
+//! - [`smooth`]: a smooth unilateral law for compliant rows (separation with no event).
 
 mod blocks;
 pub mod compliance;
@@ -28,6 +29,7 @@ pub mod energy;
 pub mod jacobian;
 
 pub mod residual;
+pub mod smooth;
 pub mod steady;
 pub mod unilateral;
 
@@ -38,7 +40,9 @@ pub use compliance::compliant_cea;
 pub use energy::{EnergyBalance, EnergyRestart, PowerTerms};
 pub use residual::LoadHistory;
 pub use steady::{steady_state, SteadyOptions, SteadyState};
-pub use unilateral::{Unilateral, UnilateralOptions, UnilateralState, UnilateralStats};
+pub use unilateral::{
+    EventRestart, Unilateral, UnilateralOptions, UnilateralState, UnilateralStats,
+};
 
 use crate::bdf::{DaeSystem, TolerancePartition, Tolerances};
 use crate::linalg::bordered::BorderedBlocks;
@@ -147,7 +151,8 @@ pub struct BsqlStats {
     pub tangent_evals: u64,
     /// Factorisations of the (n + ng) saddle system.
     pub factorisations: u64,
-    /// Constraint drift ‖G v‖∞ at the last observed step.
+    /// Constraint drift ‖G v‖∞ over the closed rigid rows at the last observed step (an open
+    /// row's G v is its separation speed, a compliant row's its spring's rate: neither counts).
     pub constraint_drift: Real,
     /// Largest ‖G v‖∞ over observed steps.
     pub max_constraint_drift: Real,
@@ -251,6 +256,10 @@ pub struct BsqlSystem<F: FrictionForces> {
     pub(crate) lambda_dot_open: Vec<Real>,
     /// Compliance c_k = 1/(k_n A_k) per row (empty: all rows rigid); see [`compliance`].
     pub(crate) compliance: Vec<Real>,
+    /// Width ε_k of the smooth unilateral law per row (empty: none); see [`smooth`].
+    pub(crate) smooth_width: Vec<Real>,
+    /// S_k' at the last iteration-matrix set-up (empty without the smooth law).
+    pub(crate) smooth_slope: Vec<Real>,
 }
 
 #[allow(non_snake_case)]
@@ -313,6 +322,8 @@ impl<F: FrictionForces> BsqlSystem<F> {
             open: vec![false; ng],
             lambda_dot_open: vec![0.0; ng],
             compliance: Vec::new(),
+            smooth_width: Vec::new(),
+            smooth_slope: Vec::new(),
         };
         sys.set_modal_elimination(true);
         Ok(sys)

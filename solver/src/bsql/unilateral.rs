@@ -17,7 +17,8 @@
 //! Events (decreasing zero crossings, located by [`Bdf::locate_root`]):
 //! - opening, closed k: $g_k = λ'_{open,k} − λ'_k = A_k p_n$ crosses 0 (p_n would turn tensile);
 //! - closing, open k: $g_k = G_k u − G_k u(t_{open})$ crosses 0 (the relative normal
-//!   displacement returns to where the gap opened: G_k u = (u_r − u_p)·n grows as it opens).
+//!   displacement returns to where the gap opened: G_k u = (u_r − u_p)·n grows as it opens;
+//!   a compliant row's level is c_k λ'_open,k, where its spring carries the open row's force).
 //!
 //! At a closing the approach velocity $G_k v^- < 0$ is removed by a plastic (frictionless)
 //! impact on the closed set $a$: $\begin{bmatrix} M & G_a^T \\ G_a & 0 \end{bmatrix}
@@ -27,8 +28,9 @@
 //! The kinetic energy lost, $½ v^{-T} M v^- − ½ v^{+T} M v^+ ≥ 0$, is the impact dissipation
 //! of the energy balance. Then y' is made consistent ([`consistent_initial_conditions`]),
 //! rows that are inconsistent with the new set (a closed row in tension, an open row at zero
-//! gap whose gap would close) flip once each, and the BDF restarts at order 1
-//! ([`Bdf::reinit`]) with a step `restart_step_fraction` × the last step.
+//! gap whose gap would close) flip once each, and the BDF restarts with a step
+//! `restart_step_fraction` × the last step: at order 1 ([`Bdf::reinit`]), or at order 2 from
+//! the Taylor past of the new system's solution ([`Bdf::reinit_taylor`], [`EventRestart`]).
 //!
 //! A compliant row ([`super::compliance`]) opens and closes at the same events; its force
 //! λ' = G u/c is continuous at a closing (G u returns to c λ'_open), so it takes no part in
@@ -41,8 +43,19 @@ use serde::{Deserialize, Serialize};
 
 use super::residual::matvec;
 use super::{BsqlSystem, FrictionForces};
+use crate::bdf::warm::second_derivative;
 use crate::bdf::{consistent_initial_conditions, Bdf, InitialConditionOptions, Status};
 use crate::{Real, SolverError};
+
+/// How the BDF restarts after an event.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EventRestart {
+    /// At order 1 from (y, y') ([`Bdf::reinit`]); the order climbs back as at a start.
+    Order1,
+    /// At order 2 from the Taylor past of (y, y', y'') ([`Bdf::reinit_taylor`]).
+    Taylor2,
+}
 
 /// Options of the event handling.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -50,6 +63,8 @@ use crate::{Real, SolverError};
 pub struct UnilateralOptions {
     /// Width of the final root bracket as a fraction of the step that crossed (default: 1e-9).
     pub root_tol: Real,
+    /// How the BDF restarts after an event (default: `order1`).
+    pub restart: EventRestart,
     /// First step after an event as a fraction of the last accepted step (default: 0.1).
     pub restart_step_fraction: Real,
     /// Consistent y' after an event (default: the defaults of [`InitialConditionOptions`]).
@@ -60,6 +75,7 @@ impl Default for UnilateralOptions {
     fn default() -> Self {
         Self {
             root_tol: 1e-9,
+            restart: EventRestart::Order1,
             restart_step_fraction: 0.1,
             initial_conditions: InitialConditionOptions::default(),
         }
@@ -93,7 +109,8 @@ pub struct UnilateralState {
     pub open: Vec<bool>,
     /// λ' an open constraint carries (P_0 A per gap; see the module docs).
     pub lambda_dot_open: Vec<Real>,
-    /// G_k u at the opening of constraint k (its closing level).
+    /// G_k u at the opening of constraint k (its closing level; for a compliant row at most
+    /// c_k λ'_open,k, where its spring force is the open row's).
     pub gap_ref: Vec<Real>,
     /// Root functions that have been positive since the last switch of their row.
     pub armed: Vec<bool>,
@@ -118,6 +135,9 @@ pub struct UnilateralStats {
     pub impact_dissipated: Real,
     /// Time of the first opening.
     pub first_separation_t: Option<Real>,
+    /// Restarts at order 2 ([`EventRestart::Taylor2`]).
+    #[serde(default)]
+    pub warm_restarts: u64,
     /// Open constraints now.
     pub open_now: usize,
     /// Largest number of constraints open at once.
@@ -133,6 +153,8 @@ pub struct Unilateral {
     g_now: Vec<Real>,
     y: Vec<Real>,
     yp: Vec<Real>,
+    /// y'' after an event (the Taylor restart).
+    ypp: Vec<Real>,
     /// An event crossed in the last step and not yet handled (its time, after `tout`).
     pending: bool,
 }
@@ -144,6 +166,38 @@ fn gap_value<F: FrictionForces>(sys: &BsqlSystem<F>, k: usize, y: &[Real]) -> Re
 
 fn gap_rate<F: FrictionForces>(sys: &BsqlSystem<F>, k: usize, v: &[Real]) -> Real {
     sys.g_rows.row_dot(0, k, &v[..sys.n])
+}
+
+/// Relative width of the band about zero in which a root function counts as "at zero": a
+/// row that sits there (a gap at zero pressure: P_0 = 0 and no load yet) is armed, and a
+/// crossing that starts there is an event once the function leaves the band downwards.
+const ZERO_BAND: Real = 1e-12;
+
+/// Width of the zero band of row k: ZERO_BAND × the row's scale (forces for a closed row:
+/// the largest |λ'| and λ'_open, at least 1; lengths for an open row: |G u(t_open)|, at
+/// least 1).
+fn zero_band<F: FrictionForces>(
+    sys: &BsqlSystem<F>,
+    st: &UnilateralState,
+    k: usize,
+    yp: &[Real],
+) -> Real {
+    let scale = if st.open[k] {
+        st.gap_ref[k].abs()
+    } else {
+        yp[sys.n..sys.n + sys.ng]
+            .iter()
+            .chain(&st.lambda_dot_open)
+            .fold(0.0 as Real, |m, x| m.max(x.abs()))
+    };
+    ZERO_BAND * scale.max(1.0)
+}
+
+/// An armed row whose root function went from `g_prev` to `g_now` crossed: a decreasing zero
+/// crossing (g_prev > 0 ≥ g_now), or one that started at zero (g_prev in the zero band,
+/// g_now below it).
+fn crosses(g_prev: Real, g_now: Real, band: Real) -> bool {
+    g_now <= 0.0 && (g_prev > 0.0 || g_now < -band)
 }
 
 /// Root function of constraint k at (y, y').
@@ -232,6 +286,7 @@ impl Unilateral {
             g_now: vec![0.0; ng],
             y: vec![0.0; len],
             yp: vec![0.0; len],
+            ypp: vec![0.0; len],
             pending: false,
         })
     }
@@ -253,7 +308,8 @@ impl Unilateral {
     }
 
     /// Root values at (y, y') into g_prev; rows in `switched` are disarmed, others armed
-    /// when positive.
+    /// when positive or at zero (within the zero band: a gap at zero pressure, e.g. with
+    /// P_0 = 0 before the load, opens as soon as it would turn tensile).
     fn rearm<F: FrictionForces>(
         &mut self,
         sys: &BsqlSystem<F>,
@@ -263,8 +319,9 @@ impl Unilateral {
     ) {
         for k in 0..sys.ng {
             let g = root_value(sys, &self.st, k, y, yp);
+            let band = zero_band(sys, &self.st, k, yp);
             self.st.g_prev[k] = g;
-            self.st.armed[k] = g > 0.0 && !switched.contains(&k) && self.st.can_open[k];
+            self.st.armed[k] = g > -band && !switched.contains(&k) && self.st.can_open[k];
         }
     }
 
@@ -286,6 +343,10 @@ impl Unilateral {
                 if !self.handle_event(bdf, sys, tout, &mut on_step)? {
                     return Ok(Status::Interrupted { t: bdf.t() });
                 }
+                if self.pending {
+                    // Still after this output time (outputs denser than the steps).
+                    return Ok(Status::Reached { t: tout });
+                }
                 continue;
             }
             let mut crossed = false;
@@ -295,7 +356,7 @@ impl Unilateral {
                 let mut any = false;
                 for k in 0..s.ng {
                     g_now[k] = root_value(s, st, k, y, yp);
-                    any |= st.armed[k] && g_now[k] <= 0.0;
+                    any |= st.armed[k] && crosses(st.g_prev[k], g_now[k], zero_band(s, st, k, yp));
                 }
                 if any {
                     crossed = true;
@@ -347,7 +408,8 @@ impl Unilateral {
         let mut t_ev = Real::INFINITY;
         let mut times = vec![Real::INFINITY; ng];
         for k in 0..ng {
-            if !(self.st.armed[k] && self.g_now[k] <= 0.0) {
+            let band = zero_band(sys, &self.st, k, &self.yp);
+            if !(self.st.armed[k] && crosses(self.st.g_prev[k], self.g_now[k], band)) {
                 continue;
             }
             let st = &self.st;
@@ -446,7 +508,18 @@ impl Unilateral {
         }
         self.rearm(sys, &y, &yp, &flipped);
         let h = (self.opts.restart_step_fraction * h_used).max(t_tol);
-        bdf.reinit(t_ev, &y, &yp, h)?;
+        match self.opts.restart {
+            EventRestart::Order1 => bdf.reinit(t_ev, &y, &yp, h)?,
+            EventRestart::Taylor2 => {
+                // y'' of the new system by a central difference over 1e-3 of the first step.
+                if second_derivative(sys, t_ev, &y, &yp, 1e-3 * h, &mut self.ypp)? {
+                    bdf.reinit_taylor(t_ev, &y, &yp, &self.ypp, h)?;
+                    self.stats.warm_restarts += 1;
+                } else {
+                    bdf.reinit(t_ev, &y, &yp, h)?;
+                }
+            }
+        }
         Ok(on_step(sys, t_ev, &y, &yp)? && !stop)
     }
 
@@ -464,7 +537,16 @@ impl Unilateral {
             self.stats.open_now -= 1;
         } else {
             self.st.open[k] = true;
-            self.st.gap_ref[k] = gap_value(sys, k, y);
+            // A compliant row opens and closes where its spring force is λ'_open, at
+            // G u = c λ'_open (G u at the located root differs from it by the interpolant's
+            // inconsistency, and a closing above it would read as tensile); below it when the
+            // root's G u is (the open row starts at zero then, as a rigid one).
+            let (c, g) = (sys.compliance_of(k), gap_value(sys, k, y));
+            self.st.gap_ref[k] = if c > 0.0 {
+                g.min(c * self.st.lambda_dot_open[k])
+            } else {
+                g
+            };
             self.stats.openings += 1;
             self.stats.open_now += 1;
             self.stats.max_open = self.stats.max_open.max(self.stats.open_now);

@@ -236,7 +236,15 @@ fn lanczos_basis(
     let pk = &sys.k;
     let ks = Mat::from_fn(n, n, |i, j| 0.5 * (pk[(i, j)] + pk[(j, i)]));
     let w_c = 2.0 * std::f64::consts::PI * cutoff_hz;
-    let low = lowest_modes(&ks, &sys.m, sys.g.as_ref(), w_c * w_c, max_modes, 1e-8)?;
+    let low = lowest_modes(
+        &ks,
+        &sys.m,
+        sys.g.as_ref(),
+        w_c * w_c,
+        max_modes,
+        1e-8,
+        &opts.interrupt,
+    )?;
     Ok(low.map(|l| {
         let f = l.lambda.iter().map(|&x| hz(x)).collect();
         (l.phi, f, m_red, rank_ratio)

@@ -193,6 +193,7 @@ where
         reference: &[Cplx],
         band_hz: f64,
     ) -> Result<(Point, Point, Vec<Cplx>, usize), CeaError> {
+        self.cea.check_interrupt("the exact critical-mu search")?;
         let sys = self.system(mu)?;
         let Some(basis) = self.basis.as_ref() else {
             return Err(CeaError::InvalidOption {
@@ -220,7 +221,15 @@ where
         };
         let ro = &self.cea.projection.refine;
         // The band only decides which exact roots found near the shift are added as missed.
-        let st = refine_targets(&sys, &mut r.modes, targets, band_hz, thr, ro)?;
+        let st = refine_targets(
+            &sys,
+            &mut r.modes,
+            targets,
+            band_hz,
+            thr,
+            ro,
+            &self.cea.interrupt,
+        )?;
         let (top, best) = tracked(&r.modes, reference).ok_or_else(none)?;
         let m = &r.modes[top];
         Ok((

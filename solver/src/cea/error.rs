@@ -93,6 +93,12 @@ pub enum CeaError {
         /// Smallest/largest absolute LU pivot.
         ratio: f64,
     },
+    /// The caller's interrupt (`CeaOptions::interrupt`) asked to stop.
+    #[error("interrupted by the caller during {during}")]
+    Interrupted {
+        /// What was running.
+        during: &'static str,
+    },
     /// The sweep's matrix builder failed at μ.
     #[error("building the matrices at mu = {mu} failed: {message}")]
     Build {

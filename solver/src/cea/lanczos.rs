@@ -128,6 +128,7 @@ pub(crate) fn lowest_modes(
     lambda_c: f64,
     max_modes: usize,
     tol: f64,
+    interrupt: &crate::Interrupt,
 ) -> Result<Option<LowModes>, CeaError> {
     let n = m.nrows();
     if !(lambda_c > 0.0 && lambda_c.is_finite()) {
@@ -186,6 +187,7 @@ pub(crate) fn lowest_modes(
     };
     let mut pending: Option<(Col<f64>, Col<f64>)> = None;
     while dim < max_dim {
+        super::options::check_interrupt(interrupt, "the projection basis' Lanczos")?;
         // The next (unnormalised) vector and its M product.
         let (mut w, mut mw) = match pending.take() {
             Some(x) => x,

@@ -138,6 +138,11 @@ pub struct CeaOptions {
     pub method: CeaMethod,
     /// Subspace-projection options (default: [`ProjectionOptions::default`]).
     pub projection: ProjectionOptions,
+    /// Asked at every sweep point and regula-falsi trial, every Lanczos vector of the
+    /// projection basis and every refinement shift; when set the analysis returns
+    /// [`CeaError::Interrupted`] (default: never; not serialised).
+    #[serde(skip)]
+    pub interrupt: crate::Interrupt,
 }
 
 impl Default for CeaOptions {
@@ -148,7 +153,20 @@ impl Default for CeaOptions {
             compute_shapes: true,
             method: CeaMethod::Auto,
             projection: ProjectionOptions::default(),
+            interrupt: crate::Interrupt::never(),
         }
+    }
+}
+
+/// `Err(CeaError::Interrupted)` when `interrupt` is set.
+pub(crate) fn check_interrupt(
+    interrupt: &crate::Interrupt,
+    during: &'static str,
+) -> Result<(), CeaError> {
+    if interrupt.is_set() {
+        Err(CeaError::Interrupted { during })
+    } else {
+        Ok(())
     }
 }
 
@@ -165,6 +183,11 @@ fn check(field: &'static str, v: f64, ok: bool, reason: &str) -> Result<(), CeaE
 }
 
 impl CeaOptions {
+    /// `Err(CeaError::Interrupted)` when the caller asked to stop.
+    pub(crate) fn check_interrupt(&self, during: &'static str) -> Result<(), CeaError> {
+        check_interrupt(&self.interrupt, during)
+    }
+
     /// Checks the options; the error names the field.
     pub fn validate(&self) -> Result<(), CeaError> {
         check(

@@ -164,7 +164,14 @@ impl ModalBasis {
         let ro = &opts.projection.refine;
         if ro.enabled {
             let tol = opts.unstable_tol * r.stats.spectral_radius;
-            let st = refine(sys, &mut r.modes, self.band_hz(opts), tol, ro)?;
+            let st = refine(
+                sys,
+                &mut r.modes,
+                self.band_hz(opts),
+                tol,
+                ro,
+                &opts.interrupt,
+            )?;
             let rho = r.stats.spectral_radius;
             finish_stats(&mut r.stats, &r.modes, rho);
             r.stats.time_eigen_s += st.time_s;

@@ -290,11 +290,20 @@ pub(crate) fn refine(
     band_hz: f64,
     unstable_tol_abs: f64,
     opts: &RefineOptions,
+    interrupt: &crate::Interrupt,
 ) -> Result<RefineStats, CeaError> {
     let targets: Vec<usize> = (0..modes.len())
         .filter(|&i| modes[i].unstable && modes[i].frequency_hz <= band_hz)
         .collect();
-    refine_targets(sys, modes, targets, band_hz, unstable_tol_abs, opts)
+    refine_targets(
+        sys,
+        modes,
+        targets,
+        band_hz,
+        unstable_tol_abs,
+        opts,
+        interrupt,
+    )
 }
 
 /// [`refine`] with the targets given (indices into `modes`, stable or not): the exact roots
@@ -307,6 +316,7 @@ pub(crate) fn refine_targets(
     band_hz: f64,
     unstable_tol_abs: f64,
     opts: &RefineOptions,
+    interrupt: &crate::Interrupt,
 ) -> Result<RefineStats, CeaError> {
     opts.validate()?;
     let t0 = Instant::now();
@@ -329,6 +339,7 @@ pub(crate) fn refine_targets(
         if st.n_shifts >= opts.max_shifts {
             break;
         }
+        super::options::check_interrupt(interrupt, "the exact refinement of the roots")?;
         let sigma = modes[first].eigenvalue;
         let tf = Instant::now();
         let op = ShiftInvert::new(sys, c.as_ref(), sigma)?;

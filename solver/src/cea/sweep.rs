@@ -214,6 +214,7 @@ where
     /// Solves at μ; with `check = Some(step)` and a basis, also solves exactly (eigenvalues
     /// only) and records the comparison.
     fn solve_checked(&mut self, mu: f64, check: Option<usize>) -> Result<CeaResult, CeaError> {
+        self.cea.check_interrupt("the friction sweep")?;
         let t = Instant::now();
         let sys = self.system(mu)?;
         let r = match &self.basis {
@@ -229,7 +230,7 @@ where
                 if pr.refine.enabled && self.stats.n_reduced > pr.auto_single_min_dofs {
                     let mut modes = r.modes.clone();
                     let tol = self.cea.unstable_tol * r.stats.spectral_radius;
-                    let st = refine(&sys, &mut modes, band, tol, &pr.refine)?;
+                    let st = refine(&sys, &mut modes, band, tol, &pr.refine, &self.cea.interrupt)?;
                     (CheckKind::Refine, refine_comparison(&st))
                 } else {
                     let opts = CeaOptions {

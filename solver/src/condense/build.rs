@@ -1,7 +1,7 @@
 //! The band-limited model: kept roots as real states, input and output maps, the static
 //! correction.
 
-use super::estimate::{estimate, Estimate};
+use super::estimate::{estimate, Estimate, Kept};
 use super::spectrum::Spectrum;
 use super::{BandError, BandOptions, BandStats, Root};
 use crate::cea::{CeaMatrices, Cplx};
@@ -10,23 +10,61 @@ use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
 use std::time::Instant;
 
-/// The inputs of the band-limited model: the brake load's direction and a unit force at each
-/// contact DOF (where the constraint rows and the friction act).
+/// The inputs and contact outputs of the band-limited model: the brake load's direction, the
+/// force patterns the contact's remainder acts through and the velocity rows the friction
+/// reads, all on the contact DOFs (where the constraint rows and the friction act).
+///
+/// Without patterns and rows, a unit force at each contact DOF and each contact DOF's
+/// velocity. A gap's friction acts on its pad and rotor as a pair of opposite tangential forces
+/// and depends on their relative tangential velocity only, so the gaps' relative coordinates
+/// (per gap: the normal row of G and two tangential rows) serve as both with a third of the
+/// unknowns of a node-paired mesh's contact DOFs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Inputs {
     /// The brake load vector p_brake (length n; empty: no load input).
     pub load: Vec<Real>,
     /// The contact DOFs, strictly increasing.
     pub contact_dofs: Vec<usize>,
+    /// Force patterns over the contact DOFs (n_c × n_p; None: a unit force at each): the
+    /// remainder of the contact law lies in their span.
+    pub patterns: Option<Mat<Real>>,
+    /// Velocity rows over the contact DOFs (n_v × n_c, full row rank; None: each contact DOF's
+    /// velocity): the friction depends on the velocities only through them.
+    pub velocity_rows: Option<Mat<Real>>,
     /// Rows (ng_c × n) giving the normal forces of the compliant rows from the displacement,
     /// G_k / c_k (empty: none); only the error estimate reads them.
     pub compliant_rows: Mat<Real>,
 }
 
 impl Inputs {
-    /// Number of inputs: the load (if any), then the contact DOFs.
+    /// A unit force and the velocity at each contact DOF.
+    pub fn at_dofs(load: Vec<Real>, contact_dofs: Vec<usize>, compliant_rows: Mat<Real>) -> Self {
+        Self {
+            load,
+            contact_dofs,
+            patterns: None,
+            velocity_rows: None,
+            compliant_rows,
+        }
+    }
+
+    /// Number of force patterns n_p.
+    pub fn n_patterns(&self) -> usize {
+        self.patterns
+            .as_ref()
+            .map_or(self.contact_dofs.len(), |p| p.ncols())
+    }
+
+    /// Number of velocity outputs n_v.
+    pub fn n_velocities(&self) -> usize {
+        self.velocity_rows
+            .as_ref()
+            .map_or(self.contact_dofs.len(), |r| r.nrows())
+    }
+
+    /// Number of inputs: the load (if any), then the patterns.
     pub fn len(&self) -> usize {
-        usize::from(!self.load.is_empty()) + self.contact_dofs.len()
+        usize::from(!self.load.is_empty()) + self.n_patterns()
     }
 
     /// True without any input.
@@ -34,9 +72,25 @@ impl Inputs {
         self.len() == 0
     }
 
-    /// Column of the first contact DOF's input.
+    /// Column of the first pattern's input.
     pub fn first_contact(&self) -> usize {
         usize::from(!self.load.is_empty())
+    }
+
+    /// The patterns over the contact DOFs (n_c × n_p).
+    pub fn pattern_matrix(&self) -> Mat<Real> {
+        let nc = self.contact_dofs.len();
+        self.patterns
+            .clone()
+            .unwrap_or_else(|| Mat::<Real>::identity(nc, nc))
+    }
+
+    /// The velocity rows over the contact DOFs (n_v × n_c).
+    pub fn velocity_matrix(&self) -> Mat<Real> {
+        let nc = self.contact_dofs.len();
+        self.velocity_rows
+            .clone()
+            .unwrap_or_else(|| Mat::<Real>::identity(nc, nc))
     }
 
     /// The input matrix (n × len).
@@ -48,8 +102,11 @@ impl Inputs {
                 f[(i, 0)] = p;
             }
         }
+        let p = self.pattern_matrix();
         for (c, &d) in self.contact_dofs.iter().enumerate() {
-            f[(d, o + c)] = 1.0;
+            for j in 0..p.ncols() {
+                f[(d, o + j)] = p[(c, j)];
+            }
         }
         f
     }
@@ -82,6 +139,25 @@ impl Inputs {
         if let Some(&d) = self.contact_dofs.last() {
             if d >= n {
                 return Err(bad("inputs.contact_dofs", d.to_string(), "must be < n"));
+            }
+        }
+        let nc = self.contact_dofs.len();
+        if let Some(p) = &self.patterns {
+            if p.nrows() != nc {
+                return Err(bad(
+                    "inputs.patterns",
+                    format!("{} rows", p.nrows()),
+                    "must have a row per contact DOF",
+                ));
+            }
+        }
+        if let Some(r) = &self.velocity_rows {
+            if r.ncols() != nc || r.nrows() == 0 {
+                return Err(bad(
+                    "inputs.velocity_rows",
+                    format!("{} x {}", r.nrows(), r.ncols()),
+                    "must have a column per contact DOF, and rows",
+                ));
             }
         }
         if self.compliant_rows.nrows() > 0 && self.compliant_rows.ncols() != n {
@@ -161,21 +237,74 @@ fn kept_sum(c: &Mat<c64>, b: &Mat<c64>, w: &[c64], pair: &[bool]) -> Mat<Real> {
     Mat::from_fn(prod.nrows(), prod.ncols(), |i, j| prod[(i, j)].re)
 }
 
+/// The eigendecomposition of a linear operator, computed once, from which band-limited models
+/// with any cut-off are made ([`Condenser::model`]).
+pub struct Condenser<'a> {
+    sys: &'a CeaMatrices,
+    spec: Spectrum,
+    time_eigen_s: Real,
+}
+
+impl<'a> Condenser<'a> {
+    /// Decomposes the linear operator `sys` (compliant rows folded,
+    /// [`crate::bsql::compliant_cea`]; `g`/`d` the rigid rows only).
+    ///
+    /// # Errors
+    /// A refused operator (shapes, rank, mass) or a failed decomposition.
+    pub fn new(sys: &'a CeaMatrices) -> Result<Self, BandError> {
+        let t0 = Instant::now();
+        let spec = Spectrum::new(sys)?;
+        Ok(Self {
+            sys,
+            spec,
+            time_eigen_s: t0.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// Every root of the operator (one per conjugate pair, Im ≥ 0).
+    pub fn roots(&self) -> Vec<Cplx> {
+        self.spec
+            .vals
+            .iter()
+            .copied()
+            .filter(|p| p.im >= 0.0)
+            .collect()
+    }
+
+    /// The band-limited model for the `inputs` with the cut-off and tolerance of `opts`.
+    ///
+    /// # Errors
+    /// Bad options or inputs; a singular static operator; an ill-conditioned
+    /// eigendecomposition; an error estimate above the tolerance.
+    pub fn model(&self, inputs: Inputs, opts: &BandOptions) -> Result<BandModel, BandError> {
+        BandModel::from_spectrum(self.sys, &self.spec, self.time_eigen_s, inputs, opts)
+    }
+}
+
 impl BandModel {
     /// Condenses the linear operator `sys` (compliant rows folded, [`crate::bsql::compliant_cea`];
-    /// `g`/`d` the rigid rows only) for the `inputs`.
+    /// `g`/`d` the rigid rows only) for the `inputs` (one cut-off; several: [`Condenser`]).
     ///
     /// # Errors
     /// Bad options or inputs; a refused or singular operator; an ill-conditioned
     /// eigendecomposition; an error estimate above the tolerance.
-    #[allow(non_snake_case)]
     pub fn build(sys: &CeaMatrices, inputs: Inputs, opts: &BandOptions) -> Result<Self, BandError> {
+        opts.validate()?;
+        inputs.validate(sys.m.nrows())?;
+        Condenser::new(sys)?.model(inputs, opts)
+    }
+
+    #[allow(non_snake_case)]
+    fn from_spectrum(
+        sys: &CeaMatrices,
+        spec: &Spectrum,
+        time_eigen_s: Real,
+        inputs: Inputs,
+        opts: &BandOptions,
+    ) -> Result<Self, BandError> {
         opts.validate()?;
         let n = sys.m.nrows();
         inputs.validate(n)?;
-        let t0 = Instant::now();
-        let spec = Spectrum::new(sys)?;
-        let time_eigen_s = t0.elapsed().as_secs_f64();
         let t1 = Instant::now();
         let two_pi = 2.0 * std::f64::consts::PI;
         let freq = |p: Cplx| {
@@ -261,7 +390,16 @@ impl BandModel {
             Mat::zeros(0, F.ncols())
         };
 
-        let est: Estimate = estimate(&spec, sys, &inputs, &F, &u_stat, &removed_all, opts)?;
+        let kept = Kept {
+            lams: &lams,
+            c: &c,
+            b: &b,
+            nu: &nu,
+            d_u: &D_u,
+            d_v: &D_v,
+            d_n: &D_N,
+        };
+        let est: Estimate = estimate(spec, &kept, &inputs, &F, &u_stat, &removed_all, opts)?;
         let mut stats = BandStats {
             n,
             n_rigid_rows: spec.ng,

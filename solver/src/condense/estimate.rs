@@ -10,14 +10,15 @@
 //! small like s/λ_j for |λ_j| ≫ |s|. The velocities' is s times it (D_v makes the modal
 //! velocity the derivative of the modal displacement, and Σ_all c_j b_j = 0), the
 //! multipliers' the same sum over ν_j (their instantaneous part S⁻¹ G M⁻¹ f is in both).
-//! On probe inputs F (the brake load and random combinations of the contact DOFs' forces) and a
-//! frequency grid over the band (plus the kept roots' frequencies in it), the estimate is
-//! max_ω ‖(H − H_band)(iω) F‖ / max_ω ‖H(iω) F‖ for the contact DOFs' velocities and for the
-//! normal forces (rigid multipliers and compliant springs), each in the Frobenius norm.
+//! On probe inputs F (the brake load and random combinations of the contact force patterns)
+//! and a frequency grid over the band, the estimate is max_ω ‖(H − H_band)(iω) F‖ /
+//! max_ω ‖H(iω) F‖ for the contact velocity outputs and for the normal forces (rigid multipliers and compliant
+//! springs), each in the Frobenius norm; the denominator's maximum also over the kept roots'
+//! frequencies in the band (the resonance peaks of H ≈ H_band there).
 
 use super::spectrum::Spectrum;
 use super::{BandError, BandOptions};
-use crate::cea::{CeaMatrices, Cplx};
+use crate::cea::Cplx;
 use crate::Real;
 use faer::{c64, Mat};
 
@@ -73,22 +74,100 @@ fn real_times(a: &Mat<Real>, z: &Mat<c64>) -> Mat<c64> {
     &ac * z
 }
 
+/// The kept part of the model in complex modal form (one member per pair): what H_band needs.
+pub(crate) struct Kept<'a> {
+    /// Kept roots (Im ≥ 0).
+    pub lams: &'a [Cplx],
+    /// Their displacement shapes (n × k) and inputs (k × n_in), as scaled in the model.
+    pub c: &'a Mat<c64>,
+    pub b: &'a Mat<c64>,
+    /// Their multipliers (ng × k).
+    pub nu: &'a Mat<c64>,
+    /// The model's feedthroughs.
+    pub d_u: &'a Mat<Real>,
+    pub d_v: &'a Mat<Real>,
+    pub d_n: &'a Mat<Real>,
+}
+
+/// H_band(s) W for probe weights W (inputs × np): (u, v, N) = Σ_kept [x_j/(s − λ_j) +
+/// conj] + D W with x_j = (c_j, λ_j c_j, ν_j)·b_j W.
+fn band_response(k: &Kept<'_>, w: &Mat<Real>, s: c64) -> (Mat<c64>, Mat<c64>, Mat<c64>) {
+    let np = w.ncols();
+    let wc = Mat::from_fn(w.nrows(), np, |i, j| c64::new(w[(i, j)], 0.0));
+    let bw = k.b * &wc; // k × np
+    let (n, ng, nk) = (k.c.nrows(), k.nu.nrows(), k.lams.len());
+    // Weighted coefficients: a_j = bw_j/(s − λ_j), and for pairs conj(bw_j)/(s − conj λ_j)
+    // applied to conj(c_j): together two columns per pair.
+    let cols = |m: &Mat<c64>, lam_weight: bool| -> Mat<c64> {
+        let mut out = Mat::<c64>::zeros(m.nrows(), np);
+        for j in 0..nk {
+            let l = k.lams[j];
+            let f = if lam_weight { l } else { c64::new(1.0, 0.0) };
+            let pair = l.im != 0.0;
+            for p in 0..np {
+                let a = f * bw[(j, p)] / (s - l);
+                let a2 = if pair {
+                    f.conj() * bw[(j, p)].conj() / (s - l.conj())
+                } else {
+                    c64::new(0.0, 0.0)
+                };
+                for i in 0..m.nrows() {
+                    let x = m[(i, j)];
+                    out[(i, p)] += x * a
+                        + if pair {
+                            x.conj() * a2
+                        } else {
+                            c64::new(0.0, 0.0)
+                        };
+                }
+            }
+        }
+        out
+    };
+    let mut u = cols(k.c, false);
+    let mut v = cols(k.c, true);
+    let mut nn = cols(k.nu, false);
+    let add = |z: &mut Mat<c64>, d: &Mat<Real>| {
+        let dw = d * w;
+        for j in 0..np {
+            for i in 0..z.nrows() {
+                z[(i, j)] += c64::new(dw[(i, j)], 0.0);
+            }
+        }
+    };
+    add(&mut u, k.d_u);
+    add(&mut v, k.d_v);
+    if ng > 0 {
+        add(&mut nn, k.d_n);
+    }
+    let _ = n;
+    (u, v, nn)
+}
+
 /// The estimate for the model whose removed eigenvalue indices (both members of a pair) are
-/// `removed`; `F` the input matrix and `u_stat` its static response.
+/// `removed`; `F` the input matrix and `u_stat` its static response. The removed part
+/// E(iω) W is summed over the removed modes on a grid of `estimate_points` frequencies (it is
+/// smooth in ω: its poles are outside the band); the band-limited part H_band(iω) W (cheap:
+/// the kept modes) on the grid and at the kept roots' frequencies in the band, where the
+/// response peaks.
 #[allow(non_snake_case)]
 pub(crate) fn estimate(
     spec: &Spectrum,
-    sys: &CeaMatrices,
+    kept: &Kept<'_>,
     inputs: &Inputs,
     F: &Mat<Real>,
     u_stat: &Mat<Real>,
     removed: &[usize],
     opts: &BandOptions,
 ) -> Result<Estimate, BandError> {
-    let _ = sys;
     let n_in = F.ncols();
     let o = inputs.first_contact();
-    let nc = inputs.contact_dofs.len();
+    let nc = inputs.n_patterns();
+    let n2 = 2 * spec.m;
+    let mut is_removed = vec![false; n2];
+    for &j in removed {
+        is_removed[j] = true;
+    }
     // Probe weights over the inputs.
     let mut cols: Vec<Vec<Real>> = Vec::new();
     if o == 1 {
@@ -108,12 +187,10 @@ pub(crate) fn estimate(
     }
     let np = cols.len();
     let two_pi = 2.0 * std::f64::consts::PI;
-    let kept_max = spec
-        .vals
+    let kept_max = kept
+        .lams
         .iter()
-        .enumerate()
-        .filter(|(j, _)| !removed.contains(j))
-        .map(|(_, p)| p.im.abs() / two_pi)
+        .map(|p| p.im.abs() / two_pi)
         .fold(0.0, Real::max);
     let band_hz = opts.band_hz.unwrap_or(if opts.cutoff_hz.is_finite() {
         opts.cutoff_hz
@@ -133,8 +210,6 @@ pub(crate) fn estimate(
     let Fp = F * &W;
     let u_p = u_stat * &W;
     let X = spec.modal_inputs(&spec.input_rows(&Fp));
-    let m = spec.m;
-    let n2 = 2 * m;
     let vw = |weights: &dyn Fn(usize) -> Option<Cplx>| -> Mat<c64> {
         // Σ_j V_w,j w_j X_j over the j with a weight, then to the DOFs.
         let y = Mat::from_fn(n2, np, |j, c| match weights(j) {
@@ -155,26 +230,28 @@ pub(crate) fn estimate(
     }
     let static_check = if den > 0.0 { (num / den).sqrt() } else { 0.0 };
 
-    let mut is_removed = vec![false; n2];
-    for &j in removed {
-        is_removed[j] = true;
-    }
-    // The frequency grid.
+    let rc = &inputs.compliant_rows;
+    let contact = &inputs.contact_dofs;
+    let vr = inputs.velocity_matrix();
+    // Velocity (the velocity rows') and force norms of a response (u, v, N).
+    let norms = |u: &Mat<c64>, v: &Mat<c64>, nn: &Mat<c64>| -> (Real, Real) {
+        let nv = frob(&real_times(&vr, &rows(v, contact)));
+        let mut f2 = 0.0;
+        if spec.ng > 0 {
+            f2 += frob(nn).powi(2);
+        }
+        if rc.nrows() > 0 {
+            f2 += frob(&real_times(rc, u)).powi(2);
+        }
+        (nv, f2.sqrt())
+    };
     let k = opts.estimate_points;
-    let mut freqs: Vec<Real> = (0..k)
+    let grid: Vec<Real> = (0..k)
         .map(|i| band_hz * i as Real / (k - 1) as Real)
         .collect();
-    for (j, p) in spec.vals.iter().enumerate() {
-        let f = p.im / two_pi;
-        if !is_removed[j] && f > 0.0 && f <= band_hz {
-            freqs.push(f);
-        }
-    }
-    let force_direct = spec.instantaneous_multipliers(&Fp);
-    let rc = &inputs.compliant_rows;
     let (mut ev, mut hv, mut ef, mut hf) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
     let (mut at_v, mut at_f) = (0.0, 0.0);
-    for &f in &freqs {
+    for &f in &grid {
         let s = c64::new(0.0, two_pi * f);
         let g = |j: usize| -> Option<Cplx> {
             is_removed[j].then(|| {
@@ -182,42 +259,37 @@ pub(crate) fn estimate(
                 s / (l * (s - l))
             })
         };
-        let h = |j: usize| -> Option<Cplx> { Some(1.0 / (s - spec.vals[j])) };
         let ue = vw(&g);
-        let ue_l = vw(&|j| g(j).map(|w| w * spec.vals[j]));
-        let uh = vw(&h);
-        let uh_l = vw(&|j| h(j).map(|w| w * spec.vals[j]));
-        // Velocities at the contact DOFs: s·E and Σ λ c b/(s − λ).
-        let e_v = frob(&rows(&ue, &inputs.contact_dofs)) * s.norm();
-        let h_v = frob(&rows(&uh_l, &inputs.contact_dofs));
+        let ve = Mat::from_fn(ue.nrows(), np, |i, j| ue[(i, j)] * s);
+        let ne = if spec.ng > 0 {
+            let ue_l = vw(&|j| g(j).map(|w| w * spec.vals[j]));
+            spec.multipliers_of(&ue, &ue_l)
+        } else {
+            Mat::zeros(0, np)
+        };
+        let (e_v, e_f) = norms(&ue, &ve, &ne);
+        let (ub, vb, nb) = band_response(kept, &W, s);
+        let (h_v, h_f) = norms(&(&ub + &ue), &(&vb + &ve), &(&nb + &ne));
         if e_v > ev {
             ev = e_v;
             at_v = f;
         }
-        hv = hv.max(h_v);
-        // Normal forces: the rigid multipliers and the compliant springs.
-        let mut e_f2 = 0.0;
-        let mut h_f2 = 0.0;
-        if spec.ng > 0 {
-            let ne = spec.multipliers_of(&ue, &ue_l);
-            let mut nh = spec.multipliers_of(&uh, &uh_l);
-            for j in 0..np {
-                for i in 0..spec.ng {
-                    nh[(i, j)] += c64::new(force_direct[(i, j)], 0.0);
-                }
-            }
-            e_f2 += frob(&ne).powi(2);
-            h_f2 += frob(&nh).powi(2);
-        }
-        if rc.nrows() > 0 {
-            e_f2 += frob(&real_times(rc, &ue)).powi(2);
-            h_f2 += frob(&real_times(rc, &uh)).powi(2);
-        }
-        if e_f2.sqrt() > ef {
-            ef = e_f2.sqrt();
+        if e_f > ef {
+            ef = e_f;
             at_f = f;
         }
-        hf = hf.max(h_f2.sqrt());
+        hv = hv.max(h_v);
+        hf = hf.max(h_f);
+    }
+    // The band-limited response at the kept roots in the band (its peaks).
+    for p in kept.lams {
+        let f = p.im / two_pi;
+        if f > 0.0 && f <= band_hz {
+            let (ub, vb, nb) = band_response(kept, &W, c64::new(0.0, p.im));
+            let (h_v, h_f) = norms(&ub, &vb, &nb);
+            hv = hv.max(h_v);
+            hf = hf.max(h_f);
+        }
     }
     let error = if hv > 0.0 { ev / hv } else { 0.0 };
     let error_force = if hf > 0.0 { ef / hf } else { 0.0 };

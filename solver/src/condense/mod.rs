@@ -65,7 +65,7 @@ pub mod estimate;
 pub(crate) mod spectrum;
 pub mod system;
 
-pub use build::{BandModel, Inputs};
+pub use build::{BandModel, Condenser, Inputs};
 pub use system::{BandContact, BandReference, BandSystem, BandSystemStats};
 
 use crate::cea::{CeaError, Cplx};

@@ -215,15 +215,6 @@ impl Spectrum {
         })
     }
 
-    /// S⁻¹ G M⁻¹ F (ng × k): the multipliers' instantaneous reaction to forces F (empty without
-    /// rigid rows).
-    pub(crate) fn instantaneous_multipliers(&self, f: &Mat<f64>) -> Mat<f64> {
-        match &self.proj {
-            Some(p) => p.coefficients(f),
-            None => Mat::zeros(0, f.ncols()),
-        }
-    }
-
     /// Multiplier increments of the modes `shapes` (n × k) with eigenvalues `lams`:
     /// N_j = −S⁻¹ G M⁻¹ (λ_j C + K) c_j (ng × k; empty without rigid rows).
     pub(crate) fn multipliers(&self, shapes: &Mat<c64>, lams: &[Cplx]) -> Mat<c64> {

@@ -29,6 +29,7 @@ use crate::bdf::{DaeSystem, TolerancePartition, Tolerances};
 use crate::bsql::{FrictionForces, LoadHistory};
 use crate::linalg::lu::DenseLu;
 use crate::{Real, SolverError};
+use faer::linalg::solvers::Solve;
 use faer::Mat;
 use serde::{Deserialize, Serialize};
 
@@ -97,8 +98,19 @@ pub struct BandSystem<F: FrictionForces> {
     z0: Vec<Real>,
     C_z: Mat<Real>,
     D_z: Mat<Real>,
+    /// R⁺ = Rᵀ(RRᵀ)⁻¹ (n_c × n_v): contact velocities of the velocity outputs.
+    r_pinv: Mat<Real>,
+    /// P⁺ = (PᵀP)⁻¹Pᵀ (n_p × n_c): pattern coefficients of a remainder at the contact DOFs.
+    p_pinv: Mat<Real>,
+    /// The remainder at the contact DOFs (n_c).
+    r_c: Vec<Real>,
     n_x: usize,
+    /// Contact DOFs.
     n_c: usize,
+    /// Velocity outputs n_v.
+    n_v: usize,
+    /// Force patterns n_p.
+    n_p: usize,
     ng: usize,
     /// First contact input.
     o: usize,
@@ -215,23 +227,54 @@ impl<F: FrictionForces> BandSystem<F> {
         let cf0 = Mat::from_fn(n_c, n_c, |a, b| cf_full[(dofs[a], dofs[b])]);
         let d0 = Mat::from_fn(n_c, ng, |a, k| d_full[(dofs[a], k)]);
         let g_c = Mat::from_fn(ng, n_c, |k, a| contact.g[(k, dofs[a])]);
-        // The outputs z = [v_c; q].
+        // Patterns and velocity rows, and their pseudo-inverses.
+        let pm = model.inputs.pattern_matrix();
+        let rm = model.inputs.velocity_matrix();
+        let (n_p, n_v) = (pm.ncols(), rm.nrows());
+        let p_pinv = pseudo_inverse(&pm.transpose().to_owned(), "band model force patterns")?
+            .transpose()
+            .to_owned();
+        let r_pinv = pseudo_inverse(&rm, "band model velocity rows")?;
+        // The contact law must act through the patterns and read the velocity rows only: the
+        // friction tangents and the rows at the reference, projected.
+        let mut probe = Mat::zeros(n_c, n_c + ng);
+        for a in 0..n_c {
+            for b in 0..n_c {
+                probe[(a, b)] = cf0[(a, b)];
+            }
+            for k in 0..ng {
+                probe[(a, n_c + k)] = d0[(a, k)] + g_c[(k, a)];
+            }
+        }
+        let off_span = &probe - &pm * (&p_pinv * &probe);
+        let unread = &cf0 - &(&cf0 * &r_pinv) * &rm;
+        let scale = probe.norm_max().max(Real::MIN_POSITIVE);
+        if off_span.norm_max() > 1e-8 * scale || unread.norm_max() > 1e-8 * scale {
+            return Err(SolverError::InvalidOption {
+                field: "band model patterns / velocity rows",
+                value: format!(
+                    "{:e} outside the patterns, {:e} unread by the rows (of {:e})",
+                    off_span.norm_max(),
+                    unread.norm_max(),
+                    scale
+                ),
+                reason: "the friction tangents and contact rows must lie in the patterns' span \
+                         and read the velocities through the rows",
+            });
+        }
+        // The outputs z = [w; q].
         let n_x = model.n_states;
         let n_in = model.inputs.len();
-        let n_z = n_c + ng;
+        let n_z = n_v + ng;
         let mut C_z = Mat::zeros(n_z, n_x);
         let mut D_z = Mat::zeros(n_z, n_in);
         let mut z0 = vec![0.0; n_z];
-        for (a, &d) in dofs.iter().enumerate() {
-            for j in 0..n_x {
-                C_z[(a, j)] = model.C_v[(d, j)];
-            }
-            for j in 0..n_in {
-                D_z[(a, j)] = model.D_v[(d, j)];
-            }
-        }
+        let cv_c = Mat::from_fn(n_c, n_x, |a, j| model.C_v[(dofs[a], j)]);
+        let dv_c = Mat::from_fn(n_c, n_in, |a, j| model.D_v[(dofs[a], j)]);
+        C_z.submatrix_mut(0, 0, n_v, n_x).copy_from(&rm * &cv_c);
+        D_z.submatrix_mut(0, 0, n_v, n_in).copy_from(&rm * &dv_c);
         for k in 0..ng {
-            let row = n_c + k;
+            let row = n_v + k;
             match rigid_of[k] {
                 Some(r) => {
                     z0[row] = reference.lambda_dot[k];
@@ -279,8 +322,13 @@ impl<F: FrictionForces> BandSystem<F> {
             z0,
             C_z,
             D_z,
+            r_pinv,
+            p_pinv,
+            r_c: vec![0.0; n_c],
             n_x,
             n_c,
+            n_v,
+            n_p,
             ng,
             o,
             v_full: vec![0.0; n],
@@ -338,7 +386,7 @@ impl<F: FrictionForces> BandSystem<F> {
         let p = |len, rtol, atol| TolerancePartition { len, rtol, atol };
         Tolerances::Partitions {
             parts: vec![
-                p(self.n_x + self.n_c, rtol1, atol1),
+                p(self.n_x + self.n_v, rtol1, atol1),
                 p(self.ng, rtol2, atol2),
             ],
         }
@@ -354,13 +402,17 @@ impl<F: FrictionForces> BandSystem<F> {
         }
     }
 
-    /// The inputs f = [ramp(t) − ramp_ref; r(z)] into `self.f_in`.
+    /// The inputs f = [ramp(t) − ramp_ref; P⁺ r(z)] into `self.f_in` (the remainder at the
+    /// contact DOFs in `self.r_c`).
     fn inputs(&mut self, t: Real, z: &[Real]) -> Result<(), SolverError> {
-        let (v_c, q) = z.split_at(self.n_c);
+        let (w, q) = z.split_at(self.n_v);
         self.true_forces(q);
         self.v_full.fill(0.0);
-        for (a, &d) in self.dofs.iter().enumerate() {
-            self.v_full[d] = v_c[a];
+        let n_c = self.n_c;
+        let mut v_c = vec![0.0; n_c];
+        for (a, x) in v_c.iter_mut().enumerate() {
+            *x = (0..self.n_v).map(|b| self.r_pinv[(a, b)] * w[b]).sum();
+            self.v_full[self.dofs[a]] = *x;
         }
         self.f_full.fill(0.0);
         self.friction
@@ -368,7 +420,7 @@ impl<F: FrictionForces> BandSystem<F> {
         if self.o == 1 {
             self.f_in[0] = self.load.ramp(t) - self.reference.ramp;
         }
-        let (ng, n_c, o) = (self.ng, self.n_c, self.o);
+        let (ng, o) = (self.ng, self.o);
         for a in 0..n_c {
             let mut r = self.scale * self.f_full[self.dofs[a]] - self.f0[a];
             for b in 0..n_c {
@@ -386,7 +438,10 @@ impl<F: FrictionForces> BandSystem<F> {
                     value: r,
                 });
             }
-            self.f_in[o + a] = r;
+            self.r_c[a] = r;
+        }
+        for j in 0..self.n_p {
+            self.f_in[o + j] = (0..n_c).map(|a| self.p_pinv[(j, a)] * self.r_c[a]).sum();
         }
         Ok(())
     }
@@ -417,9 +472,9 @@ impl<F: FrictionForces> BandSystem<F> {
         self.model.add_linear(x, out);
     }
 
-    /// J_r = ∂r/∂z (n_c × n_z) at (t, z) (after `inputs`).
+    /// J_r = ∂(P⁺ r)/∂z (n_p × n_z) at (t, z) (after `inputs`).
     fn remainder_jacobian(&mut self, t: Real, z: &[Real]) -> Result<Mat<Real>, SolverError> {
-        let (n_c, ng) = (self.n_c, self.ng);
+        let (n_c, ng, n_v) = (self.n_c, self.ng, self.n_v);
         self.d_full.fill(0.0);
         self.cf_full.fill(0.0);
         self.friction.add_tangents(
@@ -429,23 +484,25 @@ impl<F: FrictionForces> BandSystem<F> {
             &mut self.d_full,
             Some(&mut self.cf_full),
         )?;
-        let q = &z[n_c..];
-        let mut jr = Mat::zeros(n_c, n_c + ng);
-        for a in 0..n_c {
-            let da = self.dofs[a];
-            for b in 0..n_c {
-                jr[(a, b)] = self.scale * self.cf_full[(da, self.dofs[b])] - self.cf0[(a, b)];
-            }
-            for k in 0..ng {
-                let chi = match self.contact.open_force[k] {
-                    Some(open) if q[k] > open => 0.0,
-                    _ => 1.0,
-                };
-                jr[(a, n_c + k)] = chi * self.scale * self.d_full[(da, k)]
-                    - self.d0[(a, k)]
-                    - self.g_c[(k, a)] * (chi - 1.0);
-            }
-        }
+        let q = &z[n_v..];
+        // ∂r/∂v_c (n_c × n_c) and ∂r/∂q (n_c × ng) at the contact DOFs.
+        let dv = Mat::from_fn(n_c, n_c, |a, b| {
+            self.scale * self.cf_full[(self.dofs[a], self.dofs[b])] - self.cf0[(a, b)]
+        });
+        let dq = Mat::from_fn(n_c, ng, |a, k| {
+            let chi = match self.contact.open_force[k] {
+                Some(open) if q[k] > open => 0.0,
+                _ => 1.0,
+            };
+            chi * self.scale * self.d_full[(self.dofs[a], k)]
+                - self.d0[(a, k)]
+                - self.g_c[(k, a)] * (chi - 1.0)
+        });
+        let mut jr = Mat::zeros(self.n_p, n_v + ng);
+        jr.submatrix_mut(0, 0, self.n_p, n_v)
+            .copy_from(&self.p_pinv * (&dv * &self.r_pinv));
+        jr.submatrix_mut(0, n_v, self.n_p, ng)
+            .copy_from(&self.p_pinv * &dq);
         Ok(jr)
     }
 
@@ -482,7 +539,7 @@ impl<F: FrictionForces> BandSystem<F> {
                 });
             }
             let jr = self.remainder_jacobian(t, z)?;
-            let hr = h.subcols(self.o, self.n_c) * &jr;
+            let hr = h.subcols(self.o, self.n_p) * &jr;
             for j in 0..n_z {
                 for i in 0..n_z {
                     lu.a[(i, j)] = if i == j { 1.0 } else { 0.0 } - hr[(i, j)];
@@ -525,7 +582,7 @@ impl<F: FrictionForces> BandSystem<F> {
         t_steady: Real,
         t0: Real,
     ) -> Result<(Vec<Real>, Vec<Real>), SolverError> {
-        let (n_x, n_z) = (self.n_x, self.n_c + self.ng);
+        let (n_x, n_z) = (self.n_x, self.n_v + self.ng);
         let n_in = self.f_in.len();
         let mut ainv_b = self.model.B_x.clone();
         for j in 0..n_in {
@@ -631,7 +688,7 @@ impl<F: FrictionForces> BandSystem<F> {
 
 impl<F: FrictionForces> DaeSystem for BandSystem<F> {
     fn len(&self) -> usize {
-        self.n_x + self.n_c + self.ng
+        self.n_x + self.n_v + self.ng
     }
 
     fn residual(
@@ -671,10 +728,10 @@ impl<F: FrictionForces> DaeSystem for BandSystem<F> {
         }
         self.matrix = Matrix::None;
         let jr = self.remainder_jacobian(t, z)?;
-        let (n_x, n_c) = (self.n_x, self.n_c);
-        let n_z = n_c + self.ng;
-        let bj = self.model.B_x.subcols(self.o, n_c) * &jr;
-        let dj = self.D_z.subcols(self.o, n_c) * &jr;
+        let n_x = self.n_x;
+        let n_z = self.n_v + self.ng;
+        let bj = self.model.B_x.subcols(self.o, self.n_p) * &jr;
+        let dj = self.D_z.subcols(self.o, self.n_p) * &jr;
         let a = &mut self.lu.a;
         a.fill(0.0);
         for i in 0..n_x {
@@ -731,10 +788,15 @@ impl<F: FrictionForces> BandSystem<F> {
         &self.rigid_of
     }
 
-    /// Number of contact DOFs n_c (the first n_c outputs z are their velocities, the next ng
-    /// the rows' normal forces).
-    pub fn n_contact(&self) -> usize {
-        self.n_c
+    /// Number of velocity outputs n_v (the first n_v outputs z are the velocity rows' values,
+    /// the next ng the rows' normal forces).
+    pub fn n_velocities(&self) -> usize {
+        self.n_v
+    }
+
+    /// Number of force patterns n_p (the inputs after the load).
+    pub fn n_patterns(&self) -> usize {
+        self.n_p
     }
 
     /// Number of contact rows ng.
@@ -758,8 +820,8 @@ impl<F: FrictionForces> BandSystem<F> {
         (&self.C_z, &self.D_z)
     }
 
-    /// The inputs f(t, z) (length inputs: the load change, then the remainder at the contact
-    /// DOFs) and, when `jacobian`, J_r = ∂r/∂z (n_c × n_z).
+    /// The inputs f(t, z) (length inputs: the load change, then the remainder's pattern
+    /// coefficients) and, when `jacobian`, J_r = ∂f_patterns/∂z (n_p × n_z).
     ///
     /// # Errors
     /// A friction callback failure or a non-finite remainder.
@@ -787,4 +849,19 @@ impl<F: FrictionForces> BandSystem<F> {
     pub fn contact_forces(&self) -> &[Real] {
         &self.lam
     }
+}
+
+/// A⁺ = Aᵀ(AAᵀ)⁻¹ of a full-row-rank A (rows × cols).
+fn pseudo_inverse(a: &Mat<Real>, what: &'static str) -> Result<Mat<Real>, SolverError> {
+    let gram = a * a.transpose();
+    let llt = gram
+        .llt(faer::Side::Lower)
+        .map_err(|_| SolverError::InvalidOption {
+            field: what,
+            value: format!("{} x {}", a.nrows(), a.ncols()),
+            reason: "must have full row rank",
+        })?;
+    let mut x = a.clone();
+    llt.solve_in_place(&mut x);
+    Ok(x.transpose().to_owned())
 }

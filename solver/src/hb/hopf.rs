@@ -54,14 +54,14 @@ pub(crate) fn linearise<F: FrictionForces>(
     let n_x = sys.n_states();
     let z = y[n_x..].to_vec();
     let n_z = z.len();
-    let n_c = sys.n_contact();
+    let n_p = sys.n_patterns();
     let o = sys.model().inputs.first_contact();
     let (c_z, d_z) = sys.output_maps();
     let (c_z, d_z) = (c_z.clone(), d_z.clone());
-    let b_r = sys.model().B_x.subcols(o, n_c).to_owned();
+    let b_r = sys.model().B_x.subcols(o, n_p).to_owned();
     let (_, jr) = sys.evaluate(t, &z, true)?;
     let jr = jr.expect("asked for the Jacobian");
-    let d_r = d_z.subcols(o, n_c).to_owned();
+    let d_r = d_z.subcols(o, n_p).to_owned();
     let mut s_mat = -(&d_r * &jr);
     for i in 0..n_z {
         s_mat[(i, i)] += 1.0;

@@ -22,7 +22,7 @@
 //!    HB orbit.
 //!
 //! "How loud": the amplitude of the rotor's normal velocity on the friction face, from rows W
-//! (the caller's: v_n,g = W_g · v_c over the contact DOFs' velocities) sampled over a period:
+//! (the caller's: v_n,g = W_g · w over the model's velocity outputs w) sampled over a period:
 //! its peak over the gaps and the period, and its RMS over both (as the transient's
 //! `limit_cycle` monitor).
 //!
@@ -318,7 +318,7 @@ fn frame_for(
 
 /// The limit cycle of the unstable root `root` (a kept root of the model, Im > 0) of the band
 /// system, the contact law evaluated at time `t` (after the load ramp), the face rows `face`
-/// (n_face × n_c) over the contact DOFs' velocities.
+/// (n_face × n_v) over the model's velocity outputs.
 ///
 /// # Errors
 /// Bad options; a callback failure (a failed Newton is a status, not an error).
@@ -332,7 +332,7 @@ pub fn limit_cycle<F: FrictionForces>(
     opts.validate()?;
     let clock = Instant::now();
     let two_pi = 2.0 * std::f64::consts::PI;
-    let n_c = sys.n_contact();
+    let n_c = sys.n_velocities();
     let n_z = n_c + sys.n_rows();
     let mut out = LimitCycle {
         root: [root.re, root.im],

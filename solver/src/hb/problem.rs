@@ -32,7 +32,8 @@ pub(crate) struct Hb<'a, F: FrictionForces> {
     pub n_in: usize,
     /// First contact input.
     pub o: usize,
-    pub n_c: usize,
+    /// Force patterns (inputs after the load).
+    pub n_p: usize,
     c_z: Mat<Real>,
     d_z: Mat<Real>,
     b_x: Mat<Real>,
@@ -57,7 +58,7 @@ impl<'a, F: FrictionForces> Hb<'a, F> {
         let o = m.inputs.first_contact();
         let n_in = m.inputs.len();
         let z0 = sys.z_reference().to_vec();
-        let n_c = sys.n_contact();
+        let n_p = sys.n_patterns();
         Self {
             n_z: z0.len(),
             sys,
@@ -65,7 +66,7 @@ impl<'a, F: FrictionForces> Hb<'a, F> {
             basis: Basis::new(h, n),
             n_in,
             o,
-            n_c,
+            n_p,
             c_z,
             d_z,
             b_x,
@@ -176,7 +177,7 @@ impl<'a, F: FrictionForces> Hb<'a, F> {
             if let (Some(df), Some(jr)) = (df.as_mut(), jr) {
                 let e = self.basis.e_row(i);
                 for b in 0..n_z {
-                    for a in 0..self.n_c {
+                    for a in 0..self.n_p {
                         let jab = jr[(a, b)];
                         if jab == 0.0 {
                             continue;

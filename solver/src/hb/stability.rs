@@ -68,11 +68,11 @@ pub(crate) fn floquet<F: FrictionForces>(
     let (zc, w, s) = (&u[..nzm], u[nzm], u[nzm + 1]);
     hb.sys.set_friction_scale(s);
     let n_x = hb.sys.n_states();
-    let n_c = hb.n_c;
+    let n_p = hb.n_p;
     let o = hb.o;
     let (c_z, d_z) = hb.sys.output_maps();
-    let (c_z, d_r) = (c_z.clone(), d_z.subcols(o, n_c).to_owned());
-    let b_r = hb.sys.model().B_x.subcols(o, n_c).to_owned();
+    let (c_z, d_r) = (c_z.clone(), d_z.subcols(o, n_p).to_owned());
+    let b_r = hb.sys.model().B_x.subcols(o, n_p).to_owned();
     let mut a0 = Mat::zeros(n_x, n_x);
     for j in 0..n_x {
         let mut e = vec![0.0; n_x];

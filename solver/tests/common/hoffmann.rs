@@ -1,4 +1,4 @@
-//! Hoffmann's mode-coupling model (Hoffmann, Fischer & Gaul, Mech. Res. Commun. 29 (2002)
+//! Hoffmann's mode-coupling model (Hoffmann, Fischer, Allgaier & Gaul, Mech. Res. Commun. 29 (2002)
 //! 197–205) with a point friction law, and an independent explicit integration of it on a
 //! compliant unilateral contact.
 
@@ -143,11 +143,15 @@ pub fn hoffmann_rk4(
 
 /// Hoffmann's model on a compliant (c = 1/(k_n A)), optionally unilateral contact, loaded by
 /// `load`: its band system with every root kept, about the steady state under P0 (t = −1),
-/// and that state's displacements.
+/// and that state's displacements. With `relative`, the gap's relative coordinates are the
+/// contact's inputs and outputs: force patterns [e_0, Gᵀ] (the friction on the pad's x, the
+/// normal pair) and velocity rows [−e_0ᵀ, e_2ᵀ] (the relative tangential velocity, the rotor
+/// point's normal velocity); else a unit force and the velocity at each DOF.
 #[allow(non_snake_case)]
 pub fn compliant_band(
     c: Real,
     unilateral: bool,
+    relative: bool,
     load: &LoadHistory,
 ) -> (
     squeal_solver::condense::BandSystem<PointFriction>,
@@ -182,11 +186,23 @@ pub fn compliant_band(
     lin.d = Some(d);
     lin.c_f = Some(cf);
     let folded = compliant_cea(&lin, &[c]).unwrap();
-    let inputs = Inputs {
-        load: load.p_brake.clone(),
-        contact_dofs: vec![0, 1, 2],
-        compliant_rows: Mat::from_fn(1, 3, |_, j| G[(0, j)] / c),
-    };
+    let mut inputs = Inputs::at_dofs(
+        load.p_brake.clone(),
+        vec![0, 1, 2],
+        Mat::from_fn(1, 3, |_, j| G[(0, j)] / c),
+    );
+    if relative {
+        inputs.patterns = Some(Mat::from_fn(3, 2, |i, j| match (i, j) {
+            (0, 0) => 1.0,
+            (_, 1) => G[(0, i)],
+            _ => 0.0,
+        }));
+        inputs.velocity_rows = Some(Mat::from_fn(2, 3, |r, j| match (r, j) {
+            (0, 0) => -1.0,
+            (1, 2) => 1.0,
+            _ => 0.0,
+        }));
+    }
     let model = BandModel::build(&folded, inputs, &BandOptions::default()).unwrap();
     let p0a = fr.p0a;
     let band = BandSystem::new(

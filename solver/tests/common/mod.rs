@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod hoffmann;
+pub mod hoffmann_gap;
 pub mod random;
 
 use faer::Mat;

@@ -2,6 +2,7 @@
 //! ([`mutate`]) driven by [`runner::fuzz`] — no panic, no hang, every error naming its input.
 //! The targets are in `tests/tests/fuzz.rs`; the README's "Fuzzing" section has the commands.
 
+pub mod api;
 pub mod mutate;
 pub mod runner;
 

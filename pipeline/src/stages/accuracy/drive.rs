@@ -9,11 +9,12 @@
 use crate::error::PipelineError;
 use crate::progress::Progress;
 use crate::scene::TransientSpec;
-use crate::stages::transient::driver::{
-    drive, DriveOptions, IntegratorStats, Sink, StepView, Stepper,
-};
-pub use crate::stages::transient::driver::{galpha_options, Method};
+use crate::stages::transient::driver::{drive, DriveOptions};
+pub use crate::stages::transient::options::galpha_options;
+use crate::stages::transient::sink::{Sink, StepView};
 use crate::stages::transient::start_state;
+pub use crate::stages::transient::stepper::Method;
+use crate::stages::transient::stepper::{IntegratorStats, Stepper};
 use crate::stages::transient::system::Problem;
 use serde::Serialize;
 use squeal_contact::GapSet;

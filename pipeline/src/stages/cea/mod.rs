@@ -179,10 +179,7 @@ pub struct CeaReport {
 }
 
 fn cea_err(what: &str) -> impl FnOnce(squeal_solver::cea::CeaError) -> PipelineError + '_ {
-    move |source| PipelineError::Cea {
-        what: what.to_string(),
-        source,
-    }
+    move |source| PipelineError::cea(what.to_string(), source)
 }
 
 const SHAPES_NOTE: &str = "cea_modes.vtu: mode shapes at the grid points of the reduced model \
@@ -295,7 +292,9 @@ pub fn compute(
     progress: &Progress,
     args: &CeaArgs,
 ) -> Result<CeaComputed, PipelineError> {
-    let spec = spec_of(scene, args)?;
+    let mut spec = spec_of(scene, args)?;
+    // Ctrl-C reaches inside the eigen-solves, the sweep's points and refinements.
+    spec.solver.interrupt = progress.solver_interrupt();
     let problem = system::problem(scene, model)?;
     let gaps = &model.gaps;
     let (n, ng) = (model.n(), gaps.len());

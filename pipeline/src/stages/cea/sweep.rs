@@ -188,10 +188,7 @@ pub fn run_sweep(
         values,
         &opts,
     )
-    .map_err(|source| PipelineError::Cea {
-        what: "friction sweep".into(),
-        source,
-    })?;
+    .map_err(|source| PipelineError::cea("friction sweep".into(), source))?;
     let fmax = spec.max_frequency_hz.unwrap_or(Real::INFINITY);
     let mut tracks = Vec::new();
     for t in &s.tracks {

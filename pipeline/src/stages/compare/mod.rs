@@ -55,8 +55,9 @@ pub struct CompareOptions {
     pub tol_summary: Option<Real>,
     /// Undamped modes compared: the lowest this many of A (default: all).
     pub modes: Option<usize>,
-    /// MAC below which two modes are not paired (default 0.5).
-    pub pair_mac: Real,
+    /// MAC below which two modes are not paired (default: 0.5, or `tol_mac` when that is
+    /// lower: [`CompareOptions::pair_mac`]).
+    pub pair_mac: Option<Real>,
     /// Analysis settings (friction, rotor, loads, `[cea]`) for stored models' CEA.
     pub scene: Option<PathBuf>,
     /// Run the CEA of model inputs (default: true).
@@ -66,16 +67,24 @@ pub struct CompareOptions {
 }
 
 impl CompareOptions {
-    /// Checks the tolerances and `pair_mac` (finite and >= 0); the error names the option
-    /// and the value. `compute` calls it, so the CLI and the Python package get the same check.
+    /// Checks the tolerances and `pair_mac` (finite and >= 0; a MAC, `tol_mac` and
+    /// `pair_mac`, at most 1; `pair_mac` <= `tol_mac`, else a mode whose MAC lies between them
+    /// is left unpaired and fails `tol_mac` although its MAC passes it) and `modes` (>= 1 when
+    /// a mode tolerance is given: 0 modes would check nothing and pass); the error names the
+    /// option and the value. `compute` calls it, so the CLI and the Python package get the
+    /// same check.
     pub fn validate(&self) -> Result<(), PipelineError> {
+        let bad = |name: &str, message: String| PipelineError::Option {
+            option: format!("compare.{name}"),
+            message,
+        };
         for (name, v) in [
             ("tol_freq", self.tol_freq),
             ("tol_mac", self.tol_mac),
             ("tol_matrix", self.tol_matrix),
             ("tol_root", self.tol_root),
             ("tol_summary", self.tol_summary),
-            ("pair_mac", Some(self.pair_mac)),
+            ("pair_mac", self.pair_mac),
         ] {
             if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0)) {
                 return Err(PipelineError::Option {
@@ -84,7 +93,49 @@ impl CompareOptions {
                 });
             }
         }
+        for (name, v) in [("tol_mac", self.tol_mac), ("pair_mac", self.pair_mac)] {
+            if let Some(v) = v.filter(|&v| v > 1.0) {
+                return Err(bad(name, format!("{v}: a MAC is in [0, 1]")));
+            }
+        }
+        if let (Some(t), Some(p)) = (
+            self.tol_mac,
+            self.pair_mac.filter(|&p| Some(p) > self.tol_mac),
+        ) {
+            return Err(bad(
+                "pair_mac",
+                format!(
+                    "{} is above compare.tol_mac = {t}: a mode whose MAC lies between them \
+                     would be left unpaired and fail tol_mac although its MAC passes it; give \
+                     pair_mac <= tol_mac",
+                    p
+                ),
+            ));
+        }
+        if self.modes == Some(0) {
+            if let Some((name, v)) = [("tol_freq", self.tol_freq), ("tol_mac", self.tol_mac)]
+                .into_iter()
+                .find_map(|(n, v)| v.map(|v| (n, v)))
+            {
+                return Err(bad(
+                    "modes",
+                    format!(
+                        "0 compares no undamped mode, so compare.{name} = {v} would check \
+                         nothing and pass; give modes >= 1 (or leave it out: all modes)"
+                    ),
+                ));
+            }
+        }
         Ok(())
+    }
+}
+
+impl CompareOptions {
+    /// The pairing threshold used: `pair_mac`, else 0.5, or `tol_mac` when that is lower (a
+    /// mode with a MAC that passes `tol_mac` is then always paired).
+    pub fn pair_mac(&self) -> Real {
+        self.pair_mac
+            .unwrap_or_else(|| self.tol_mac.map_or(0.5, |t| t.min(0.5)))
     }
 }
 
@@ -97,7 +148,7 @@ impl Default for CompareOptions {
             tol_root: None,
             tol_summary: None,
             modes: None,
-            pair_mac: 0.5,
+            pair_mac: None,
             scene: None,
             cea: true,
             cache: None,
@@ -356,7 +407,7 @@ fn compare_models(
     report.matrices = modal::matrix_diffs(&ma, &mb, &perm);
     let (moa, mob) = (modal::modes(&ma, "A")?, modal::modes(&mb, "B")?);
     let count = opts.modes.unwrap_or(ma.n()).min(ma.n());
-    report.modes = modal::pair_modes(&ma, &moa, &mob, &perm, count, opts.pair_mac);
+    report.modes = modal::pair_modes(&ma, &moa, &mob, &perm, count, opts.pair_mac());
     let used: Vec<usize> = report.modes.iter().filter_map(|p| p.mode_b).collect();
     report.unpaired_modes_b = (0..count.min(mob.0.len()))
         .filter(|j| !used.contains(j))

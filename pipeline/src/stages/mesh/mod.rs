@@ -26,12 +26,10 @@ pub fn mesh_component(
     dir: &RunDir,
     progress: &Progress,
 ) -> Result<(Mesh, MeshReport), PipelineError> {
-    let err = |source| PipelineError::Mesh {
-        component: c.name.clone(),
-        source,
-    };
+    let err = |source| PipelineError::mesh(&c.name, source);
     let opts = gmsh::GmshOptions {
         order: c.element.gmsh_order(),
+        interrupt: progress.interrupt(),
         ..Default::default()
     };
     // The user's file (for errors naming a missing physical group), the mesh read, gmsh's time.
@@ -42,6 +40,7 @@ pub fn mesh_component(
         }
         GeometrySpec::Geo { path, set_numbers } => {
             let geo_path = scene.resolve(path);
+            check_set_numbers(scene, c, &geo_path, set_numbers)?;
             let out = dir.subdir("mesh")?.join(format!("{}.msh", c.name));
             let step = progress.step(format!(
                 "gmsh: meshing `{}` from {}",
@@ -101,6 +100,43 @@ pub fn mesh_component(
     Ok((mesh, report))
 }
 
+/// Every `set_numbers` key of a `.geo` component must be a `DefineConstant` of the file (or
+/// of a file it includes): gmsh ignores any other name, and the mesh would silently have the
+/// file's defaults. The error names the key and the constants the file defines.
+fn check_set_numbers(
+    scene: &Scene,
+    c: &ComponentSpec,
+    geo_path: &std::path::Path,
+    set_numbers: &std::collections::BTreeMap<String, f64>,
+) -> Result<(), PipelineError> {
+    if set_numbers.is_empty() {
+        return Ok(());
+    }
+    let defined = squeal_meshes::geo_file::defined_constants(geo_path)
+        .map_err(|e| PipelineError::mesh(&c.name, e))?;
+    if let Some(name) = set_numbers.keys().find(|k| !defined.contains(*k)) {
+        let i = scene
+            .components
+            .iter()
+            .position(|x| x.name == c.name)
+            .unwrap_or(0);
+        let list = if defined.is_empty() {
+            "none".to_string()
+        } else {
+            defined.iter().cloned().collect::<Vec<_>>().join(", ")
+        };
+        return Err(PipelineError::Scene {
+            field: format!("components[{i}].geometry.set_numbers.{name}"),
+            message: format!(
+                "{} has no `DefineConstant` named `{name}` (gmsh would ignore it and mesh the \
+                 file's defaults); the constants it defines: {list}",
+                geo_path.display()
+            ),
+        });
+    }
+    Ok(())
+}
+
 /// `squeal mesh`: meshes every component and writes `<name>.vtu` beside each `.msh`.
 pub fn run(
     scene: &Scene,
@@ -111,12 +147,8 @@ pub fn run(
     for c in &scene.components {
         let (mesh, report) = mesh_component(scene, c, dir, progress)?;
         let mesh_dir = dir.subdir("mesh")?;
-        vtu::write_vtu(&mesh_dir.join(format!("{}.vtu", c.name)), &mesh, &[], &[]).map_err(
-            |source| PipelineError::Mesh {
-                component: c.name.clone(),
-                source,
-            },
-        )?;
+        vtu::write_vtu(&mesh_dir.join(format!("{}.vtu", c.name)), &mesh, &[], &[])
+            .map_err(|source| PipelineError::mesh(&c.name, source))?;
         progress.info(format!(
             "{}: {} nodes, {} cells",
             report.component, report.n_nodes, report.n_cells

@@ -88,10 +88,7 @@ impl Reduced {
 }
 
 fn fe_err(component: &str) -> impl Fn(squeal_fe::FeError) -> PipelineError + '_ {
-    move |source| PipelineError::Fe {
-        component: component.to_string(),
-        source,
-    }
+    move |source| PipelineError::fe(component, source)
 }
 
 /// True for the quadratic face kinds (their consistent corner areas are ≤ 0).
@@ -303,6 +300,35 @@ fn match_pairs(
                 } else {
                     tie_gaps(&pad_nodes, &faces, &opts, &pair.tie_options()).map_err(contact_err)?
                 };
+                if out.gaps.is_empty() {
+                    // Every pad node excluded: the pad would float free of the rotor, and the
+                    // first factorisation would fail with a bare "singular" pivot.
+                    let first: Vec<String> = out
+                        .unmatched
+                        .iter()
+                        .take(3)
+                        .map(|r| r.to_string())
+                        .collect();
+                    return Err(PipelineError::Scene {
+                        field: format!("contact[{i}].unmatched"),
+                        message: format!(
+                            "\"exclude\" left this pair without a gap: all {} pad node(s) of \
+                             `{}` faces `{}` project on no face of `{}` faces `{}` within the \
+                             extension {} and max_distance {} ({}{}); check the faces, or \
+                             raise `contact[{i}].max_distance`",
+                            out.unmatched.len(),
+                            pair.pad,
+                            pair.pad_faces,
+                            pair.rotor,
+                            pair.rotor_faces,
+                            pair.extension,
+                            pair.max_distance
+                                .map_or("default".to_string(), |d| d.to_string()),
+                            first.join("; "),
+                            if out.unmatched.len() > 3 { "; …" } else { "" }
+                        ),
+                    });
+                }
                 if !out.unmatched.is_empty() {
                     let list: Vec<String> = out.unmatched.iter().map(|r| r.to_string()).collect();
                     warnings.push(Warning {
@@ -377,14 +403,17 @@ pub fn build_from_mesh_cached(
         .par_iter()
         .map(|c| mesh_component(scene, c, dir, progress))
         .collect::<Result<_, _>>()?;
-    let meshes: Vec<Mesh> = meshed.into_iter().map(|(m, _)| m).collect();
+    let (meshes, mesh_files): (Vec<Mesh>, Vec<String>) =
+        meshed.into_iter().map(|(m, r)| (m, r.msh_path)).unzip();
     let grids = merge(scene, &meshes, scene.model.merge_tolerance);
     let (mut gaps, gap_pairs, warnings) = match_pairs(scene, &meshes, &grids)?;
 
     // Fixed grid DOFs of any component hold for every component sharing the grid.
     let mut global_fixed: BTreeSet<(u64, usize)> = BTreeSet::new();
     for (c, spec) in scene.components.iter().enumerate() {
-        for (node, k) in fixed_dofs(spec, &meshes[c])? {
+        let fixed = fixed_dofs(spec, &meshes[c])?;
+        crate::stages::modes::check_not_all_fixed(scene, spec, &meshes[c], &fixed, &mesh_files[c])?;
+        for (node, k) in fixed {
             global_fixed.insert((grids.grid_of[c][node], k));
         }
     }
@@ -474,7 +503,8 @@ pub fn build_from_mesh_cached(
         });
     }
     let opts = scene.reduction.clone().unwrap_or_default();
-    let cb_opts = opts.cb_options();
+    let mut cb_opts = opts.cb_options();
+    cb_opts.interrupt = progress.interrupt();
     let damping = scene.damping.clone().unwrap_or_default();
     let step = progress.step(format!(
         "assembling and reducing {} component(s)",
@@ -495,6 +525,7 @@ pub fn build_from_mesh_cached(
                 opts.checks,
                 cache,
                 super::ties::component_rows(&inside_rows, c, &grids.grid_of[c]),
+                progress,
             )
         })
         .collect::<Result<_, _>>()?;
@@ -704,6 +735,7 @@ fn reduce_component(
     run_checks: bool,
     cache: Option<&ComponentCache>,
     tie_rows: Option<super::ties::NodeRows>,
+    progress: &Progress,
 ) -> Result<Reduced, PipelineError> {
     let start = std::time::Instant::now();
     let spec = &scene.components[c];
@@ -836,6 +868,23 @@ fn reduce_component(
         _ => None,
     };
     let mut note = None;
+    // Processes sharing the cache reduce each component once: the lock is held until the
+    // reduction is read, or computed and stored.
+    let _held = match (cache, &key) {
+        (Some(cache), Some(key)) => {
+            let l = super::cache::lock::lock_entry(
+                &cache.root,
+                key,
+                &format!("component `{name}`"),
+                progress,
+            )?;
+            if let super::cache::lock::EntryLock::Unsupported(why) = &l {
+                note = Some(why.clone());
+            }
+            Some(l)
+        }
+        _ => None,
+    };
     if let (Some(cache), Some(key)) = (cache, &key) {
         match cache.read(key) {
             Ok(Some(stored)) => {
@@ -861,9 +910,13 @@ fn reduce_component(
             Ok(None) => {}
             Err(why) => {
                 cache.discard(key);
-                note = Some(format!(
+                let msg = format!(
                     "component cache entry {key} of `{name}` was unusable ({why}); rebuilt"
-                ));
+                );
+                note = Some(match note {
+                    Some(n) => format!("{n}; {msg}"),
+                    None => msg,
+                });
             }
         }
     }
@@ -871,7 +924,10 @@ fn reduce_component(
         mesh,
         &materials,
         &dofs,
-        &AssemblyOptions { hex8: spec.hex8 },
+        &AssemblyOptions {
+            hex8: spec.hex8,
+            interrupt: cb_opts.interrupt.clone(),
+        },
     )
     .map_err(fe_err(name))?;
     if let Some(t) = &mpc {
@@ -882,7 +938,7 @@ fn reduce_component(
 
     let red_err = |what: &str| {
         let what = format!("component `{name}`: {what}");
-        move |source| PipelineError::Reduction { what, source }
+        move |source| PipelineError::reduction(what, source)
     };
     // DOF coordinates: K_ii of a large component is factorised in nested-dissection order.
     let coords = squeal_fe::dof_coordinates(mesh, &dofs);

@@ -13,6 +13,14 @@
 //!   is below [`MASS_SINGULARITY_TOLERANCE`] × its largest is an error (numerically singular).
 //!   The transient integrates M v' = …, and the CEA factorises M: neither has a meaning for an
 //!   indefinite or singular mass.
+//! - KR must be positive semi-definite (an unconstrained stiffness: rigid-body modes at 0,
+//!   elastic ones above): K + s·M with s = [`STIFFNESS_INDEFINITE_TOLERANCE`] × max_i K_ii/M_ii
+//!   (a lower bound of the largest eigenvalue of (K, M)) must have a Cholesky factor, else the
+//!   eigenvalues of (K, M) are computed and the most negative one below
+//!   −[`STIFFNESS_INDEFINITE_TOLERANCE`] × the largest is an error with its value: a negative
+//!   stiffness mode grows exponentially in the transient and sits on the real axis of the CEA,
+//!   whatever the friction.
+//! - The DOF map must not be empty (a model with nothing to analyse).
 
 use crate::error::PipelineError;
 use crate::warning::Warning;
@@ -34,6 +42,13 @@ pub const ASYMMETRY_TOLERANCE: Real = 1e-6;
 /// Smallest-to-largest eigenvalue ratio of MR below which it is rejected as singular.
 pub const MASS_SINGULARITY_TOLERANCE: Real = 1e-12;
 
+/// Most negative eigenvalue of (KR, MR), relative to the largest, that a stored stiffness may
+/// have. The rigid-body eigenvalues of a reduced free-free model are round-off: ~1e-16 ×
+/// the largest for the reduction's own products, ~1e-13 after 16-digit OP4 text; 1e-8 leaves
+/// five decades to those while a physical negative stiffness (a mis-signed spring, a
+/// buckled prestress) is a sizeable fraction of the elastic ones.
+pub const STIFFNESS_INDEFINITE_TOLERANCE: Real = 1e-8;
+
 fn bad(path: &Path, message: String) -> PipelineError {
     PipelineError::Input {
         path: path.to_path_buf(),
@@ -44,6 +59,12 @@ fn bad(path: &Path, message: String) -> PipelineError {
 /// A DOF map's entries must be distinct (grid DOFs by grid and component 1..6, modal
 /// coordinates by component and index).
 pub(crate) fn check_dofmap(map: &ReducedDofMap, path: &Path) -> Result<(), PipelineError> {
+    if map.dofs.is_empty() {
+        return Err(bad(
+            path,
+            "the DOF map has no DOF: an empty model has nothing to analyse".into(),
+        ));
+    }
     let mut seen: HashMap<(Option<&str>, u64, u64), usize> = HashMap::new();
     for (i, d) in map.dofs.iter().enumerate() {
         let (key, what) = match d.kind {
@@ -265,9 +286,81 @@ pub(crate) fn check_mass(name: &str, m: &Mat<Real>, path: &Path) -> Result<(), P
     Ok(())
 }
 
+/// Checks that the (symmetric) stiffness `k` is positive semi-definite with respect to the
+/// (positive definite) mass `m` (module documentation); the error names the matrix and its
+/// most negative eigenvalue.
+pub(crate) fn check_stiffness(
+    name: &str,
+    k: &Mat<Real>,
+    m: &Mat<Real>,
+    path: &Path,
+) -> Result<(), PipelineError> {
+    let n = k.nrows();
+    let scale = (0..n)
+        .filter(|&i| m[(i, i)] > 0.0)
+        .map(|i| k[(i, i)] / m[(i, i)])
+        .fold(0.0, Real::max);
+    let shifted = Mat::from_fn(n, n, |i, j| {
+        k[(i, j)] + STIFFNESS_INDEFINITE_TOLERANCE * scale * m[(i, j)]
+    });
+    if n == 0 || (scale > 0.0 && shifted.llt(Side::Lower).is_ok()) {
+        return Ok(());
+    }
+    let (vals, _) =
+        squeal_reduction::cb::dense_generalized_eigen(k.as_ref(), m.as_ref()).map_err(|e| {
+            bad(
+                path,
+                format!("matrix {name}: the eigenvalues of ({name}, MR) failed: {e}"),
+            )
+        })?;
+    let lo = vals.iter().copied().fold(Real::INFINITY, Real::min);
+    let hi = vals.iter().copied().fold(Real::NEG_INFINITY, Real::max);
+    if lo < -STIFFNESS_INDEFINITE_TOLERANCE * hi.abs().max(Real::MIN_POSITIVE) {
+        let count = vals
+            .iter()
+            .filter(|&&v| v < -STIFFNESS_INDEFINITE_TOLERANCE * hi.abs())
+            .count();
+        return Err(bad(
+            path,
+            format!(
+                "matrix {name} is indefinite: the most negative eigenvalue of ({name}, MR) is \
+                 {lo:.6e} (largest {hi:.6e}; {count} below -{STIFFNESS_INDEFINITE_TOLERANCE:e} \
+                 x the largest): a negative-stiffness mode grows in the transient and in the CEA \
+                 whatever the friction; a stiffness must be positive semi-definite"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A diagonal (K, M) with a negative entry is refused naming it; rigid-body round-off and
+    /// a zero eigenvalue pass. Reference: the eigenvalues of diagonal pencils are k_i/m_i.
+    #[test]
+    fn indefinite_stiffness_is_refused_with_its_eigenvalue() {
+        let p = Path::new("k.op4");
+        let diag =
+            |d: &[Real]| Mat::from_fn(d.len(), d.len(), |i, j| if i == j { d[i] } else { 0.0 });
+        let m = diag(&[2.0, 1.0, 1.0]);
+        assert!(check_stiffness("KR", &diag(&[0.0, 4.0, 9.0]), &m, p).is_ok());
+        assert!(check_stiffness("KR", &diag(&[-1e-12, 4.0, 9.0]), &m, p).is_ok());
+        let e = check_stiffness("KR", &diag(&[-3.0, 4.0, 9.0]), &m, p)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("KR") && e.contains("indefinite") && e.contains("-1.500000e0"),
+            "{e}"
+        );
+        // A rotated (non-diagonal) indefinite pencil: eigenvalues 5 and -1 of [[2, 3], [3, 2]].
+        let k = Mat::from_fn(2, 2, |i, j| if i == j { 2.0 } else { 3.0 });
+        let e = check_stiffness("KR", &k, &diag(&[1.0, 1.0]), p)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("-1.000000e0") && e.contains("5.000000e0"), "{e}");
+    }
 
     #[test]
     fn mass_check_measures_the_extreme_eigenvalues() {

@@ -118,7 +118,8 @@ pub struct ReducedModel {
     /// Gap elements with DOF indices into the reduced vector.
     pub gaps: GapSet,
     /// Number of gaps of each `[[contact]]` pair, in scene order (the gaps of pair i follow
-    /// those of pair i − 1); empty for stored matrices (one gap table).
+    /// those of pair i − 1); a stored model's gap table is one pair (`[n_gaps]`, read with
+    /// the scene's only `[[contact]]` table, if any).
     pub gap_pairs: Vec<usize>,
     /// Grid table (meshed models only).
     pub grids: Vec<GridInfo>,
@@ -198,6 +199,59 @@ impl ReducedModel {
         if !recovered.is_empty() {
             for g in &mut self.gaps.gaps {
                 g.rotor_rows = recovery_rows(g, &index, &recovered);
+            }
+        }
+        self.check_gap_rows()
+    }
+
+    /// Every gap's constraint row G_g (eq. 9 over the DOFs its grids have) must be nonzero:
+    /// a normal with no component along those DOFs (a pad with x, z DOFs and a normal along y)
+    /// leaves the gap's force undetermined, and the first factorisation failed as a bare
+    /// "singular Newton". ‖G_g‖ < 1e-6 |n| is an error naming the gap and its normal.
+    fn check_gap_rows(&self) -> Result<(), PipelineError> {
+        let n = self.n();
+        let trip = self
+            .gaps
+            .constraint_triplets(n)
+            .map_err(|source| PipelineError::Contact {
+                what: "gap constraint rows".into(),
+                source,
+            })?;
+        let mut rows: HashMap<(usize, usize), Real> = HashMap::new();
+        for (i, j, x) in trip {
+            *rows.entry((i, j)).or_default() += x;
+        }
+        let mut norm2 = vec![0.0; self.gaps.len()];
+        for ((i, _), x) in rows {
+            norm2[i] += x * x;
+        }
+        for (i, g) in self.gaps.gaps.iter().enumerate() {
+            let nn = g.normal.iter().map(|x| x * x).sum::<Real>().sqrt();
+            if norm2[i].sqrt() < 1e-6 * nn || nn == 0.0 {
+                let has = |dofs: [Option<usize>; 3]| -> String {
+                    let s: String = (0..3)
+                        .filter(|&k| dofs[k].is_some())
+                        .map(|k| ['x', 'y', 'z'][k])
+                        .collect();
+                    if s.is_empty() {
+                        "none".into()
+                    } else {
+                        s
+                    }
+                };
+                return Err(PipelineError::Model(format!(
+                    "gap {i} (pad grid {}, rotor grid {} at {:?}): its normal {:?} has no \
+                     component along the DOFs of its grids (pad: {}; rotor: {}), so its \
+                     constraint row is zero (norm {:.3e}) and its contact force undetermined; \
+                     give the outward normal of the pad's contact face",
+                    g.pad_node,
+                    g.rotor_node,
+                    g.coords,
+                    g.normal,
+                    has(g.pad_dofs),
+                    has(g.rotor_dofs),
+                    norm2[i].sqrt()
+                )));
             }
         }
         Ok(())

@@ -3,7 +3,7 @@
 //! every grid, in map order), `dofmap.json` and `gaps.json`.
 
 use super::gap_table::read_gaps;
-use super::inputs::{check_dofmap, check_finite, check_mass, symmetric};
+use super::inputs::{check_dofmap, check_finite, check_mass, check_stiffness, symmetric};
 use super::ReducedModel;
 use crate::error::PipelineError;
 use crate::output::RunDir;
@@ -230,6 +230,7 @@ pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
     let k = symmetric("KR", &k, &mpath, &mut warnings)?;
     let m = symmetric("MR", &m, &mpath, &mut warnings)?;
     check_mass("MR", &m, &mpath)?;
+    check_stiffness("KR", &k, &m, &mpath)?;
     let b = b
         .map(|b| symmetric("BR", &b, &mpath, &mut warnings))
         .transpose()?;
@@ -270,6 +271,7 @@ fn finish(
     (gaps_path, dpath): (&Path, &Path),
 ) -> Result<ReducedModel, PipelineError> {
     let spec = &scene.model;
+    let gap_pairs = stored_pairs(scene, gaps.len())?;
     let rotor = scene.rotor.clone().unwrap_or_default();
     let w = rotor.rpm * 2.0 * std::f64::consts::PI / 60.0;
     let omega = rotor.axis.map(|a| w * a);
@@ -301,7 +303,7 @@ fn finish(
         p_brake,
         dofs,
         gaps,
-        gap_pairs: Vec::new(),
+        gap_pairs,
         grids: Vec::new(),
         checks: Vec::new(),
         components: Vec::new(),
@@ -314,6 +316,46 @@ fn finish(
         message: format!("{e} (DOF map {})", dpath.display()),
     })?;
     Ok(model)
+}
+
+/// A stored gap table is one contact pair: the settings the later stages read per
+/// `[[contact]]` pair (`separation`, `normal_stiffness`) apply to all its gaps when the scene
+/// has one `[[contact]]` table. More tables have nothing to attach to, and the meshing
+/// settings of a pair that would change P0 or temperatures (the table's values, or
+/// `model.p0` / `model.temperature`, hold them) would be ignored: both are errors naming the
+/// key.
+fn stored_pairs(scene: &Scene, n_gaps: usize) -> Result<Vec<usize>, PipelineError> {
+    if scene.contact.len() > 1 {
+        return Err(PipelineError::Scene {
+            field: "contact[1]".into(),
+            message: format!(
+                "a stored model's gap table is one contact pair; give at most one \
+                 [[contact]] table (its `separation` and `normal_stiffness` apply to all {n_gaps} \
+                 gaps), not {}",
+                scene.contact.len()
+            ),
+        });
+    }
+    if let Some(c) = scene.contact.first() {
+        let ignored = [
+            ("p0", c.p0 != 0.0, "model.p0 or the gap table's p0"),
+            (
+                "temperature",
+                c.temperature != 0.0 || !c.grid_temperatures.is_empty(),
+                "model.temperature or the gap table's temperature",
+            ),
+        ];
+        if let Some((key, _, instead)) = ignored.iter().find(|(_, set, _)| *set) {
+            return Err(PipelineError::Scene {
+                field: format!("contact[0].{key}"),
+                message: format!(
+                    "is not read for a stored model (its gaps come from the gap table): use \
+                     {instead}"
+                ),
+            });
+        }
+    }
+    Ok(if n_gaps > 0 { vec![n_gaps] } else { Vec::new() })
 }
 
 /// The stored model of a scene with `model.from = "arrays"` ([`crate::scene::StoredArrays`]),
@@ -353,6 +395,7 @@ pub fn load_arrays(scene: &Scene) -> Result<ReducedModel, PipelineError> {
     let k = symmetric("KR", &a.k, &path("K"), &mut warnings)?;
     let m = symmetric("MR", &a.m, &path("M"), &mut warnings)?;
     check_mass("MR", &m, &path("M"))?;
+    check_stiffness("KR", &k, &m, &path("K"))?;
     let b =
         a.b.as_ref()
             .map(|b| symmetric("BR", b, &path("B"), &mut warnings))

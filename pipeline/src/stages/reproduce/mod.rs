@@ -200,6 +200,8 @@ pub fn run(
     let sweep = study
         .cea_sweep
         .map(|range| cea_sweep(&base, range, dir, &quiet, progress, cache.as_ref()));
+    // A sweep stopped by Ctrl-C is recorded as failed; stop the study instead of reporting.
+    progress.check("the study's CEA sweep")?;
     let (findings, files) = report::write(&study, &cases, dir, &base, sweep.as_ref())?;
     let rep = ReproduceReport {
         verb: "reproduce",
@@ -324,6 +326,7 @@ fn run_case(
                     None,
                 )
             }
+            Err(e) if e.is_cancelled() => return Err(e),
             Err(e) => (None, Some(e.to_string())),
         }
     } else {

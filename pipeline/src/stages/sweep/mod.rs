@@ -135,6 +135,9 @@ pub struct SweepPoint {
     pub transient: Option<TransientIndicators>,
     /// Why this value has no (or partial) results.
     pub error: Option<String>,
+    /// The warnings of its model and analyses (also in their `summary.json`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<crate::warning::Warning>,
 }
 
 /// `sweep.json` and `summary.json`.
@@ -242,8 +245,9 @@ pub fn run(
     let quiet = progress.silenced();
     let mut points = Vec::with_capacity(scenes.len());
     for (i, (label, scene)) in args.values.iter().zip(&scenes).enumerate() {
+        progress.check("sweep")?;
         let vdir = RunDir::create(&dir.path(&value_dir(i, label)))?;
-        let p = run_value(i, label, scene, &vdir, &cache, args.analysis, &quiet);
+        let p = run_value(i, label, scene, &vdir, &cache, args.analysis, &quiet)?;
         progress.info(outputs::progress_line(&args.param, &p));
         points.push(p);
     }
@@ -284,8 +288,9 @@ pub fn run(
 
 /// Builds (or reads through `cache`) the model of one value's `scene` (as
 /// [`values::scene_for`] makes it) and runs the analyses with their files in `vdir`; failures
-/// are recorded in the point, never returned. The Python package runs a sweep's values as
-/// separate tasks (threads or Dask workers) through this.
+/// are recorded in the point, and only a cancellation (Ctrl-C) is returned as an error. The
+/// Python package runs a sweep's values as separate tasks (threads or Dask workers) through
+/// this.
 pub fn run_value(
     index: usize,
     label: &str,
@@ -294,7 +299,7 @@ pub fn run_value(
     cache: &ModelCache,
     analysis: Analysis,
     quiet: &Progress,
-) -> SweepPoint {
+) -> Result<SweepPoint, PipelineError> {
     let mut p = SweepPoint {
         index,
         value: values::value_json(label),
@@ -308,6 +313,7 @@ pub fn run_value(
         cea: None,
         transient: None,
         error: None,
+        warnings: Vec::new(),
     };
     let t0 = Instant::now();
     let built = model::build_cached(scene, vdir, quiet, Some(cache));
@@ -321,9 +327,10 @@ pub fn run_value(
             }
             m
         }
+        Err(e) if e.is_cancelled() => return Err(e),
         Err(e) => {
             p.error = Some(format!("model: {e}"));
-            return p;
+            return Ok(p);
         }
     };
     let (for_cea, for_transient) = match analysis {
@@ -339,6 +346,7 @@ pub fn run_value(
             .and_then(|d| cea::run_on_model(scene, &d, quiet, &args, m, None, Instant::now()));
         match r {
             Ok(r) => {
+                p.warnings.extend(r.warnings.iter().cloned());
                 p.cea = Some(CeaIndicators {
                     max_frequency_hz: scene.cea.as_ref().and_then(|c| c.max_frequency_hz),
                     n_unstable: r.n_unstable,
@@ -349,6 +357,7 @@ pub fn run_value(
                     unstable_modes: r.unstable_modes,
                 })
             }
+            Err(e) if e.is_cancelled() => return Err(e),
             Err(e) => errors.push(format!("cea: {e}")),
         }
     }
@@ -367,6 +376,11 @@ pub fn run_value(
         match r {
             Ok(r) => {
                 let r = r.result;
+                for w in &r.warnings {
+                    if !p.warnings.contains(w) {
+                        p.warnings.push(w.clone());
+                    }
+                }
                 p.transient = Some(TransientIndicators {
                     status: r.status,
                     squeal: r.squeal,
@@ -378,6 +392,7 @@ pub fn run_value(
                     t_end: r.t_end,
                 })
             }
+            Err(e) if e.is_cancelled() => return Err(e),
             Err(e) => errors.push(format!("transient: {e}")),
         }
     }
@@ -385,5 +400,5 @@ pub fn run_value(
     if !errors.is_empty() {
         p.error = Some(errors.join("; "));
     }
-    p
+    Ok(p)
 }

@@ -6,8 +6,7 @@ use crate::scene::{Integrator, Scene};
 use crate::stages::model::ReducedModel;
 use serde::Serialize;
 use squeal_contact::FrictionLaw;
-
-type Real = f64;
+use squeal_solver::Real;
 
 /// An effect a run computes.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -198,7 +197,7 @@ pub fn effects(scene: &Scene, model: &ReducedModel, p: &Problem) -> (Vec<Effect>
     if p.bsql.include_friction_damping {
         on.push(Effect::FrictionDampingInJacobian);
     }
-    let can_open = super::separation_mask(scene, model);
+    let can_open = super::system::separation_mask(scene, model);
     let separating = can_open.iter().filter(|&&c| c).count();
     if separating > 0 {
         on.push(Effect::Separation { gaps: separating });

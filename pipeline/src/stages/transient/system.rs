@@ -8,6 +8,26 @@ use squeal_contact::GapSet;
 use squeal_solver::bsql::{BsqlOptions, BsqlSystem, FrictionForces, LoadHistory};
 use squeal_solver::{Real, SolverError};
 
+/// A solver error as the pipeline's, saying what was being done.
+pub(crate) fn solver_err(what: &str) -> impl FnOnce(SolverError) -> PipelineError + '_ {
+    move |source| PipelineError::Solver {
+        what: what.to_string(),
+        source,
+    }
+}
+
+/// Per gap: may it separate (`separation = true` on its `[[contact]]` pair)? A stored model's
+/// gap table is one pair, read with the scene's `[[contact]]` table.
+pub fn separation_mask(scene: &Scene, model: &ReducedModel) -> Vec<bool> {
+    let mut mask = Vec::with_capacity(model.gaps.len());
+    for (pair, &count) in model.gap_pairs.iter().enumerate() {
+        let on = scene.contact.get(pair).is_some_and(|c| c.separation);
+        mask.extend(std::iter::repeat_n(on, count));
+    }
+    mask.resize(model.gaps.len(), false);
+    mask
+}
+
 /// The contact crate's gap elements as the solver's friction callback.
 pub struct GapFriction {
     pub set: GapSet,
@@ -138,7 +158,8 @@ pub fn problem(scene: &Scene, model: &ReducedModel) -> Result<Problem, PipelineE
 }
 
 /// Per gap, the compliance c_g = 1/(k_n A_g) of its pair's `normal_stiffness` (0 for a rigid
-/// gap); empty when no pair has one. A stored model has no pairs to attach it to: an error.
+/// gap); empty when no pair has one. A stored model's gap table is one pair (its
+/// `[[contact]]` table's `normal_stiffness` applies to every gap).
 pub fn compliance(scene: &Scene, model: &ReducedModel) -> Result<Vec<Real>, PipelineError> {
     let Some(first) = scene
         .contact

@@ -18,7 +18,7 @@ use super::key::hex128;
 use crate::error::PipelineError;
 use faer::Mat;
 use serde::{Deserialize, Serialize};
-use squeal_fe::Material;
+use squeal_fe::SolidMaterial;
 use squeal_meshes::Mesh;
 use squeal_reduction::cb::CbOptions;
 use squeal_reduction::superelement::DofKey;
@@ -85,7 +85,7 @@ struct Meta {
 pub struct ComponentInputs<'a> {
     pub name: &'a str,
     pub mesh: &'a Mesh,
-    pub materials: &'a [Material],
+    pub materials: &'a [SolidMaterial],
     pub hex8: &'a squeal_fe::Hex8Formulation,
     /// Fixed (node, component) pairs.
     pub fixed: &'a [(usize, usize)],

@@ -8,18 +8,22 @@
 //!
 //! Entries are written atomically (a temporary folder renamed into place); an entry that
 //! fails its checks (a file missing, truncated or altered) is reported, removed and rebuilt.
-//! When two processes build the same key at once, the first rename wins and the other's copy
-//! is dropped. Nothing is ever evicted: remove the folder to reclaim the space.
+//! Processes sharing the folder take an advisory lock per entry ([`lock`]): the first builds
+//! and stores the model, the others wait and read it (where the file system cannot lock,
+//! both build, the first rename wins and the other's copy is dropped). Nothing is ever
+//! evicted: remove the folder to reclaim the space.
 
 pub mod component;
 mod entry;
 pub mod key;
+pub mod lock;
 
 use super::{build_from_mesh_cached, ReducedModel};
 use crate::error::PipelineError;
 use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::Scene;
+use crate::warning::Warning;
 use key::ModelKey;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -52,6 +56,17 @@ fn stamp() -> String {
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_nanos());
     format!("{}-{nanos}", std::process::id())
+}
+
+/// A warning about the cache itself (an entry rebuilt, an entry not stored): `value` 1 (one
+/// event), tolerance 0.
+fn cache_warning(input: String, message: String) -> Warning {
+    Warning {
+        input,
+        message,
+        value: 1.0,
+        tolerance: 0.0,
+    }
 }
 
 /// Removes a folder by renaming it aside first, so no reader ever sees it half deleted.
@@ -111,7 +126,17 @@ impl ModelCache {
         let start = Instant::now();
         let key = ModelKey::of(scene)?;
         let path = self.entry_path(&key);
-        let mut note = None;
+        // Held until the entry is read, or built and stored (dropped on return).
+        let held = lock::lock_entry(
+            &self.root,
+            &key.hex,
+            &format!("model {}", key.hex),
+            progress,
+        )?;
+        let mut note = match &held {
+            lock::EntryLock::Held(_) => None,
+            lock::EntryLock::Unsupported(why) => Some(why.clone()),
+        };
         if path.exists() {
             match entry::read_entry(&path, &key) {
                 Ok(cached) => {
@@ -139,7 +164,6 @@ impl ModelCache {
                         "cache entry {} is unusable ({why}); rebuilding it",
                         path.display()
                     );
-                    progress.info(format!("warning: {msg}"));
                     discard(&path);
                     note = Some(msg);
                 }
@@ -153,12 +177,26 @@ impl ModelCache {
         let build_s = start.elapsed().as_secs_f64();
         if let Err(e) = self.store(&key, &model, build_s) {
             let msg = format!("could not store the model in {}: {e}", self.root.display());
-            progress.info(format!("warning: {msg}"));
             note = Some(match note {
                 Some(n) => format!("{n}; {msg}"),
                 None => msg,
             });
         }
+        // What happened to the cache on this build (not stored in the entry: a reuse does
+        // not repeat it) reaches the caller as warnings: summary.json, stderr.
+        let component_notes = model.components.iter().filter_map(|c| {
+            let note = c.reduction_cache.as_ref()?.note.clone()?;
+            Some(cache_warning(
+                format!("component cache (`{}`)", c.name),
+                note,
+            ))
+        });
+        let notes: Vec<Warning> = note
+            .iter()
+            .map(|n| cache_warning(format!("model cache {}", self.root.display()), n.clone()))
+            .chain(component_notes)
+            .collect();
+        model.warnings.extend(notes);
         let seconds = start.elapsed().as_secs_f64();
         progress.info(format!(
             "model: cache miss {}, built and stored in {seconds:.2} s",

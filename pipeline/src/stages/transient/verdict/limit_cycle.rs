@@ -2,21 +2,18 @@
 //! rotor friction face's normal velocity, which the CEA (a linearisation about the steady
 //! state) cannot give.
 //!
-//! [`FaceMonitor`] records, at every accepted step, the normal velocity of the rotor at each
+//! The face monitor (a data-only sink of the driver) records, at every accepted step, the normal velocity of the rotor at each
 //! gap, v_n,g = v_rotor,g · n_g (the friction face moving along the pad normal), as its
-//! largest magnitude over the gaps and its mean square over the gaps. [`analyse`] cuts the
+//! largest magnitude over the gaps and its mean square over the gaps ([`FaceSeries`]).
+//! [`analyse`] cuts the
 //! record after the load ramp into windows one period 1/f long (f: the verdict's dominant
 //! frequency) and looks at the last [`CYCLES`] of them: the limit cycle is **reached** when the
 //! peaks of those windows vary by less than [`TOLERANCE`] of their largest (a stationary
 //! envelope) and the run had at least 2·[`CYCLES`] windows; the amplitude reported is the RMS
 //! (time and gaps) and the peak over those last cycles.
 
-use super::driver::{Sink, StepView};
-use crate::error::PipelineError;
 use serde::Serialize;
-use squeal_contact::GapSet;
-
-type Real = f64;
+use squeal_solver::Real;
 
 /// Cycles over which the envelope must be stationary.
 pub const CYCLES: usize = 10;
@@ -65,9 +62,8 @@ pub struct LimitCycle {
 }
 
 /// The per-step record of the rotor friction face's normal velocity.
-pub struct FaceMonitor {
-    /// (DOF, weight) pairs per gap: v_n,g = Σ weight · v[DOF].
-    rows: Vec<Vec<(usize, Real)>>,
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FaceSeries {
     pub t: Vec<Real>,
     /// max_g |v_n,g| per step.
     pub peak: Vec<Real>,
@@ -75,28 +71,7 @@ pub struct FaceMonitor {
     pub mean_square: Vec<Real>,
 }
 
-impl FaceMonitor {
-    /// The monitor of the rotor side of `gaps`.
-    pub fn new(gaps: &GapSet) -> Self {
-        let rows = gaps
-            .gaps
-            .iter()
-            .map(|g| {
-                g.rotor_terms()
-                    .flat_map(|(w, dofs)| {
-                        (0..3).filter_map(move |k| dofs[k].map(|d| (d, w[k] * g.normal[k])))
-                    })
-                    .collect()
-            })
-            .collect();
-        Self {
-            rows,
-            t: Vec::new(),
-            peak: Vec::new(),
-            mean_square: Vec::new(),
-        }
-    }
-
+impl FaceSeries {
     /// The limit cycle of the record after `t_from` at `frequency_hz`.
     pub fn analyse(&self, t_from: Real, frequency_hz: Option<Real>) -> Option<LimitCycle> {
         analyse(
@@ -107,9 +82,7 @@ impl FaceMonitor {
             frequency_hz?,
         )
     }
-}
 
-impl FaceMonitor {
     /// Where the record after `t_from` saturated into `lc` (see [`saturation`]).
     pub fn saturation(
         &self,
@@ -159,24 +132,6 @@ pub fn saturation(
         first_cycle_peak,
         amplitude_growth: lc.peak_normal_velocity / first_cycle_peak,
     })
-}
-
-impl Sink for FaceMonitor {
-    fn step(&mut self, s: &StepView<'_>) -> Result<(), PipelineError> {
-        let (mut peak, mut ms): (Real, Real) = (0.0, 0.0);
-        for row in &self.rows {
-            let vn: Real = row.iter().map(|&(d, w)| w * s.y[d]).sum();
-            peak = peak.max(vn.abs());
-            ms += vn * vn;
-        }
-        if !self.rows.is_empty() {
-            ms /= self.rows.len() as Real;
-        }
-        self.t.push(s.t);
-        self.peak.push(peak);
-        self.mean_square.push(ms);
-        Ok(())
-    }
 }
 
 /// The limit cycle of a record (t, per-step peak, per-step mean square) after `t_from`, cut

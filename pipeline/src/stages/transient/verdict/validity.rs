@@ -2,7 +2,7 @@
 //!
 //! The BSQL contact is bilateral: p_n = −λ̇/A + P_0 [Paper eq. (1)] may go negative, and the
 //! friction force μ A p_n then reverses — a state the paper's full-contact assumption does not
-//! cover. [`ContactMonitor`] is a driver sink that records where and when that happens; the
+//! cover. The contact monitor (a data-only sink of the driver) records where and when that happens; the
 //! verdict treats a run whose contact went tensile (with separation off) at or after the end of
 //! the load ramp as unresolved from that time on, and `reproduce` reports it.
 //!
@@ -16,12 +16,8 @@
 //! sliding directions), and the response after it vibrates about that state. A step load
 //! (TLOAD = 0) has no ramp: its first instant, t = 0, is judged.
 
-use super::driver::{Sink, StepView};
-use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
-use squeal_contact::GapSet;
-
-type Real = f64;
+use squeal_solver::Real;
 
 /// One gap at one time.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -73,70 +69,5 @@ impl ContactValidity {
             self.judged_from = t_load;
             self.first_tensile_after_ramp = self.first_separation.filter(|e| e.t >= t_load);
         }
-    }
-}
-
-/// Tracks p_n of every gap: a [`Sink`] of the transient driver.
-pub struct ContactMonitor {
-    area: Vec<Real>,
-    p0: Vec<Real>,
-    /// Offset of λ̇ in y' (= n).
-    offset: usize,
-    pub validity: ContactValidity,
-}
-
-impl ContactMonitor {
-    /// The monitor of `gaps` in a model of `n` DOFs whose load ramp ends at `t_load`.
-    pub fn new(gaps: &GapSet, n: usize, t_load: Real) -> Self {
-        Self {
-            area: gaps.gaps.iter().map(|g| g.area).collect(),
-            p0: gaps.gaps.iter().map(|g| g.p0).collect(),
-            offset: n,
-            validity: ContactValidity {
-                n_gaps: gaps.len(),
-                judged_from: t_load,
-                ..Default::default()
-            },
-        }
-    }
-}
-
-impl Sink for ContactMonitor {
-    fn step(&mut self, s: &StepView<'_>) -> Result<(), PipelineError> {
-        let v = &mut self.validity;
-        let first = v.steps == 0;
-        // The state after an event (same t as the step before it) is no step: its pressures
-        // are watched, the step counters are not advanced.
-        if !s.repeat {
-            v.steps += 1;
-        }
-        for (g, (&a, &p0)) in self.area.iter().zip(&self.p0).enumerate() {
-            let p = -s.yp[self.offset + g] / a + p0; // [Paper eq. (1)]
-            if v.min_pressure.is_none_or(|m| p < m.pressure) {
-                v.min_pressure = Some(GapEvent {
-                    t: s.t,
-                    gap: g,
-                    pressure: p,
-                });
-            }
-            if p < 0.0 {
-                v.tensile_gap_steps += u64::from(!s.repeat);
-                if first {
-                    v.tensile_at_start += 1;
-                }
-                let event = GapEvent {
-                    t: s.t,
-                    gap: g,
-                    pressure: p,
-                };
-                if v.first_separation.is_none() {
-                    v.first_separation = Some(event);
-                }
-                if v.first_tensile_after_ramp.is_none() && s.t >= v.judged_from {
-                    v.first_tensile_after_ramp = Some(event);
-                }
-            }
-        }
-        Ok(())
     }
 }

@@ -1,0 +1,3 @@
+//! Re-export of [`squeal_meshes::shapes::simplex`] (one implementation for the elements and the
+//! mesh readers' det J checks).
+pub use squeal_meshes::shapes::simplex::*;
