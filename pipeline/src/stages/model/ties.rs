@@ -511,32 +511,42 @@ pub fn eliminate(
 mod tests {
     use super::*;
 
-    /// T of a two-DOF chain u_2 = ½ u_0 + ½ u_1 on three free DOFs: Tᵀ A T of a diagonal A
-    /// and the expansion, against the matrices written out by hand; duplicates sum.
+    /// T of the tie u_2 = ½ u_0 + ½ u_1 (every direction) on three free nodes: Tᵀ A T of a
+    /// diagonal A, the expansion and the projection, against the matrices written out by
+    /// hand (per direction k the independent DOFs are k of node 0 and 3 + k of node 1).
     #[test]
     fn mpc_transforms_and_expands() {
-        let dofs = DofMap::new(3, &[(0, 1), (0, 2), (1, 1), (1, 2), (2, 1), (2, 2)]).unwrap();
+        let dofs = DofMap::new(3, &[]).unwrap();
         let mpc = Mpc::new(&dofs, &[(2, vec![(0, 0.5), (1, 0.5)])]).unwrap();
-        assert_eq!(mpc.n_indep(), 2);
+        assert_eq!(mpc.n_indep(), 6);
+        assert_eq!(mpc.n_free(), 9);
+        // A = diag(1, 2, 4) per node, the same in x, y and z.
+        let diag = [1.0, 2.0, 4.0];
         let a = SparseColMat::try_new_from_triplets(
-            3,
-            3,
-            &[
-                Triplet::new(0, 0, 1.0),
-                Triplet::new(1, 1, 2.0),
-                Triplet::new(2, 2, 4.0),
-            ],
+            9,
+            9,
+            &(0..9)
+                .map(|i| Triplet::new(i, i, diag[i / 3]))
+                .collect::<Vec<_>>(),
         )
         .unwrap();
         let t = mpc.transform(&a).unwrap().to_dense();
-        // Tᵀ A T = diag(1, 2) + 4 [½ ½]ᵀ[½ ½].
-        let want = [[2.0, 1.0], [1.0, 3.0]];
-        for i in 0..2 {
-            for j in 0..2 {
-                assert_eq!(t[(i, j)], want[i][j]);
+        // Per direction: Tᵀ A T = diag(1, 2) + 4 [½ ½]ᵀ[½ ½] = [[2, 1], [1, 3]]; no coupling
+        // between directions.
+        for i in 0..6 {
+            for j in 0..6 {
+                let want = match (i % 3 == j % 3, i / 3, j / 3) {
+                    (false, _, _) => 0.0,
+                    (true, 0, 0) => 2.0,
+                    (true, 1, 1) => 3.0,
+                    (true, _, _) => 1.0,
+                };
+                assert_eq!(t[(i, j)], want, "({i}, {j})");
             }
         }
-        assert_eq!(mpc.expand(&[2.0, 4.0]), vec![2.0, 4.0, 3.0]);
-        assert_eq!(mpc.project(&[1.0, 0.0, 2.0]), vec![2.0, 1.0]);
+        let u = mpc.expand(&[2.0, 0.0, -2.0, 4.0, 6.0, 2.0]);
+        assert_eq!(u, vec![2.0, 0.0, -2.0, 4.0, 6.0, 2.0, 3.0, 3.0, 0.0]);
+        let f = mpc.project(&[1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 4.0]);
+        assert_eq!(f, vec![2.0, 0.0, 2.0, 1.0, 0.0, 2.0]);
     }
 }
