@@ -34,7 +34,7 @@ pub use error::{ContactError, NodeReport};
 pub use forces::GapOutput;
 pub use friction::{FrictionEval, FrictionLaw};
 pub use gaps::{
-    bond_rows, match_gaps, mortar_gaps, tie_gaps, BondRow, ContactNode, FaceKind, FaceTie, Gap,
-    GapSet, MatchOptions, MortarOptions, MortarStats, PadSide, RotorFace, RotorRow, TieOptions,
-    TieOutcome, TieStats, Unmatched, FACE_SNAP,
+    bond_rows, bond_rows_joined, match_gaps, mortar_gaps, tie_gaps, BondRow, ContactNode, FaceKind,
+    FaceTie, Gap, GapSet, MatchOptions, MortarOptions, MortarStats, PadSide, RotorFace, RotorRow,
+    TieOptions, TieOutcome, TieStats, Unmatched, FACE_SNAP,
 };

@@ -61,13 +61,92 @@ fn patch(nr: usize, np: usize, kind: CellKind) -> Patch {
     patch_with(nr, np, kind, kind, false)
 }
 
+/// Moves the corner nodes of `mesh` on the plane z = `z` in the plane, by up to `d` × `h`
+/// (a deterministic pseudo-random direction and length; nodes on the unit square's edges
+/// only along the edge, its corners not at all), then puts every mid-side node of a hex20 at
+/// the midpoint of its edge (straight edges, as a mesher makes them on a flat face).
+fn distort_plane(mesh: &mut Mesh, z: f64, d: f64, h: f64, seed: u64) {
+    let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    let mut uniform = move || {
+        s ^= s >> 12;
+        s ^= s << 25;
+        s ^= s >> 27;
+        let v = s.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11;
+        2.0 * (v as f64 / (1u64 << 53) as f64) - 1.0
+    };
+    let block = &mesh.volumes[0];
+    let n_corner = 8;
+    let mut corner = vec![false; mesh.nodes.len()];
+    for c in 0..block.len() {
+        for &n in &block.cell(c)[..n_corner] {
+            corner[n] = true;
+        }
+    }
+    for (i, x) in mesh.nodes.iter_mut().enumerate() {
+        if !corner[i] || (x[2] - z).abs() > 1e-12 {
+            continue;
+        }
+        let (mut dx, mut dy) = (uniform(), uniform());
+        let len = (dx * dx + dy * dy).sqrt().max(1.0);
+        dx *= d * h / len;
+        dy *= d * h / len;
+        let on = |v: f64| v.abs() < 1e-12 || (v - 1.0).abs() < 1e-12;
+        if !on(x[0]) {
+            x[0] += dx;
+        }
+        if !on(x[1]) {
+            x[1] += dy;
+        }
+    }
+    if block.kind == CellKind::Hex20 {
+        const EDGES: [(usize, usize); 12] = [
+            (0, 1),
+            (1, 2),
+            (2, 3),
+            (3, 0),
+            (4, 5),
+            (5, 6),
+            (6, 7),
+            (7, 4),
+            (0, 4),
+            (1, 5),
+            (2, 6),
+            (3, 7),
+        ];
+        let cells: Vec<Vec<usize>> = (0..block.len()).map(|c| block.cell(c).to_vec()).collect();
+        for c in cells {
+            for (m, (a, b)) in EDGES.iter().enumerate() {
+                let (xa, xb) = (mesh.nodes[c[*a]], mesh.nodes[c[*b]]);
+                mesh.nodes[c[8 + m]] = [0, 1, 2].map(|k| 0.5 * (xa[k] + xb[k]));
+            }
+        }
+    }
+}
+
 /// [`patch`] with the rotor's and the pad's cell kinds apart, tied by the node-to-surface
 /// tie or (`mortar`) by [`mortar_gaps`] over the pad's bottom faces.
 fn patch_with(nr: usize, np: usize, kind: CellKind, pad_kind: CellKind, mortar: bool) -> Patch {
+    patch_distorted(nr, np, kind, pad_kind, mortar, 0.0)
+}
+
+/// [`patch_with`] with the interface's corner nodes of both meshes moved in its plane by up
+/// to `distortion` × their cell size ([`distort_plane`]).
+fn patch_distorted(
+    nr: usize,
+    np: usize,
+    kind: CellKind,
+    pad_kind: CellKind,
+    mortar: bool,
+    distortion: f64,
+) -> Patch {
     let (h, p, nu) = (0.5, 3.0, 0.3);
     let (er, ep) = (2.0, 1.0);
-    let rotor = shifted(box_mesh(1.0, 1.0, h, nr, nr, 1, kind), -h);
-    let pad = box_mesh(1.0, 1.0, h, np, np, 1, pad_kind);
+    let mut rotor = shifted(box_mesh(1.0, 1.0, h, nr, nr, 1, kind), -h);
+    let mut pad = box_mesh(1.0, 1.0, h, np, np, 1, pad_kind);
+    if distortion > 0.0 {
+        distort_plane(&mut rotor, 0.0, distortion, 1.0 / nr as f64, 3);
+        distort_plane(&mut pad, 0.0, distortion, 1.0 / np as f64, 4);
+    }
     let mat = |e: f64| Material {
         young: e,
         poisson: nu,
@@ -112,10 +191,15 @@ fn patch_with(nr: usize, np: usize, kind: CellKind, pad_kind: CellKind, mortar: 
         .collect();
     let mut gaps = if mortar {
         let pb = &pad.faces["z0"].blocks[0];
+        let pk = if pad_kind == CellKind::Hex8 {
+            FaceKind::Quad4
+        } else {
+            FaceKind::Quad8
+        };
         let pad_faces: Vec<RotorFace> = (0..pb.len())
             .map(|f| RotorFace {
                 id: f as u64,
-                kind: FaceKind::Quad4,
+                kind: pk,
                 nodes: pb.cell(f).iter().map(|&i| 100_000 + i as u64).collect(),
                 coords: pb.cell(f).iter().map(|&i| pad.nodes[i]).collect(),
             })
@@ -286,6 +370,29 @@ fn mortar_tie_passes_the_patch_test_on_any_non_matching_interface() {
     // The node-to-surface tie on the same 2×2-on-3×3 interface, for contrast (README: 0.73).
     let r = patch(3, 2, CellKind::Hex8);
     assert!(r.displacement_err > 0.1, "{r:?}");
+}
+
+/// The solid patch test through the mortar tie on distorted, non-matching interfaces: the
+/// interface's corner nodes of both blocks moved in its plane by up to 30 % of their cell
+/// size, hex8 and hex20 (quad4 and quad8 faces, mid-side nodes at the midpoints) on either
+/// side, 2×2 pad cells on 3×3 rotor cells and 3×3 on 2×2. Reference: the exact
+/// uniform-stress solution ([`patch`]: isoparametric elements reproduce it on any mesh):
+/// multipliers −p·A_j (A_j the gap's area: D_j, or D̂_j on quad8), the rotor's consistent
+/// nodal loads, the displacements, the resultant and moment, all to 1e-10.
+#[test]
+fn mortar_patch_test_passes_on_distorted_interfaces_of_hex8_and_hex20() {
+    for (nr, np) in [(3, 2), (2, 3)] {
+        for rk in [CellKind::Hex8, CellKind::Hex20] {
+            for pk in [CellKind::Hex8, CellKind::Hex20] {
+                let r = patch_distorted(nr, np, rk, pk, true, 0.3);
+                eprintln!("mortar, 30 %: {np}x{np} {pk:?} pad on {nr}x{nr} {rk:?} rotor: {r:?}");
+                assert!(r.pad_force_err < 1e-10, "{r:?}");
+                assert!(r.rotor_force_err < 1e-10, "{r:?}");
+                assert!(r.displacement_err < 1e-10, "{r:?}");
+                assert!(r.resultant_err < 1e-10 && r.moment_err < 1e-10, "{r:?}");
+            }
+        }
+    }
 }
 
 // ------------------------------------------------------------- meshed scenes (gmsh)
@@ -511,18 +618,32 @@ fn short_transient_converges_with_refinement() {
 /// roots as the meshed model (reference: the meshed model itself; the CSV keeps every digit).
 #[test]
 fn surface_paired_gap_table_round_trips_through_a_stored_model() {
-    let d = tmp("stored");
-    let (s, m) = build(&tiny_brake(2, 3, "surface"), &d);
+    stored_round_trip(
+        &tiny_brake(2, 3, "surface"),
+        "stored",
+        ",face,xi,eta,face_grids,weights",
+    );
+}
+
+/// The same round trip for hex20 pads paired by mortar (the default): the gaps' pad sides
+/// (`pad_grids`, `pad_weights`) come back with the ties, and the CEA roots with them.
+#[test]
+fn mortar_gap_table_with_pad_sides_round_trips_through_a_stored_model() {
+    let text = tiny_brake(2, 3, "nodes")
+        .replace("element = \"hex8\"", "element = \"hex20\"")
+        .replace("pairing = \"nodes\"\n", "");
+    stored_round_trip(&text, "stored-mortar", ",weights,pad_grids,pad_weights");
+}
+
+/// Builds `text`, writes it as `squeal reduce` does, reads it back through `gaps.csv` (whose
+/// header ends with `header_end`) and compares ties, pad sides and CEA roots.
+fn stored_round_trip(text: &str, name: &str, header_end: &str) {
+    let d = tmp(name);
+    let (s, m) = build(text, &d);
     let run = RunDir::create(&d.join("reduced")).unwrap();
     model::write_stored(&m, &run).unwrap();
     let csv = std::fs::read_to_string(d.join("reduced/gaps.csv")).unwrap();
-    assert!(
-        csv.lines()
-            .next()
-            .unwrap()
-            .ends_with(",face,xi,eta,face_grids,weights"),
-        "{csv}"
-    );
+    assert!(csv.lines().next().unwrap().ends_with(header_end), "{csv}");
     let stored = r#"title = "stored tiny brake, surface paired"
 units = "consistent"
 
@@ -559,10 +680,12 @@ friction_damping = true
             (tb.face, tb.xi, &tb.nodes, &tb.weights)
         );
         assert_eq!(a.rotor_terms().count(), b.rotor_terms().count());
+        assert_eq!(a.pad_side, b.pad_side);
+        assert_eq!(a.pad_terms().count(), b.pad_terms().count());
         assert_eq!(a.v_slide, b.v_slide);
     }
     let e = root_error(&roots(&s, &m), &roots(&s2, &m2), 12);
-    eprintln!("stored surface-paired model: lowest 12 CEA roots differ by {e:.2e}");
+    eprintln!("stored {name} model: lowest 12 CEA roots differ by {e:.2e}");
     assert!(e < 1e-10, "{e}");
 }
 
@@ -616,6 +739,57 @@ fn overhanging_pad_nodes_are_an_error_or_excluded_with_a_warning() {
             && msg.contains("all 9 pad node(s)"),
         "{msg}"
     );
+}
+
+/// Quadratic pads pair by mortar unless the scene says otherwise, and that is what keeps their
+/// corners in contact: the tiny brake in hex20 (quad8 contact faces, coincident 2×2 meshes)
+/// under its brake load, CEA at the steady state. With no `pairing`: the mortar gaps (the
+/// mid-side gaps with their transformed pad side), no tensile gap, every contact pressure
+/// positive. With `pairing = "nodes"` (and "surface"), as before: a warning naming the pair,
+/// and the corner gaps in tension (their multipliers are the consistent corner forces, −1/12
+/// of a face's; docs/pairing.md). The CEA runs on all three.
+#[test]
+fn quadratic_pads_pair_by_mortar_by_default_without_tensile_corners() {
+    use squeal_pipeline::stages::cea;
+    let d = tmp("quadratic-default");
+    let hex20 = |pairing: &str| {
+        let t = tiny_brake(2, 2, "nodes").replace("element = \"hex8\"", "element = \"hex20\"");
+        match pairing {
+            "" => t.replace("pairing = \"nodes\"\n", ""),
+            p => t.replace("pairing = \"nodes\"", &format!("pairing = \"{p}\"")),
+        }
+    };
+    for pairing in ["", "nodes", "surface"] {
+        let (scene, m) = build(&hex20(pairing), &d);
+        let args = cea::CeaArgs::default();
+        let c = cea::compute(&scene, &m, &Progress::quiet(), &args).unwrap();
+        let run = RunDir::create(&d.join(format!("cea-{pairing}"))).unwrap();
+        let r = cea::write(&c, &m, &run, &args, None, std::time::Instant::now()).unwrap();
+        let pmin = r.min_contact_pressure.unwrap();
+        let sided = m.gaps.gaps.iter().filter(|g| g.pad_side.is_some()).count();
+        let warned = m.warnings.iter().any(|w| w.input == "contact[0].pairing");
+        eprintln!(
+            "hex20 pads, pairing {pairing:?}: {} gaps ({sided} with a pad side), {} tensile, \
+             smallest p_n {pmin:.4}, {} modes",
+            m.gaps.len(),
+            r.n_tensile_gaps,
+            c.modes.len()
+        );
+        assert!(!c.modes.is_empty());
+        if pairing.is_empty() {
+            assert!(m
+                .gaps
+                .gaps
+                .iter()
+                .all(|g| g.tie.as_ref().is_some_and(|t| t.mortar)));
+            assert_eq!(sided, 12, "the 12 mid-side nodes of the 2×2 quad8 face set");
+            assert_eq!(r.n_tensile_gaps, 0);
+            assert!(pmin > 0.0 && !warned);
+        } else {
+            assert!(warned, "{:?}", m.warnings);
+            assert!(r.n_tensile_gaps > 0 && pmin < 0.0, "{pmin}");
+        }
+    }
 }
 
 // ------------------------------------------- pad position sweep: the rotor reduced once

@@ -83,7 +83,9 @@ class ReducedModel:
     gaps: List[Dict[str, Any]]
     """Gap records: ``pad_grid, rotor_grid, x, y, z, nx, ny, nz, area, p0, temperature`` and
     the sliding velocity ``vx_slide, vy_slide, vz_slide``; a gap tied to a rotor face
-    (``pairing = "surface"``) also has ``face, xi, eta, face_grids, weights``."""
+    (``pairing = "surface"`` or ``"mortar"``) also has ``face, xi, eta, face_grids, weights``
+    (a mortar tie: ``mortar = True``, the grids of non-zero weight), and a mortar gap on a
+    quadratic pad face's mid-side node ``pad_grids, pad_weights`` (its pad side)."""
     gap_pairs: List[int]
     """Gaps of each ``[[contact]]`` pair, in scene order."""
     friction_law: Any

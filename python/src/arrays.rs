@@ -6,8 +6,8 @@ use numpy::ndarray::Array2;
 use numpy::{AllowTypeChange, IntoPyArray, PyArray2, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use squeal_contact::{FaceKind, FaceTie, Gap};
-use squeal_pipeline::stages::model::gap_table::{GAP_COLUMNS, TIE_COLUMNS};
+use squeal_contact::{FaceKind, FaceTie, Gap, PadSide};
+use squeal_pipeline::stages::model::gap_table::{GAP_COLUMNS, PAD_COLUMNS, TIE_COLUMNS};
 use squeal_reduction::superelement::{DofKind, ReducedDof, ReducedDofMap};
 
 type Real = f64;
@@ -210,6 +210,8 @@ pub fn gaps_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Gap>> {
                 if !GAP_COLUMNS.contains(&k.as_str())
                     && !DERIVED_GAP_COLUMNS.contains(&k.as_str())
                     && !TIE_COLUMNS.contains(&k.as_str())
+                    && !PAD_COLUMNS.contains(&k.as_str())
+                    && k != "mortar"
                 {
                     return Err(bad(
                         "gaps",
@@ -257,14 +259,24 @@ pub fn gaps_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Gap>> {
                     let weights: Vec<Real> = req("weights")?
                         .extract()
                         .map_err(|_| bad("gaps", i, "weights", "not a list of numbers"))?;
-                    let kind = FaceKind::from_n_nodes(nodes.len()).ok_or_else(|| {
-                        bad(
-                            "gaps",
-                            i,
-                            "face_grids",
-                            format!("{} grids (4 or 8)", nodes.len()),
-                        )
-                    })?;
+                    let mortar = match field(row, "mortar", "gaps", i)? {
+                        None => false,
+                        Some(v) => v
+                            .extract::<bool>()
+                            .map_err(|_| bad("gaps", i, "mortar", format!("{v} is not a bool")))?,
+                    };
+                    let kind = if mortar {
+                        FaceKind::Quad4
+                    } else {
+                        FaceKind::from_n_nodes(nodes.len()).ok_or_else(|| {
+                            bad(
+                                "gaps",
+                                i,
+                                "face_grids",
+                                format!("{} grids (3, 4, 6 or 8)", nodes.len()),
+                            )
+                        })?
+                    };
                     Some(FaceTie {
                         face,
                         kind,
@@ -273,13 +285,24 @@ pub fn gaps_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Gap>> {
                         weights,
                         distance: 0.0,
                         dofs: Vec::new(),
-                        mortar: false,
+                        mortar,
                         coords: Vec::new(),
                     })
                 }
             },
             rotor_rows: Vec::new(),
-            pad_side: None,
+            pad_side: match field(row, "pad_grids", "gaps", i)? {
+                None => None,
+                Some(v) => Some(PadSide {
+                    nodes: v
+                        .extract()
+                        .map_err(|_| bad("gaps", i, "pad_grids", "not a list of grid ids"))?,
+                    weights: req("pad_weights")?
+                        .extract()
+                        .map_err(|_| bad("gaps", i, "pad_weights", "not a list of numbers"))?,
+                    dofs: Vec::new(),
+                }),
+            },
             friction: None,
         });
     }
@@ -311,6 +334,13 @@ pub fn gaps_to_py<'py>(py: Python<'py>, gaps: &[Gap]) -> PyResult<Bound<'py, PyL
             r.set_item("eta", t.xi[1])?;
             r.set_item("face_grids", t.nodes.clone())?;
             r.set_item("weights", t.weights.clone())?;
+            if t.mortar {
+                r.set_item("mortar", true)?;
+            }
+        }
+        if let Some(p) = &g.pad_side {
+            r.set_item("pad_grids", p.nodes.clone())?;
+            r.set_item("pad_weights", p.weights.clone())?;
         }
         out.append(r)?;
     }

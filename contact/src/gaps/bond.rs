@@ -26,14 +26,23 @@ const DROP: Real = 1e-14;
 /// Σ_k p_jk u_k = Σ_a W_ja u_a, p_jk its pad side ([`super::Gap::pad_terms`]: the node itself,
 /// or on a quadratic mortar face the transformed value û_j) and W_ja its master weights; the
 /// gaps are solved for the slave nodes in the order that leaves one unknown each (corners
-/// before the mid-side nodes that refer to them). One row per slave node, in gap order.
+/// before the mid-side nodes that refer to them). One row per slave node, in gap order (the
+/// `joined` ones of [`bond_rows_joined`] left out).
 ///
 /// # Errors
 /// [`ContactError::Matching`] naming the slave nodes that cannot be solved for (a pad side
 /// refers to a node with no gap of its own, e.g. an excluded corner) or that are also master
 /// nodes of the tie (a chained tie, which elimination cannot order).
 pub fn bond_rows(gaps: &GapSet) -> Result<Vec<BondRow>, ContactError> {
+    bond_rows_joined(gaps, &[])
+}
+
+/// [`bond_rows`] when the slave nodes `joined` are already nodes of the master side (a node
+/// shared by both meshes): each is its own master (row [(node, 1)]), its own gap is not
+/// used, and the other gaps' pad sides may refer to it.
+pub fn bond_rows_joined(gaps: &GapSet, joined: &[u64]) -> Result<Vec<BondRow>, ContactError> {
     let n = gaps.gaps.len();
+    let joined: std::collections::HashSet<u64> = joined.iter().copied().collect();
     // Master terms of each gap.
     let masters: Vec<Vec<(u64, Real)>> = gaps
         .gaps
@@ -69,7 +78,10 @@ pub fn bond_rows(gaps: &GapSet) -> Result<Vec<BondRow>, ContactError> {
         reason: reason.to_string(),
     };
     let chained: Vec<NodeReport> = (0..n)
-        .filter(|&ig| master_set.contains(&gaps.gaps[ig].pad_node))
+        .filter(|&ig| {
+            let node = gaps.gaps[ig].pad_node;
+            master_set.contains(&node) && !joined.contains(&node)
+        })
         .map(|ig| {
             report(
                 ig,
@@ -83,8 +95,15 @@ pub fn bond_rows(gaps: &GapSet) -> Result<Vec<BondRow>, ContactError> {
             nodes: chained,
         });
     }
-    let mut known: HashMap<u64, BTreeMap<u64, Real>> = HashMap::new();
-    let mut done = vec![false; n];
+    let mut known: HashMap<u64, BTreeMap<u64, Real>> = joined
+        .iter()
+        .map(|&j| (j, BTreeMap::from([(j, 1.0)])))
+        .collect();
+    let mut done: Vec<bool> = gaps
+        .gaps
+        .iter()
+        .map(|g| joined.contains(&g.pad_node))
+        .collect();
     loop {
         let mut progress = false;
         for ig in 0..n {
@@ -140,6 +159,7 @@ pub fn bond_rows(gaps: &GapSet) -> Result<Vec<BondRow>, ContactError> {
     Ok(gaps
         .gaps
         .iter()
+        .filter(|g| !joined.contains(&g.pad_node))
         .map(|g| BondRow {
             node: g.pad_node,
             coords: g.coords,

@@ -13,7 +13,7 @@ mod vec3;
 use crate::{ContactError, Real};
 use serde::{Deserialize, Serialize};
 
-pub use bond::{bond_rows, BondRow};
+pub use bond::{bond_rows, bond_rows_joined, BondRow};
 pub use face::{FaceKind, RotorFace, SNAP as FACE_SNAP};
 pub use matching::match_gaps;
 pub use mortar::{mortar_gaps, MortarOptions, MortarStats};

@@ -6,23 +6,37 @@ use squeal_contact::{FrictionLaw, TieOptions, Unmatched};
 
 type Real = f64;
 
-/// How the pad nodes of a `[[contact]]` pair find their rotor points.
+/// How the pad nodes of a `[[contact]]` pair find their rotor points (docs/pairing.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Pairing {
     /// PREBSQL's rule: each pad node coincides (within `tolerance`) with one rotor node of
-    /// the rotor face set (the default).
+    /// the rotor face set (the default on linear pad faces).
     #[default]
     Nodes,
-    /// Node-to-surface tie: each pad node is projected on the rotor face set's quad4/quad8
-    /// faces and tied to that point (its face nodes carry the shape-function weights);
-    /// meshes need not match.
+    /// Node-to-surface tie: each pad node is projected on the rotor face set's faces (quad4,
+    /// quad8, tri3, tri6) and tied to that point (its face nodes carry the shape-function
+    /// weights); meshes need not match.
     Surface,
-    /// Mortar tie (segment-to-segment, dual Lagrange multipliers on the pad's quad4 faces,
+    /// Mortar tie (segment-to-segment, dual Lagrange multipliers on the pad's faces,
     /// `squeal_contact::mortar_gaps`): each pad node's rotor side is the mortar average of
     /// the rotor surface under its dual basis function; passes the flat patch test for any
-    /// pair of meshes. Needs hex8 pads; `unmatched`, `extension`, `max_distance` as `surface`.
+    /// pair of meshes and face kinds (the default on quadratic pad faces: quad8, tri6);
+    /// `unmatched`, `extension`, `max_distance` as `surface`.
     Mortar,
+}
+
+impl Pairing {
+    /// The pairing of a pair that does not name one: `mortar` on quadratic pad faces (their
+    /// consistent corner areas are 0 or negative, so node-based gaps there are zero or
+    /// tensile: docs/pairing.md), `nodes` otherwise.
+    pub fn default_for(quadratic_pad_faces: bool) -> Pairing {
+        if quadratic_pad_faces {
+            Pairing::Mortar
+        } else {
+            Pairing::Nodes
+        }
+    }
 }
 
 /// One pad/rotor contact surface (PREBSQL's input): one gap element per pad node of the pad
@@ -42,10 +56,12 @@ pub struct ContactPair {
     /// units; `pairing = "nodes"` only).
     #[serde(default = "default_tolerance")]
     pub tolerance: Real,
-    /// `"nodes"` (coincident pad and rotor nodes, PREBSQL) or `"surface"` (each pad node
-    /// projected on the rotor faces; non-matching meshes) (default: "nodes").
-    #[serde(default)]
-    pub pairing: Pairing,
+    /// `"nodes"` (coincident pad and rotor nodes, PREBSQL), `"surface"` (each pad node
+    /// projected on the rotor faces; non-matching meshes) or `"mortar"` (segment-to-segment)
+    /// (default: "mortar" when the pad faces are quadratic, quad8 or tri6, else "nodes";
+    /// [`Pairing::default_for`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pairing: Option<Pairing>,
     /// Surface pairing: pad nodes projecting on no rotor face are an `"error"` naming them,
     /// or are left out (`"exclude"`) with a warning listing them (default: "error").
     #[serde(default)]
@@ -81,6 +97,14 @@ pub struct ContactPair {
     /// (default: absent, the paper's rigid constraint). See `squeal_solver::bsql::compliance`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub normal_stiffness: Option<Real>,
+    /// With `separation` and `normal_stiffness`: the gaps of this pair separate through a
+    /// smooth unilateral law instead of events. The pressure is k_n s(x) with x the
+    /// penetration beyond the opening level and s a C² ramp that equals x above p_ε/k_n and 0
+    /// below −p_ε/k_n, p_ε = this value (a pressure, finite and > 0; the law equals the linear
+    /// spring wherever that carries at least p_ε). See `squeal_solver::bsql::smooth` and
+    /// docs/separation-integration.md (default: absent, events).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub separation_smoothing: Option<Real>,
 }
 
 fn default_tolerance() -> Real {
@@ -145,7 +169,7 @@ impl ContactPair {
                 return Err(bad("max_distance", format!("{d} must be finite and > 0")));
             }
         }
-        if self.pairing == Pairing::Nodes {
+        if self.pairing == Some(Pairing::Nodes) {
             let set = [
                 ("unmatched", self.unmatched != Unmatched::default()),
                 ("extension", self.extension != default_extension()),
@@ -167,6 +191,30 @@ impl ContactPair {
                     format!(
                         "{k} must be finite and > 0 (a normal contact stiffness per unit \
                          area; leave the key out for rigid contact)"
+                    ),
+                ));
+            }
+        }
+        if let Some(p) = self.separation_smoothing {
+            if !(p.is_finite() && p > 0.0) {
+                return Err(bad(
+                    "separation_smoothing",
+                    format!("{p} must be finite and > 0 (a pressure width)"),
+                ));
+            }
+            if !self.separation || self.normal_stiffness.is_none() {
+                return Err(bad(
+                    "separation_smoothing",
+                    format!(
+                        "{p} is read only with separation = true and a normal_stiffness (the \
+                         smooth law is a compliant gap's; this pair has separation = {}, \
+                         normal_stiffness {})",
+                        self.separation,
+                        if self.normal_stiffness.is_some() {
+                            "set"
+                        } else {
+                            "absent"
+                        }
                     ),
                 ));
             }

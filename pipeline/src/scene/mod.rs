@@ -12,6 +12,7 @@ pub mod material;
 mod materials;
 mod overrides;
 pub mod reduction;
+pub mod ties;
 pub mod transient;
 
 pub use accuracy::AccuracySpec;
@@ -21,6 +22,7 @@ pub use contact::{ContactPair, FrictionSpec, Pairing, RotorSpec};
 pub use material::MaterialSpec;
 pub use overrides::apply_override;
 pub use reduction::{ModelSource, ModelSpec, ReductionSpec};
+pub use ties::{TieKind, TiePairing, TieSide, TieSpec};
 pub use transient::{DampingSpec, Integrator, LoadsSpec, OutputSpec, TransientSpec, VerdictCea};
 
 use crate::error::PipelineError;
@@ -58,6 +60,9 @@ pub struct Scene {
     /// Pad/rotor contact surfaces (default: none).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub contact: Vec<ContactPair>,
+    /// Bonded ties between face sets, inside a component or between two (default: none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ties: Vec<TieSpec>,
     /// Friction law and VTOL (default: absent = no friction).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction: Option<FrictionSpec>,
@@ -517,6 +522,29 @@ impl Scene {
                             ),
                         });
                     }
+                }
+            }
+        }
+        for (i, t) in self.ties.iter().enumerate() {
+            t.validate(i)?;
+            if self.model.from != ModelSource::Mesh {
+                return Err(PipelineError::Scene {
+                    field: format!("ties[{i}]"),
+                    message: "ties join meshed components; a stored model has its ties in its \
+                              matrices"
+                        .into(),
+                });
+            }
+            for (side, s) in [("a", &t.a), ("b", &t.b)] {
+                if !names.contains(&s.component) {
+                    return Err(PipelineError::Scene {
+                        field: format!("ties[{i}].{side}.component"),
+                        message: format!(
+                            "no component named `{}` (the scene has: {})",
+                            s.component,
+                            self.component_names()
+                        ),
+                    });
                 }
             }
         }

@@ -8,6 +8,7 @@ use super::cache::component::{
     ComponentCache, ComponentCacheUse, ComponentInputs, StoredReduction,
 };
 use super::grids::{merge, Grids};
+use super::ties::Mpc;
 use super::{symmetrise, ComponentRecovery, ComponentReport, ReducedModel};
 use crate::error::PipelineError;
 use crate::output::RunDir;
@@ -46,6 +47,8 @@ struct Reduced {
     check: Option<CbCheck>,
     n_nodes: usize,
     cache: Option<ComponentCacheUse>,
+    /// The ties inside the component (its free DOFs = T × the reduction's).
+    mpc: Option<Mpc>,
 }
 
 impl Reduced {
@@ -88,20 +91,37 @@ fn fe_err(component: &str) -> impl Fn(squeal_fe::FeError) -> PipelineError + '_ 
     move |source| PipelineError::fe(component, source)
 }
 
-/// The quad4/quad8 faces of a face block as the contact crate takes them (node ids = grids,
-/// face id = index in the block).
-fn rotor_faces(set: &FaceSet, mesh: &Mesh, grid_of: &[u64]) -> Result<Vec<RotorFace>, String> {
+/// True for the quadratic face kinds (their consistent corner areas are ≤ 0).
+fn quadratic_faces(kind: CellKind) -> bool {
+    face_kind(kind).is_some_and(FaceKind::is_quadratic)
+}
+
+/// The contact crate's kind of a face cell kind (None: not a face).
+fn face_kind(kind: CellKind) -> Option<FaceKind> {
+    match kind {
+        CellKind::Quad4 => Some(FaceKind::Quad4),
+        CellKind::Quad8 => Some(FaceKind::Quad8),
+        CellKind::Tri3 => Some(FaceKind::Tri3),
+        CellKind::Tri6 => Some(FaceKind::Tri6),
+        _ => None,
+    }
+}
+
+/// The faces of a face set (any mix of quad4, quad8, tri3, tri6) as the contact crate takes
+/// them (node ids = grids, face id = index in the set).
+pub(super) fn rotor_faces(
+    set: &FaceSet,
+    mesh: &Mesh,
+    grid_of: &[u64],
+) -> Result<Vec<RotorFace>, String> {
     let mut out = Vec::with_capacity(set.len());
     for face in set.iter() {
-        let kind = match face.kind {
-            CellKind::Quad4 => FaceKind::Quad4,
-            CellKind::Quad8 => FaceKind::Quad8,
-            k => {
-                return Err(format!(
-                    "has {k:?} faces; surface pairing takes quad4 or quad8 faces"
-                ))
-            }
-        };
+        let kind = face_kind(face.kind).ok_or_else(|| {
+            format!(
+                "has {:?} faces; surface pairing takes quad4, quad8, tri3 or tri6 faces",
+                face.kind
+            )
+        })?;
         out.push(RotorFace {
             id: out.len() as u64,
             kind,
@@ -167,7 +187,51 @@ fn match_pairs(
             p0: pair.p0,
             temperature: pair.temperature,
         };
-        let mut set = match pair.pairing {
+        // No pairing named: mortar on quadratic pad faces, nodes otherwise (docs/pairing.md).
+        let pad_block = meshes[cp].faces.get(&pair.pad_faces);
+        let quadratic = pad_block.is_some_and(|set| set.kinds().any(quadratic_faces));
+        let pairing = pair.pairing.unwrap_or(Pairing::default_for(quadratic));
+        if pair.pairing.is_none() && pairing == Pairing::Nodes {
+            let tie = pair.tie_options();
+            let def = squeal_contact::TieOptions::default();
+            let set = [
+                ("unmatched", tie.unmatched != def.unmatched),
+                ("extension", tie.extension != def.extension),
+                ("max_distance", tie.max_distance.is_some()),
+            ];
+            if let Some((key, _)) = set.iter().find(|(_, on)| *on) {
+                return Err(PipelineError::Scene {
+                    field: format!("contact[{i}].{key}"),
+                    message: format!(
+                        "is read only with pairing = \"surface\" or \"mortar\"; the pad faces \
+                         `{}` of `{}` are linear, so this pair matches coincident nodes unless \
+                         `pairing` says otherwise",
+                        pair.pad_faces, pair.pad
+                    ),
+                });
+            }
+        }
+        if quadratic && pairing != Pairing::Mortar {
+            warnings.push(Warning {
+                input: format!("contact[{i}].pairing"),
+                message: format!(
+                    "the pad faces `{}` of `{}` are quadratic: with pairing = \"{}\" each pad \
+                     node's gap carries its consistent nodal force, zero or tensile at the \
+                     faces' corners under a uniform pressure; the default pairing (\"mortar\", \
+                     docs/pairing.md) gives every gap a positive area",
+                    pair.pad_faces,
+                    pair.pad,
+                    if pairing == Pairing::Nodes {
+                        "nodes"
+                    } else {
+                        "surface"
+                    }
+                ),
+                value: 0.0,
+                tolerance: 0.0,
+            });
+        }
+        let mut set = match pairing {
             Pairing::Nodes => {
                 let rset = rmesh.node_sets.get(&pair.rotor_faces).ok_or_else(no_set)?;
                 let rotor_nodes: Vec<ContactNode> = rset
@@ -200,7 +264,7 @@ fn match_pairs(
                     what: what(),
                     source,
                 };
-                let out = if pair.pairing == Pairing::Mortar {
+                let out = if pairing == Pairing::Mortar {
                     let pmesh = &meshes[cp];
                     let block =
                         pmesh
@@ -361,7 +425,7 @@ pub fn build_from_mesh_cached(
     let mut gap_grids: std::collections::HashSet<u64> = gaps
         .gaps
         .iter()
-        .flat_map(|g| std::iter::once(g.pad_node).chain(g.rotor_nodes()))
+        .flat_map(|g| g.pad_nodes().into_iter().chain(g.rotor_nodes()))
         .collect();
     // The contact pair of each rotor gap grid (the patch of an interface basis).
     let mut patch_of: HashMap<u64, usize> = HashMap::new();
@@ -405,6 +469,42 @@ pub fn build_from_mesh_cached(
             }
         }
     }
+    // Bonded ties: rows inside a component whose slave is a boundary grid (a gap grid, a
+    // grid shared with another component) and the ties between components are eliminated
+    // after the assembly, their grids boundary DOFs; the other inside rows are each
+    // component's MPC before its reduction (stages/model/ties.rs).
+    let tie_rows = super::ties::pair_ties(scene, &meshes, &grids)?;
+    let shared: std::collections::HashSet<u64> = grids
+        .shared
+        .iter()
+        .zip(&grids.grid_of)
+        .flat_map(|(sh, gid)| sh.iter().zip(gid).filter(|(s, _)| **s).map(|(_, g)| *g))
+        .collect();
+    let mut assembled_rows: Vec<(u64, Vec<(u64, Real)>)> = Vec::new();
+    let mut inside_rows: Vec<super::ties::TieRows> = Vec::new();
+    for t in &tie_rows {
+        if t.slave != t.master {
+            gap_grids.extend(t.grids());
+            assembled_rows.extend(t.rows.iter().cloned());
+        }
+    }
+    for t in tie_rows.iter().filter(|t| t.slave == t.master) {
+        let (moved, kept): (Vec<_>, Vec<_>) = t
+            .rows
+            .iter()
+            .cloned()
+            .partition(|(s, _)| gap_grids.contains(s) || shared.contains(s));
+        for (s, m) in &moved {
+            gap_grids.insert(*s);
+            gap_grids.extend(m.iter().map(|x| x.0));
+        }
+        assembled_rows.extend(moved);
+        inside_rows.push(super::ties::TieRows {
+            slave: t.slave,
+            master: t.master,
+            rows: kept,
+        });
+    }
     let opts = scene.reduction.clone().unwrap_or_default();
     let mut cb_opts = opts.cb_options();
     cb_opts.interrupt = progress.interrupt();
@@ -427,6 +527,7 @@ pub fn build_from_mesh_cached(
                 &cb_opts,
                 opts.checks,
                 cache,
+                super::ties::component_rows(&inside_rows, c, &grids.grid_of[c]),
                 progress,
             )
         })
@@ -526,6 +627,23 @@ pub fn build_from_mesh_cached(
             }
         }
     }
+    // Ties between components (and inside ones on boundary grids): their slave grid DOFs
+    // eliminated from the assembled model, kept as recovered DOFs.
+    let elim = if assembled_rows.is_empty() {
+        None
+    } else {
+        let e = super::ties::eliminate(
+            &asm.k,
+            &asm.m,
+            asm.b.as_ref(),
+            &p_brake,
+            &asm.dofs,
+            &assembled_rows,
+        )?;
+        p_brake = e.p.clone();
+        Some(e)
+    };
+    let tie_terms = elim.as_ref().map(|e| &e.terms);
     let components = scene
         .components
         .iter()
@@ -543,12 +661,20 @@ pub fn build_from_mesh_cached(
             reduction_cache: r.cache.clone(),
         })
         .collect();
-    let checks = scene
+    let checks: Vec<(String, CbCheck)> = scene
         .components
         .iter()
         .zip(reduced.iter())
         .filter_map(|(spec, r)| r.check.clone().map(|c| (spec.name.clone(), c)))
         .collect();
+    for (name, c) in checks.iter().filter(|(_, c)| !c.passed) {
+        warnings.push(Warning {
+            input: format!("reduction.checks (component `{name}`)"),
+            message: format!("the Craig–Bampton check failed: {}", c.failures.join("; ")),
+            value: c.max_abs_error_pct.unwrap_or(Real::NAN),
+            tolerance: CheckOptions::default().max_error_pct,
+        });
+    }
     drop(comps);
     // Recovery needs every component's Ψ and Φ: none when one came from the component cache.
     let recoverable = reduced.iter().all(|r| r.cb.is_some());
@@ -561,7 +687,11 @@ pub fn build_from_mesh_cached(
         .filter(|_| recoverable)
         .filter_map(|(((spec, r), mesh), grid_of)| {
             let assembled = (0..r.cb.as_ref()?.n_reduced())
-                .map(|j| assembled_index(&spec.name, &r, j))
+                .map(|j| match (assembled_index(&spec.name, &r, j), &tie_terms) {
+                    (None, _) => Vec::new(),
+                    (Some(i), None) => vec![(i, 1.0)],
+                    (Some(i), Some(t)) => t[i].clone(),
+                })
                 .collect();
             let cb = r.cb?;
             Some(ComponentRecovery {
@@ -571,6 +701,7 @@ pub fn build_from_mesh_cached(
                 cb,
                 grid_of: grid_of.clone(),
                 assembled,
+                mpc: r.mpc,
             })
         })
         .collect();
@@ -578,12 +709,16 @@ pub fn build_from_mesh_cached(
         g.pad_dofs = [None; 3];
         g.rotor_dofs = [None; 3];
     });
+    let (k, m, b, dofs) = match elim {
+        Some(e) => (e.k, e.m, e.b, e.dofs),
+        None => (asm.k, asm.m, asm.b, asm.dofs),
+    };
     let mut model = ReducedModel {
-        k: symmetrise(&asm.k),
-        m: symmetrise(&asm.m),
-        b: asm.b.as_ref().map(symmetrise),
+        k: symmetrise(&k),
+        m: symmetrise(&m),
+        b: b.as_ref().map(symmetrise),
         p_brake,
-        dofs: asm.dofs,
+        dofs,
         gaps,
         gap_pairs,
         grids: grids.grids.clone(),
@@ -610,6 +745,7 @@ fn reduce_component(
     cb_opts: &squeal_reduction::CbOptions,
     run_checks: bool,
     cache: Option<&ComponentCache>,
+    tie_rows: Option<super::ties::NodeRows>,
     progress: &Progress,
 ) -> Result<Reduced, PipelineError> {
     let start = std::time::Instant::now();
@@ -621,6 +757,22 @@ fn reduce_component(
         .filter(|&(n, k)| global_fixed.contains(&(gid[n], k)))
         .collect();
     let dofs = DofMap::new(mesh.nodes.len(), &fixed).map_err(fe_err(name))?;
+    // Bonded ties inside the component: its slave DOFs eliminated (u_free = T u_indep); the
+    // boundary, interface and load vectors below are over the independent DOFs.
+    let mpc = tie_rows
+        .map(|rows| Mpc::new(&dofs, &rows))
+        .transpose()
+        .map_err(|m| PipelineError::Model(format!("component `{name}`: ties: {m}")))?;
+    let indep = |i: usize| -> Result<usize, PipelineError> {
+        match &mpc {
+            None => Ok(i),
+            Some(t) => t.indep(i).ok_or_else(|| {
+                PipelineError::Model(format!(
+                    "component `{name}`: free DOF {i} is both a tie's slave and a boundary DOF"
+                ))
+            }),
+        }
+    };
     let materials = spec.block_materials(mesh)?;
     let is_boundary: Vec<bool> = grids.shared[c]
         .iter()
@@ -650,6 +802,7 @@ fn reduce_component(
                     grid: gid[node],
                     comp: k as u8 + 1,
                 };
+                let i = indep(i)?;
                 match patch {
                     Some(p) => {
                         iface_dofs.push(i);
@@ -701,10 +854,15 @@ fn reduce_component(
             }
         }
     }
+    let f = match &mpc {
+        Some(t) => t.project(&f),
+        None => f,
+    };
     // The component cache: the same inputs give the same reduction (not for an
-    // interface-reduced component: its key would need the basis too).
+    // interface-reduced component: its key would need the basis too; nor for one with ties
+    // inside: its key would need the ties).
     let key = match cache {
-        Some(_) if !run_checks && spec.interface.is_none() => Some(
+        Some(_) if !run_checks && spec.interface.is_none() && mpc.is_none() => Some(
             ComponentInputs {
                 name,
                 mesh,
@@ -751,6 +909,7 @@ fn reduce_component(
                     load,
                     check: None,
                     n_nodes: mesh.nodes.len(),
+                    mpc: None,
                     cache: Some(ComponentCacheUse {
                         key: key.clone(),
                         hit: true,
@@ -772,7 +931,7 @@ fn reduce_component(
             }
         }
     }
-    let asm = assemble(
+    let mut asm = assemble(
         mesh,
         &materials,
         &dofs,
@@ -782,6 +941,11 @@ fn reduce_component(
         },
     )
     .map_err(fe_err(name))?;
+    if let Some(t) = &mpc {
+        let err = |m| PipelineError::Model(format!("component `{name}`: ties: {m}"));
+        asm.k = t.transform(&asm.k).map_err(err)?;
+        asm.m = t.transform(&asm.m).map_err(err)?;
+    }
 
     let red_err = |what: &str| {
         let what = format!("component `{name}`: {what}");
@@ -789,6 +953,10 @@ fn reduce_component(
     };
     // DOF coordinates: K_ii of a large component is factorised in nested-dissection order.
     let coords = squeal_fe::dof_coordinates(mesh, &dofs);
+    let coords = match &mpc {
+        Some(t) => t.select(&coords),
+        None => coords,
+    };
     let interface = match &spec.interface {
         Some(f) => Some(cb::InterfaceBasis {
             basis: cb::polynomial_basis(&iface_points, f.degree)
@@ -810,7 +978,12 @@ fn reduce_component(
     drop(interface);
     drop(coords);
     let check = if run_checks {
-        let points = cb::dof_points(&mesh.nodes, dofs.n_free(), |i| dofs.dof_of(i));
+        let free_dofs: Vec<usize> = (0..dofs.n_free()).collect();
+        let free_dofs = match &mpc {
+            Some(t) => t.select(&free_dofs),
+            None => free_dofs,
+        };
+        let points = cb::dof_points(&mesh.nodes, free_dofs.len(), |i| dofs.dof_of(free_dofs[i]));
         Some(
             cb::check(
                 &model,
@@ -890,5 +1063,6 @@ fn reduce_component(
         check,
         n_nodes: mesh.nodes.len(),
         cache: cache_use,
+        mpc,
     })
 }

@@ -11,7 +11,9 @@
 //! pairs coincident grids (weight 1 on `rotor_grid`); a row with an empty `face` is such a
 //! pair in a tied table. The weights must be the face's shape functions at (ξ, η) to 1e-9
 //! (they then sum to 1: G rows sum to zero), and `rotor_grid` must be the face grid of
-//! largest weight. The first line must be that header: a first line of numbers is an error (read
+//! largest weight. A mortar table on quadratic pad faces adds the two columns of
+//! [`PAD_COLUMNS`], `pad_grids` and `pad_weights` (the gap's pad side û = Σ w_k u_k, empty
+//! for a gap on its pad grid alone). The first line must be that header: a first line of numbers is an error (read
 //! by position it could swap pad and rotor, and read as a header it would lose a gap). The
 //! normal (nx, ny, nz) is normalised.
 //!
@@ -23,7 +25,7 @@
 //! the column and the value: `gaps.csv: line 3, column `area`: -0.5 must be > 0`.
 
 use crate::error::PipelineError;
-use squeal_contact::{FaceKind, FaceTie, Gap, GapSet};
+use squeal_contact::{FaceKind, FaceTie, Gap, GapSet, PadSide};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -47,15 +49,24 @@ pub const GAP_COLUMNS: [&str; 11] = [
 /// The optional columns of a surface-paired gap table (all five or none).
 pub const TIE_COLUMNS: [&str; 5] = ["face", "xi", "eta", "face_grids", "weights"];
 
+/// The optional columns of a table whose gaps have a pad side over several pad grids (mortar
+/// on quadratic pad faces; both or none): the grids and their weights, space-separated.
+pub const PAD_COLUMNS: [&str; 2] = ["pad_grids", "pad_weights"];
+
 /// The gap table as CSV (the columns of [`GAP_COLUMNS`], and those of [`TIE_COLUMNS`] when a
 /// gap is tied to a face); numbers in Rust's shortest round-trip form, so reading it back
 /// gives the same gaps (sliding velocities and DOFs are not stored).
 pub fn gaps_csv(gaps: &[Gap]) -> String {
     let tied = gaps.iter().any(|g| g.tie.is_some());
+    let sided = gaps.iter().any(|g| g.pad_side.is_some());
     let mut out = GAP_COLUMNS.join(",");
     if tied {
         out.push(',');
         out.push_str(&TIE_COLUMNS.join(","));
+    }
+    if sided {
+        out.push(',');
+        out.push_str(&PAD_COLUMNS.join(","));
     }
     out.push('\n');
     for g in gaps {
@@ -95,6 +106,16 @@ pub fn gaps_csv(gaps: &[Gap]) -> String {
                     ));
                 }
                 None => out.push_str(",,,,,"),
+            }
+        }
+        if sided {
+            match &g.pad_side {
+                Some(p) => {
+                    let ids: Vec<String> = p.nodes.iter().map(|n| n.to_string()).collect();
+                    let ws: Vec<String> = p.weights.iter().map(|w| format!("{w:?}")).collect();
+                    out.push_str(&format!(",{},{}", ids.join(" "), ws.join(" ")));
+                }
+                None => out.push_str(",,"),
             }
         }
         out.push('\n');
@@ -151,13 +172,15 @@ fn parse_csv(text: &str) -> Result<(Vec<Gap>, Vec<String>), String> {
     }
     let mut column: HashMap<&str, usize> = HashMap::new();
     for (i, name) in names.iter().enumerate() {
-        if !GAP_COLUMNS.contains(name) && !TIE_COLUMNS.contains(name) {
+        if !GAP_COLUMNS.contains(name) && !TIE_COLUMNS.contains(name) && !PAD_COLUMNS.contains(name)
+        {
             return Err(format!(
                 "line {hl}, column {}: unknown column `{name}` (the columns are {}; a \
-                 surface-paired table adds {})",
+                 surface-paired table adds {}, and {})",
                 i + 1,
                 GAP_COLUMNS.join(", "),
-                TIE_COLUMNS.join(", ")
+                TIE_COLUMNS.join(", "),
+                PAD_COLUMNS.join(", ")
             ));
         }
         if let Some(first) = column.insert(name, i) {
@@ -196,6 +219,16 @@ fn parse_csv(text: &str) -> Result<(Vec<Gap>, Vec<String>), String> {
         ));
     }
     let tied = n_tie > 0;
+    let sided = match PAD_COLUMNS.map(|c| column.contains_key(c)) {
+        [true, true] => true,
+        [false, false] => false,
+        _ => {
+            return Err(format!(
+                "line {hl}: a table with pad sides has both columns `{}`",
+                PAD_COLUMNS.join("`, `")
+            ))
+        }
+    };
     let mut gaps = Vec::new();
     let mut places = Vec::new();
     for (ln, line) in lines {
@@ -242,12 +275,40 @@ fn parse_csv(text: &str) -> Result<(Vec<Gap>, Vec<String>), String> {
                 None
             },
             rotor_rows: Vec::new(),
-            pad_side: None,
+            pad_side: if sided && !at("pad_grids").is_empty() {
+                Some(read_pad_side(ln, &f, &column)?)
+            } else {
+                None
+            },
             friction: None,
         });
         places.push(format!("line {ln}"));
     }
     Ok((gaps, places))
+}
+
+/// The pad-side columns of CSV line `ln` (fields `f`, column index by name).
+fn read_pad_side(ln: usize, f: &[&str], column: &HashMap<&str, usize>) -> Result<PadSide, String> {
+    let at = |c: &str| f[column[c]];
+    let nodes = at("pad_grids")
+        .split_whitespace()
+        .map(|x| {
+            x.parse::<u64>()
+                .map_err(|_| format!("line {ln}, column `pad_grids`: `{x}` is not a grid id"))
+        })
+        .collect::<Result<Vec<u64>, String>>()?;
+    let weights = at("pad_weights")
+        .split_whitespace()
+        .map(|x| {
+            x.parse::<Real>()
+                .map_err(|_| format!("line {ln}, column `pad_weights`: `{x}` is not a number"))
+        })
+        .collect::<Result<Vec<Real>, String>>()?;
+    Ok(PadSide {
+        nodes,
+        weights,
+        dofs: Vec::new(),
+    })
 }
 
 /// The tie columns of CSV line `ln` (fields `f`, column index by name).
@@ -287,7 +348,8 @@ fn read_tie(ln: usize, f: &[&str], column: &HashMap<&str, usize>) -> Result<Face
     } else {
         FaceKind::from_n_nodes(nodes.len()).ok_or_else(|| {
             format!(
-                "line {ln}, column `face_grids`: {} grids; a face has 4 (quad4) or 8 (quad8)",
+                "line {ln}, column `face_grids`: {} grids; a face has 3 (tri3), 4 (quad4), 6 \
+                 (tri6) or 8 (quad8)",
                 nodes.len()
             )
         })?
@@ -433,6 +495,22 @@ pub(crate) fn check_gaps(
         }
         if let Some(t) = &g.tie {
             check_tie(g, t, at)?;
+        }
+        if let Some(p) = &g.pad_side {
+            let sum: Real = p.weights.iter().sum();
+            if p.nodes.len() != p.weights.len()
+                || !p.nodes.contains(&g.pad_node)
+                || !(sum - 1.0).abs().le(&1e-9)
+            {
+                return Err(format!(
+                    "{at}, columns `pad_grids, pad_weights`: a pad side needs as many weights as \
+                     grids (found {} and {}), the pad grid {} among them, and weights summing \
+                     to 1 (sum {sum})",
+                    p.nodes.len(),
+                    p.weights.len(),
+                    g.pad_node
+                ));
+            }
         }
         if g.pad_node == g.rotor_node {
             return Err(format!(

@@ -63,17 +63,32 @@ pub fn merge(scene: &Scene, meshes: &[Mesh], tol: Real) -> Grids {
     while base <= max_tag {
         base *= 10;
     }
-    // Contact-face membership: face_nodes[c][pair] = flags of nodes of component c on pair's face.
-    let mut on_face: Vec<Vec<Option<Vec<bool>>>> =
-        vec![vec![None; scene.contact.len()]; meshes.len()];
-    for (p, pair) in scene.contact.iter().enumerate() {
-        for (comp, set) in [
-            (&pair.pad, &pair.pad_faces),
-            (&pair.rotor, &pair.rotor_faces),
-        ] {
+    // Contact-face membership: on_face[c][pair] = flags of nodes of component c on the pair's
+    // face. The pairs are the `[[contact]]` pairs, then the `[[ties]]` between components:
+    // nodes on both faces of one are never merged (a tie's slave node coinciding with a
+    // master node is tied, not shared, so that the mortar tie stays exact at it).
+    let pairs: Vec<[(&str, &str); 2]> = scene
+        .contact
+        .iter()
+        .map(|p| {
+            [
+                (p.pad.as_str(), p.pad_faces.as_str()),
+                (p.rotor.as_str(), p.rotor_faces.as_str()),
+            ]
+        })
+        .chain(scene.ties.iter().filter(|t| !t.inside()).map(|t| {
+            [
+                (t.a.component.as_str(), t.a.faces.as_str()),
+                (t.b.component.as_str(), t.b.faces.as_str()),
+            ]
+        }))
+        .collect();
+    let mut on_face: Vec<Vec<Option<Vec<bool>>>> = vec![vec![None; pairs.len()]; meshes.len()];
+    for (p, pair) in pairs.iter().enumerate() {
+        for (comp, set) in pair {
             if let Some(c) = names.iter().position(|n| n == comp) {
                 let mut flags = vec![false; meshes[c].nodes.len()];
-                if let Some(nodes) = meshes[c].node_sets.get(set.as_str()) {
+                if let Some(nodes) = meshes[c].node_sets.get(*set) {
                     nodes.iter().for_each(|&n| flags[n] = true);
                 }
                 on_face[c][p] = Some(flags);
@@ -81,13 +96,12 @@ pub fn merge(scene: &Scene, meshes: &[Mesh], tol: Real) -> Grids {
         }
     }
     let pair_between = |a: usize, b: usize| -> Vec<usize> {
-        scene
-            .contact
+        pairs
             .iter()
             .enumerate()
             .filter(|(_, p)| {
-                (p.pad == names[a] && p.rotor == names[b])
-                    || (p.pad == names[b] && p.rotor == names[a])
+                (p[0].0 == names[a] && p[1].0 == names[b])
+                    || (p[0].0 == names[b] && p[1].0 == names[a])
             })
             .map(|(i, _)| i)
             .collect()

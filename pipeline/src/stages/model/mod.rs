@@ -9,6 +9,7 @@ pub mod gap_table;
 pub mod grids;
 pub mod inputs;
 mod stored;
+pub mod ties;
 
 pub use cache::{CacheUse, ModelCache};
 pub use from_mesh::{build_from_mesh, build_from_mesh_cached};
@@ -63,9 +64,13 @@ pub struct ComponentRecovery {
     pub cb: CbModel,
     /// Merged grid id of each mesh node.
     pub grid_of: Vec<u64>,
-    /// Assembled reduced index of component-reduced coordinate j (`cb.n_reduced()` entries;
-    /// `None`: not in the assembled model).
-    pub assembled: Vec<Option<usize>>,
+    /// Component-reduced coordinate j as terms (assembled reduced index, weight) of the
+    /// assembled vector (`cb.n_reduced()` entries): one term of weight 1, several for a grid
+    /// DOF a tie eliminated, none when not in the assembled model.
+    pub assembled: Vec<Vec<(usize, Real)>>,
+    /// The bonded ties inside the component: its free DOFs are T × the reduction's
+    /// (`stages/model/ties.rs`); None without.
+    pub mpc: Option<ties::Mpc>,
 }
 
 impl ComponentRecovery {
@@ -76,7 +81,11 @@ impl ComponentRecovery {
         let xr: Vec<Real> = self
             .assembled
             .iter()
-            .map(|i| i.and_then(|i| x.get(i)).copied().unwrap_or(0.0))
+            .map(|t| {
+                t.iter()
+                    .map(|&(i, w)| w * x.get(i).copied().unwrap_or(0.0))
+                    .sum()
+            })
             .collect();
         let full = self
             .cb
@@ -85,6 +94,10 @@ impl ComponentRecovery {
                 what: format!("component `{}`: recovering a full vector", self.name),
                 source,
             })?;
+        let full = match &self.mpc {
+            Some(t) => t.expand(&full),
+            None => full,
+        };
         Ok(self.dofs.expand(&full))
     }
 }
@@ -161,7 +174,7 @@ impl ReducedModel {
         let mut missing = Vec::new();
         for g in &self.gaps.gaps {
             // A pad node must have grid DOFs; a rotor node may be recovered instead.
-            let pad = std::iter::once((g.pad_node, false));
+            let pad = g.pad_nodes().into_iter().map(|n| (n, false));
             for (node, may_recover) in pad.chain(g.rotor_nodes().into_iter().map(|n| (n, true))) {
                 if (1..=3).all(|c| {
                     let key = DofKey {

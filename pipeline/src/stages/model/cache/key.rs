@@ -10,6 +10,7 @@
 //!   turns about;
 //! - `model.merge_tolerance`;
 //! - the Craig–Bampton options of `[reduction]` (`checks` excepted: it changes no matrix);
+//! - every `[[ties]]` entry;
 //! - each `[[contact]]` pair's pad, pad faces, rotor, rotor faces and matching tolerance, and
 //!   with `pairing = "surface"` its `unmatched`, `extension` and `max_distance`;
 //! - the load sets `loads.pressure` and `loads.force` (the unit brake load; PMAX scales it later);
@@ -92,6 +93,9 @@ struct PairKey<'a> {
     /// Surface pairing's options (absent for node pairing, so node-paired keys are unchanged).
     #[serde(skip_serializing_if = "Option::is_none")]
     surface: Option<squeal_contact::TieOptions>,
+    /// No pairing named (the default by the pad faces' kind; absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    auto: Option<bool>,
     /// Mortar pairing (absent otherwise, so other keys are unchanged).
     #[serde(skip_serializing_if = "Option::is_none")]
     mortar: Option<bool>,
@@ -114,6 +118,9 @@ struct KeyDoc<'a> {
     merge_tolerance: Real,
     reduction: ReductionKey,
     contact: Vec<PairKey<'a>>,
+    /// `[[ties]]` as written (absent when none, so other keys are unchanged).
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    ties: &'a [crate::scene::TieSpec],
     pressure_loads: &'a [PressureLoad],
     force_loads: &'a [NodeForce],
     element_damping: Vec<Real>,
@@ -197,10 +204,14 @@ impl ModelKey {
                     rotor: &p.rotor,
                     rotor_faces: &p.rotor_faces,
                     tolerance: p.tolerance,
-                    surface: (p.pairing != crate::scene::Pairing::Nodes).then(|| p.tie_options()),
-                    mortar: (p.pairing == crate::scene::Pairing::Mortar).then_some(true),
+                    surface: (p.pairing != Some(crate::scene::Pairing::Nodes))
+                        .then(|| p.tie_options()),
+                    mortar: (p.pairing == Some(crate::scene::Pairing::Mortar)).then_some(true),
+                    // No pairing named: the pad faces' kind decides (the mesh is in the key).
+                    auto: p.pairing.is_none().then_some(true),
                 })
                 .collect(),
+            ties: &scene.ties,
             pressure_loads: loads.map_or(&[], |l| &l.pressure),
             force_loads: loads.map_or(&[], |l| &l.force),
             element_damping: scene
