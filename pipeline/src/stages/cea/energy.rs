@@ -5,8 +5,9 @@
 //!
 //! **Components.** A model built from meshes keeps each component's Craig–Bampton matrices
 //! and where its coordinates sit in the assembled vector ([`ReducedModel::recovery`]): the
-//! component's part of M and K is its reduced block, scattered (a shared boundary DOF gets
-//! the blocks of every component on it, as the superelement assembly adds them), and its part
+//! component's part of M and K is its reduced block mapped to the assembled DOFs,
+//! `T_cᵀ M_c T_c` (a shared boundary DOF gets the blocks of every component on it, as the
+//! superelement assembly adds them; a DOF a tie eliminated is its combination), and its part
 //! of B is its element damping (GE_c/W4) plus the overall damping (G/W3) times its K block.
 //! Damping that belongs to no component (modal damping, `damping.modal_ratio`) is reported
 //! apart as the whole model's. The split is used only when the scattered blocks sum to the
@@ -146,29 +147,41 @@ fn scatter_check(parts: &[ComponentPart], m: &Mat<Real>, k: &Mat<Real>) -> Real 
     rel(&dm, m).max(rel(&dk, k))
 }
 
-/// The components' blocks from their reductions (meshed models); None when the model has no
-/// recovery data or a coordinate is not in the assembly.
+/// The components' blocks from their reductions (meshed models): the component's reduced
+/// coordinates are `x_c = T_c x` (`ComponentRecovery::assembled`: one term of weight 1, or
+/// several for a grid DOF a tie eliminated), so its part of M is `T_cᵀ M_c T_c` on the
+/// assembled DOFs its terms touch. None when the model has no recovery data.
 fn from_reductions(model: &ReducedModel, overall: Real) -> Option<Vec<ComponentPart>> {
     if model.recovery.is_empty() {
         return None;
     }
     let mut parts = Vec::with_capacity(model.recovery.len());
     for r in &model.recovery {
-        let dofs: Option<Vec<usize>> = r.assembled.iter().copied().collect();
-        let dofs = dofs?;
+        let mut dofs: Vec<usize> = r.assembled.iter().flatten().map(|t| t.0).collect();
+        dofs.sort_unstable();
+        dofs.dedup();
+        let mut t = Mat::<Real>::zeros(r.assembled.len(), dofs.len());
+        for (j, terms) in r.assembled.iter().enumerate() {
+            for &(i, w) in terms {
+                let a = dofs.binary_search(&i).ok()?;
+                t[(j, a)] += w;
+            }
+        }
         let factor = model
             .components
             .iter()
             .find(|c| c.name == r.name)
             .map_or(0.0, |c| c.element_damping_factor)
             + overall;
-        let k = r.cb.k.clone();
+        let tt = t.transpose();
+        let k = tt * &r.cb.k * &t;
+        let m = tt * &r.cb.m * &t;
         let b =
             (factor != 0.0).then(|| Mat::from_fn(k.nrows(), k.ncols(), |i, j| factor * k[(i, j)]));
         parts.push(ComponentPart {
             name: r.name.clone(),
             dofs,
-            m: r.cb.m.clone(),
+            m,
             k,
             b,
         });
