@@ -277,12 +277,18 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Verb::Mesh(args) => {
             let scene = Scene::load(&args.scene.scene, &args.scene.set)?;
             let dir = run_dir(&args)?;
-            stages::mesh::run(&scene, &dir, progress)?;
+            let reports = stages::mesh::run(&scene, &dir, progress)?;
+            for w in reports.iter().flat_map(|r| r.warnings()) {
+                eprintln!("squeal: {w}");
+            }
         }
         Verb::Modes { run, component } => {
             let scene = Scene::load(&run.scene.scene, &run.scene.set)?;
             let dir = run_dir(&run)?;
             let report = stages::modes::run(&scene, component.as_deref(), &dir, progress)?;
+            for w in report.mesh.warnings() {
+                eprintln!("squeal: {w}");
+            }
             progress.info(report.table());
         }
         Verb::Reduce(args) => {

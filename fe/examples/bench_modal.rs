@@ -4,7 +4,10 @@
 //! Build and run (not under `cargo test`):
 //!   cargo build --release -p squeal-fe --example bench_modal
 //!   target/release/examples/bench_modal [OUT.json] [--clamped] [--block B] [--basis M]
-//!       [--tol T] [--leaf L] [--repeat R] [--only amd|nd]
+//!       [--tol T] [--leaf L] [--repeat R] [--only amd|nd] [--modes N] [--export DIR] [--no-split]
+//! `--export DIR` also writes K and M (CSC: `k_indptr.npy`, `k_indices.npy`, `k_data.npy`, the
+//! same for `m_`) and `meta.json` (the shift σ, the frequencies) for a peer solver on the same
+//! matrices (`docs/bench/modal_peer.py`).
 //! Each repeat solves once per ordering (alternating which goes first, since the machine is
 //! shared) and records nnz(L), ordering/factor/Lanczos/solve/total seconds and the peak RSS of
 //! that solve (VmHWM, reset before each solve). Writes JSON (default `target/bench/modal.json`)
@@ -54,7 +57,7 @@ fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let clamped = args.iter().any(|a| a == "--clamped");
     let valued = [
-        "--block", "--basis", "--tol", "--leaf", "--repeat", "--only",
+        "--block", "--basis", "--tol", "--leaf", "--repeat", "--only", "--modes", "--export",
     ];
     let out = args
         .iter()
@@ -84,7 +87,7 @@ fn main() -> anyhow::Result<()> {
     let asm = assemble(&mesh, &[mat], &dofs, &AssemblyOptions::default())?;
     let coords = dof_coordinates(&mesh, &dofs);
     let mut base = ModalOptions {
-        n_modes: Some(50),
+        n_modes: Some(num("--modes").map_or(50, |m| m as usize)),
         ..Default::default()
     };
     if let Some(b) = num("--block") {
@@ -95,6 +98,9 @@ fn main() -> anyhow::Result<()> {
     }
     if let Some(t) = num("--tol") {
         base.tol = t;
+    }
+    if args.iter().any(|a| a == "--no-split") {
+        base.split_factor = false;
     }
     if let Some(l) = num("--leaf") {
         base.nested_dissection.leaf_nodes = l as usize;
@@ -245,6 +251,56 @@ fn main() -> anyhow::Result<()> {
         std::fs::create_dir_all(dir)?;
     }
     std::fs::write(&out, serde_json::to_string_pretty(&report)?)?;
+    if let Some(dir) = flag("--export") {
+        let dir = std::path::Path::new(&dir);
+        std::fs::create_dir_all(dir)?;
+        for (name, a) in [("k", &asm.k), ("m", &asm.m)] {
+            let s = a.symbolic();
+            let ptr: Vec<i64> = s.col_ptr().iter().map(|&p| p as i64).collect();
+            let idx: Vec<i64> = s.row_idx().iter().map(|&i| i as i64).collect();
+            npy::write_i64(&dir.join(format!("{name}_indptr.npy")), &ptr)?;
+            npy::write_i64(&dir.join(format!("{name}_indices.npy")), &idx)?;
+            npy::write_f64(&dir.join(format!("{name}_data.npy")), a.val())?;
+        }
+        let shift = runs[0]["modal"]["shift"].clone();
+        let meta = serde_json::json!({
+            "n": dofs.n_free(),
+            "shift": shift,
+            "n_modes": base.n_modes,
+            "tol": base.tol,
+            "report": report,
+        });
+        std::fs::write(dir.join("meta.json"), serde_json::to_string_pretty(&meta)?)?;
+    }
     println!("{}", serde_json::to_string_pretty(&report["summary"])?);
     Ok(())
+}
+
+/// Minimal `.npy` (format 1.0) writers for one-dimensional little-endian arrays.
+mod npy {
+    use std::io::Write;
+    fn write(path: &std::path::Path, descr: &str, n: usize, bytes: &[u8]) -> std::io::Result<()> {
+        let mut header =
+            format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': ({n},), }}");
+        // Magic (6) + version (2) + header length (2) + header, padded to 64 bytes with '\n'.
+        let total = (10 + header.len() + 1).div_ceil(64) * 64;
+        while 10 + header.len() + 1 < total {
+            header.push(' ');
+        }
+        header.push('\n');
+        let mut f = std::io::BufWriter::new(std::fs::File::create(path)?);
+        f.write_all(b"\x93NUMPY\x01\x00")?;
+        f.write_all(&(header.len() as u16).to_le_bytes())?;
+        f.write_all(header.as_bytes())?;
+        f.write_all(bytes)?;
+        f.flush()
+    }
+    pub fn write_f64(path: &std::path::Path, v: &[f64]) -> std::io::Result<()> {
+        let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
+        write(path, "<f8", v.len(), &bytes)
+    }
+    pub fn write_i64(path: &std::path::Path, v: &[i64]) -> std::io::Result<()> {
+        let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
+        write(path, "<i8", v.len(), &bytes)
+    }
 }

@@ -8,6 +8,7 @@
 //! - [`ordering::nested_dissection`]: fill-reducing ordering for the modal factorisation.
 
 pub mod assembly;
+pub mod cholesky;
 pub mod dofs;
 pub mod elasticity;
 pub mod element;

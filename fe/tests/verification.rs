@@ -655,6 +655,10 @@ fn modes_with_nested_dissection_equal_modes_with_amd() {
     assert_eq!(amd.stats.ordering, Some(FillOrdering::Amd));
     assert_eq!(nd.stats.ordering, Some(FillOrdering::NestedDissection));
     assert!(nd.stats.nested_dissection.is_some());
+    // The nested dissection's top level splits the factor into two parallel halves.
+    let split = nd.stats.split.as_ref().expect("split factor used");
+    assert!(split.sizes[0] > 0 && split.sizes[1] > 0 && split.sizes[2] > 0);
+    assert_eq!(split.sizes.iter().sum::<usize>(), asm.k.nrows());
     eprintln!(
         "n = {}: nnz(L) AMD {} ND {}",
         asm.k.nrows(),
@@ -748,4 +752,69 @@ fn interrupt_stops_assembly_and_lanczos() {
         "{e}"
     );
     assert!(solve_modes(&asm.k, &asm.m, &lanczos_opts(6)).is_ok());
+}
+
+#[test]
+fn substructures_and_separators_partition_the_dofs_and_separate() {
+    // Invariants of a substructuring (no reference values): every DOF in exactly one
+    // substructure or separator piece, substructures within the size bound, no stiffness entry
+    // between two substructures, separator pieces connected, a node's DOFs kept together.
+    let (mesh, dofs, asm) = annulus_model(48, 4, 2);
+    let coords = dof_coordinates(&mesh, &dofs);
+    let n = dofs.n_free();
+    let max = 2500;
+    let s = squeal_fe::ordering::substructure(
+        asm.k.symbolic(),
+        &coords,
+        max,
+        &NestedDissectionOptions::default(),
+    )
+    .unwrap();
+    assert!(s.substructures.len() >= 4, "{}", s.substructures.len());
+    let mut owner = vec![usize::MAX; n];
+    for (j, sub) in s.substructures.iter().enumerate() {
+        assert!(sub.len() <= max && !sub.is_empty());
+        for &i in sub {
+            assert_eq!(owner[i], usize::MAX, "DOF {i} twice");
+            owner[i] = j;
+        }
+    }
+    let nsub = s.substructures.len();
+    for (p, piece) in s.separators.iter().enumerate() {
+        for &i in piece {
+            assert_eq!(owner[i], usize::MAX, "DOF {i} twice");
+            owner[i] = nsub + p;
+        }
+    }
+    assert!(owner.iter().all(|&o| o != usize::MAX));
+    assert_eq!(s.separator_depth.len(), s.separators.len());
+    let k = asm.k.as_ref();
+    for j in 0..n {
+        for &i in k.row_idx_of_col_raw(j) {
+            let (a, b) = (owner[i], owner[j]);
+            assert!(
+                a == b || a >= nsub || b >= nsub,
+                "DOFs {i} and {j} couple substructures {a} and {b}"
+            );
+        }
+    }
+    for piece in &s.separators {
+        // Connected through the stiffness pattern.
+        let set: std::collections::HashSet<usize> = piece.iter().copied().collect();
+        let mut seen = std::collections::HashSet::from([piece[0]]);
+        let mut stack = vec![piece[0]];
+        while let Some(j) = stack.pop() {
+            for &i in k.row_idx_of_col_raw(j) {
+                if set.contains(&i) && seen.insert(i) {
+                    stack.push(i);
+                }
+            }
+        }
+        assert_eq!(seen.len(), piece.len());
+    }
+    for i in 1..n {
+        if dofs.dof_of(i).0 == dofs.dof_of(i - 1).0 {
+            assert_eq!(owner[i], owner[i - 1], "node of DOF {i} split");
+        }
+    }
 }

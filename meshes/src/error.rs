@@ -135,6 +135,10 @@ pub enum MeshError {
         value: String,
         reason: String,
     },
+    /// A mesh file whose content is wrong as a whole (no line to name), e.g. a choice the file
+    /// leaves open.
+    #[error("{file}: {message}")]
+    Input { file: String, message: String },
     /// A data array given to the VTU writer does not fit the mesh.
     #[error("VTU array `{name}`: {message}")]
     VtuArray { name: String, message: String },

@@ -257,4 +257,12 @@ pub struct Mesh {
     pub faces: BTreeMap<String, FaceSet>,
     /// Node sets per physical group name (volume, surface, curve or point groups), sorted, unique.
     pub node_sets: BTreeMap<String, Vec<usize>>,
+    /// Material and material axes of volume blocks, by block name, as the file gives them
+    /// (Nastran PSOLID, Abaqus *SOLID SECTION; default: none, e.g. gmsh files).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub sections: BTreeMap<String, crate::section::Section>,
+    /// DOFs the file holds at zero (Nastran SPC/SPC1/GRID PS, Abaqus *BOUNDARY): (node index,
+    /// global component 0..3), sorted, unique (default: none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub fixed: Vec<(usize, usize)>,
 }

@@ -40,6 +40,8 @@ pub fn split_hexes(mesh: &Mesh, choose: impl Fn(usize, usize) -> HexSplit) -> Me
         volumes: Vec::new(),
         faces: BTreeMap::new(),
         node_sets: mesh.node_sets.clone(),
+        sections: mesh.sections.clone(),
+        fixed: mesh.fixed.clone(),
     };
     let faces6 = CellKind::Hex8.faces();
     // Split decision per cell, and the cells on each face.

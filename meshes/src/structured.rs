@@ -231,6 +231,7 @@ fn finish(nodes: Vec<[Real; 3]>, grid: &Grid, volume: &str) -> Mesh {
         }],
         faces: BTreeMap::new(),
         node_sets: BTreeMap::new(),
+        ..Default::default()
     }
 }
 

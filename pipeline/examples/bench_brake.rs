@@ -97,6 +97,7 @@ fn nearest_nodes(mesh: &Mesh, faces: &[&str], pad_points: &[[f64; 3]]) -> Vec<us
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let _ = load_at_start();
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let mut args = std::env::args().skip(1);
     let mut scene_path = root.join("examples/cad-brake/brake.toml");
@@ -317,6 +318,7 @@ fn run_pipeline(
                 "component": c.name, "n_free_dofs": c.n_free_dofs, "n_nodes": c.n_nodes,
                 "n_boundary_coords": c.cb_stats.as_ref().map(|s| s.n_boundary), "n_modes": c.n_modes,
                 "highest_fixed_interface_hz": c.fixed_interface_hz.last(),
+                "fixed_interface_hz": c.fixed_interface_hz,
                 "cb_stats": c.cb_stats,
             })
         })
@@ -337,7 +339,9 @@ fn run_pipeline(
         unstable.len()
     );
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
+    let load_at_start = load_at_start();
     let mut out = json!({
+        "loadavg_at_start": load_at_start,
         "what": "pipeline: build_from_mesh (mesh -> assembly -> Craig-Bampton of the components in parallel -> superelement assembly -> gaps), then CEA at the steady state (and a mu sweep)",
         "n_reduced_dofs": model.n(),
         "n_gaps": model.gaps.len(),
@@ -345,6 +349,8 @@ fn run_pipeline(
         "build_s": build_s,
         "peak_rss_kib_after_build": rss_build,
         "components": components,
+        "checks": model.checks.iter().map(|(name, c)| json!({"component": name, "check": c})).collect::<Vec<_>>(),
+        "warnings": model.warnings,
         "cea_s": cea_s,
         "peak_rss_kib_after_cea": rss_cea,
         "cea_stats": c.out.stats,
@@ -412,6 +418,19 @@ fn run_pipeline(
         out["loadavg_at_end"] = json!(load.trim());
     }
     Ok(out)
+}
+
+/// The load average when the process started (first call), as /proc/loadavg prints it.
+fn load_at_start() -> String {
+    static START: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    START
+        .get_or_init(|| {
+            std::fs::read_to_string("/proc/loadavg")
+                .unwrap_or_default()
+                .trim()
+                .to_string()
+        })
+        .clone()
 }
 
 /// CPU seconds (user + system, all threads) of this process so far, from /proc/self/stat

@@ -114,6 +114,8 @@ fn two_bodies(a: &Mesh, b: &Mesh) -> Mesh {
         volumes: Vec::new(),
         faces: Default::default(),
         node_sets: Default::default(),
+        sections: Default::default(),
+        fixed: Vec::new(),
     };
     let shift = |blk: &CellBlock, name: &str, by: usize| CellBlock {
         name: Some(name.to_string()),

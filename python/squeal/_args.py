@@ -51,6 +51,16 @@ def _real(v: Any) -> bool:
     return isinstance(v, numbers.Real) and not isinstance(v, bool)
 
 
+def real(func: str, arg: str, v: Any) -> Optional[float]:
+    """None, or a real number (its type only: the value is the library's to check, as for
+    ``compare``'s tolerances, which ``CompareOptions::validate`` refuses naming the option)."""
+    if v is None:
+        return None
+    if not _real(v):
+        raise type_error(func, arg, "a real number or None", v)
+    return float(v)
+
+
 def number(func: str, arg: str, v: Any, low: Optional[float] = None, high: Optional[float] = None) -> Optional[float]:
     """None, or a finite real number in [low, high]."""
     if v is None:

@@ -308,7 +308,7 @@ def compare(
         _args.path(f, name, v)
     for name, v in (("tol_freq", tol_freq), ("tol_mac", tol_mac), ("tol_matrix", tol_matrix),
                     ("tol_root", tol_root), ("tol_summary", tol_summary), ("pair_mac", pair_mac)):
-        _args.number(f, name, v, low=0.0)
+        _args.real(f, name, v)
     modes = _args.integer(f, "modes", modes, 0)
     _args.path(f, "scene", scene)
     _args.boolean(f, "cea", cea)

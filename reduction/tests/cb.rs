@@ -688,10 +688,12 @@ fn asymmetric_matrix_is_an_error() {
     );
 }
 
-/// The free-free full-model frequencies of `check` agree between its dense and its block
-/// Lanczos (negative shift) paths.
+/// The free-free full-model frequencies of `check` agree between its dense path, its block
+/// Lanczos (negative shift) path and its default path for large models (one LDLᵀ at the band's
+/// top: Sturm count + shift-invert refinement of the reduced modes); the Sturm count equals the
+/// number of dense full-model eigenvalues below the shift.
 #[test]
-fn check_full_frequencies_dense_and_lanczos_agree() {
+fn check_full_frequencies_dense_lanczos_and_refined_agree() {
     let (h, k, m, boundary) = pad();
     let model = cb::reduce(
         &k,
@@ -701,21 +703,222 @@ fn check_full_frequencies_dense_and_lanczos_agree() {
     )
     .unwrap();
     let pts = fem::points(&h);
-    let dense = cb::check(&model, Some((&k, &m)), Some(&pts), &CheckOptions::default()).unwrap();
-    let lanczos = cb::check(
-        &model,
-        Some((&k, &m)),
-        Some(&pts),
+    let run = |dense_max, full_method| {
+        let opts = CheckOptions {
+            dense_max,
+            full_method,
+            ..CheckOptions::default()
+        };
+        cb::check(&model, Some((&k, &m)), Some(&pts), &opts).unwrap()
+    };
+    let dense = run(2000, cb::FullMethod::Refine);
+    let lanczos = run(10, cb::FullMethod::Lanczos);
+    let refined = run(10, cb::FullMethod::Refine);
+    assert_eq!(dense.full_method, "dense");
+    assert_eq!(lanczos.full_method, "lanczos");
+    assert_eq!(refined.full_method, "refine");
+    for other in [&lanczos, &refined] {
+        assert_eq!(dense.frequencies.len(), other.frequencies.len());
+        for (a, b) in dense.frequencies.iter().zip(&other.frequencies).skip(6) {
+            let (fa, fb) = (a.full_hz.unwrap(), b.full_hz.unwrap());
+            assert!((fa - fb).abs() < 1e-8 * fa, "mode {}: {fa} vs {fb}", a.mode);
+        }
+    }
+    let v = refined.verification.as_ref().unwrap();
+    let sigma = (2.0 * std::f64::consts::PI * v.shift_hz).powi(2);
+    let exact_below = eig(&fem::dense(&k), &fem::dense(&m))
+        .iter()
+        .filter(|&&l| l < sigma)
+        .count();
+    assert_eq!(v.n_full_below, exact_below);
+    assert_eq!(v.n_refined_below, exact_below);
+    assert!(v.max_refined_residual < 1e-5, "{v:?}");
+}
+
+/// Pad reduced with `opts`, checked by the default large-model path (forced with a small
+/// `dense_max`) and by the dense full eigen-solve: both verdicts and error tables.
+fn checked_pad(
+    model: &cb::CbModel,
+    k: &Sparse,
+    m: &Sparse,
+    pts: &[DofPoint],
+) -> (cb::CbCheck, cb::CbCheck) {
+    let cheap = cb::check(
+        model,
+        Some((k, m)),
+        Some(pts),
         &CheckOptions {
             dense_max: 10,
             ..CheckOptions::default()
         },
     )
     .unwrap();
-    assert_eq!(dense.frequencies.len(), lanczos.frequencies.len());
-    for (a, b) in dense.frequencies.iter().zip(&lanczos.frequencies).skip(6) {
-        let (fa, fb) = (a.full_hz.unwrap(), b.full_hz.unwrap());
-        assert!((fa - fb).abs() < 1e-8 * fa, "mode {}: {fa} vs {fb}", a.mode);
+    let dense = cb::check(model, Some((k, m)), Some(pts), &CheckOptions::default()).unwrap();
+    (cheap, dense)
+}
+
+/// A cut-off barely above the frequency of interest leaves errors of several %: the cheap check
+/// measures the same errors as the dense full eigen-solve (reference) and fails on them; a
+/// cut-off at 4 × the frequency of interest passes.
+#[test]
+fn cheap_check_catches_a_too_low_cutoff() {
+    let (h, k, m, boundary) = pad();
+    let full_hz: Vec<f64> = eig(&fem::dense(&k), &fem::dense(&m))
+        .into_iter()
+        .map(hz)
+        .collect();
+    let foi = frequency_of_interest(&full_hz, 4);
+    let opts = CbOptions {
+        cutoff_hz: Some(1.01 * foi),
+        ..CbOptions::with_frequency_of_interest(foi)
+    };
+    let model = cb::reduce(&k, &m, &boundary, &opts).unwrap();
+    let (cheap, dense) = checked_pad(&model, &k, &m, &fem::points(&h));
+    println!("{cheap}");
+    let (ec, ed) = (
+        cheap.max_abs_error_pct.unwrap(),
+        dense.max_abs_error_pct.unwrap(),
+    );
+    assert!(ed > 2.0, "the too-low cut-off must matter: {ed} %");
+    assert!((ec - ed).abs() < 1e-4 * ed, "cheap {ec} % vs dense {ed} %");
+    for (a, b) in cheap.frequencies.iter().zip(&dense.frequencies).skip(6) {
+        let (x, y) = (a.error_pct.unwrap(), b.error_pct.unwrap());
+        assert!(
+            (x - y).abs() < 1e-4 * y.abs().max(1e-2),
+            "mode {}: {x} vs {y}",
+            a.mode
+        );
+    }
+    for c in [&cheap, &dense] {
+        assert!(!c.passed);
+        assert!(
+            c.failures.iter().any(|f| f.contains("frequency error")),
+            "{:?}",
+            c.failures
+        );
+    }
+    let opts = CbOptions {
+        cutoff_factor: 4.0,
+        ..CbOptions::with_frequency_of_interest(foi)
+    };
+    let good = cb::reduce(&k, &m, &boundary, &opts).unwrap();
+    let (cheap, dense) = checked_pad(&good, &k, &m, &fem::points(&h));
+    assert!(cheap.passed && dense.passed, "{cheap}\n{dense}");
+}
+
+/// A fixed-interface mode below the cut-off left out of the model (as a Lanczos that missed one
+/// would): the Sturm count finds more full-component modes below the band than the reduced
+/// model has, and the check fails.
+#[test]
+fn cheap_check_catches_a_missing_mode() {
+    // Boundary: the friction face's four corner nodes, so that fixed-interface modes lie in
+    // the band.
+    let (h, k, m, _) = pad();
+    let corners: Vec<usize> = (0..h.nodes.len())
+        .filter(|&n| {
+            let p = h.nodes[n];
+            p[2] == PAD_ORIGIN[2]
+                && [0, 1].iter().all(|&a| {
+                    (p[a] - PAD_ORIGIN[a]).abs() < 1e-12
+                        || (p[a] - PAD_ORIGIN[a] - PAD_SIZE[a]).abs() < 1e-12
+                })
+        })
+        .collect();
+    assert_eq!(corners.len(), 4);
+    let boundary = fem::dofs_of(&corners);
+    let full_hz: Vec<f64> = eig(&fem::dense(&k), &fem::dense(&m))
+        .into_iter()
+        .map(hz)
+        .collect();
+    let foi = frequency_of_interest(&full_hz, 10);
+    let good = cb::reduce(
+        &k,
+        &m,
+        &boundary,
+        &CbOptions::with_frequency_of_interest(foi),
+    )
+    .unwrap();
+    // Drop the lowest fixed-interface mode: row/column nb of K_r and M_r, column 0 of Φ.
+    let nb = good.n_boundary_coords();
+    let nr = good.n_reduced();
+    let keep: Vec<usize> = (0..nr).filter(|&i| i != nb).collect();
+    let pick = |a: &Mat<f64>| Mat::<f64>::from_fn(nr - 1, nr - 1, |i, j| a[(keep[i], keep[j])]);
+    let mut broken = good.clone();
+    broken.k = pick(&good.k);
+    broken.m = pick(&good.m);
+    broken.phi = good.phi.subcols(1, good.n_modes - 1).to_owned();
+    broken.n_modes -= 1;
+    broken.fixed_frequencies_hz.remove(0);
+    assert!(good.fixed_frequencies_hz[0] < foi);
+    let (cheap, dense) = checked_pad(&broken, &k, &m, &fem::points(&h));
+    println!("{cheap}");
+    // The full mode the dropped shape belonged to comes out far too high (the refinement
+    // recovers it from the full component, and the Sturm count agrees with the dense count).
+    for c in [&cheap, &dense] {
+        assert!(!c.passed, "{c}");
+        assert!(c.max_abs_error_pct.unwrap() > 10.0, "{c}");
+    }
+    for (a, b) in cheap.frequencies.iter().zip(&dense.frequencies).skip(6) {
+        let (x, y) = (a.full_hz.unwrap(), b.full_hz.unwrap());
+        assert!((x - y).abs() < 1e-6 * y, "mode {}: {x} vs {y}", a.mode);
+    }
+    let v = cheap.verification.as_ref().unwrap();
+    assert_eq!(v.n_full_below, v.n_refined_below, "{v:?}");
+    let (cheap_good, _) = checked_pad(&good, &k, &m, &fem::points(&h));
+    assert!(cheap_good.passed, "{cheap_good}");
+}
+
+/// A model reduced with a mass 3 % too high (a wrong density) checked against the true
+/// component: the rigid-body mass and the frequencies both fail, with the cheap check as with
+/// the dense one.
+#[test]
+fn cheap_check_catches_a_wrong_mass() {
+    let (h, k, m, boundary) = pad();
+    let full_hz: Vec<f64> = eig(&fem::dense(&k), &fem::dense(&m))
+        .into_iter()
+        .map(hz)
+        .collect();
+    let foi = frequency_of_interest(&full_hz, 4);
+    let heavy = {
+        let mut m2 = m.clone();
+        m2.val_mut().iter_mut().for_each(|v| *v *= 1.03);
+        m2
+    };
+    let model = cb::reduce(
+        &k,
+        &heavy,
+        &boundary,
+        &CbOptions::with_frequency_of_interest(foi),
+    )
+    .unwrap();
+    let (cheap, dense) = checked_pad(&model, &k, &m, &fem::points(&h));
+    println!("{cheap}");
+    for c in [&cheap, &dense] {
+        assert!(!c.passed);
+        assert!(
+            c.failures.iter().any(|f| f.contains("rigid-body mass")),
+            "{:?}",
+            c.failures
+        );
+    }
+    // A uniform mass factor scales every reduced eigenvalue by 1/1.03 (the same Ψ and Φ, Φ
+    // rescaled): reduced/full = (reduced/full of the right model) / √1.03, mode by mode.
+    let right = cb::reduce(
+        &k,
+        &m,
+        &boundary,
+        &CbOptions::with_frequency_of_interest(foi),
+    )
+    .unwrap();
+    let (right, _) = checked_pad(&right, &k, &m, &fem::points(&h));
+    for (w, r) in cheap.frequencies.iter().zip(&right.frequencies).skip(6) {
+        let (ew, er) = (w.error_pct.unwrap(), r.error_pct.unwrap());
+        let expected = 100.0 * ((1.0 + er / 100.0) / 1.03f64.sqrt() - 1.0);
+        assert!(
+            (ew - expected).abs() < 1e-4,
+            "mode {}: {ew} % vs {expected} %",
+            w.mode
+        );
     }
 }
 

@@ -241,6 +241,130 @@ fn fuzz_punch_dmig() {
     });
 }
 
+// ------------------------------------------------------------------------------ bdf, inp
+
+const BDF: &str = "fuzz-input.bdf";
+const INP: &str = "fuzz-input.inp";
+
+fn industrial() -> PathBuf {
+    workspace_root().join("meshes/tests/data/industrial")
+}
+
+/// A mesh read from a Nastran or Abaqus file: indices in range, finite coordinates, det J > 0
+/// at every node of every cell (the readers' guarantee), sets and fixed DOFs on existing
+/// nodes.
+fn check_industrial(m: &squeal_meshes::Mesh) -> Result<Outcome, String> {
+    let n = m.nodes.len();
+    if m.nodes.iter().flatten().any(|x| !x.is_finite()) {
+        return Err("accepted a non-finite coordinate".into());
+    }
+    if m.node_tags.len() != n {
+        return Err("node tags do not fit the nodes".into());
+    }
+    for b in &m.volumes {
+        if b.conn.iter().any(|&i| i >= n) || b.conn.len() != b.len() * b.kind.n_nodes() {
+            return Err(format!(
+                "block {:?}: node index out of range or ragged",
+                b.name
+            ));
+        }
+        for cell in b.conn.chunks(b.kind.n_nodes()) {
+            let x: Vec<[f64; 3]> = cell.iter().map(|&i| m.nodes[i]).collect();
+            let (a, d) = squeal_meshes::jacobian::node_jacobians(b.kind, &x)[0];
+            if d.is_nan() || d <= 0.0 {
+                return Err(format!(
+                    "accepted a {} with det J = {d} at its node {a}",
+                    b.kind
+                ));
+            }
+        }
+    }
+    for f in m.faces.values() {
+        if f.node_indices().any(|i| i >= n) {
+            return Err("face node index out of range".into());
+        }
+    }
+    if m.node_sets.values().flatten().any(|&i| i >= n)
+        || m.fixed.iter().any(|&(i, k)| i >= n || k > 2)
+    {
+        return Err("node set or fixed DOF out of range".into());
+    }
+    Ok(Outcome::Accepted)
+}
+
+/// An error names the input, or one of the unmutated files it includes.
+fn named_in_deck(msg: String, input: &str) -> Result<Outcome, String> {
+    if msg.contains(input) || msg.contains("meshes/tests/data/industrial") {
+        Ok(Outcome::Rejected)
+    } else {
+        Err(format!("the error does not name `{input}`: {msg}"))
+    }
+}
+
+fn check_bdf(bytes: &[u8]) -> Result<Outcome, String> {
+    let opts = squeal_meshes::BdfOptions::default();
+    match squeal_meshes::parse_bdf(bytes, BDF, &industrial(), &opts) {
+        Ok((m, _)) => check_industrial(&m),
+        Err(e) => named_in_deck(e.to_string(), BDF),
+    }
+}
+
+fn check_inp(bytes: &[u8]) -> Result<Outcome, String> {
+    let opts = squeal_meshes::InpOptions::default();
+    match squeal_meshes::parse_inp(bytes, INP, &industrial(), &opts) {
+        Ok((m, _)) => check_industrial(&m),
+        Err(e) => named_in_deck(e.to_string(), INP),
+    }
+}
+
+const READER_CASES: u32 = 1500;
+
+#[test]
+fn fuzz_nastran_bulk_data() {
+    let s = seeds(&[
+        "meshes/tests/data/industrial/mixed.bdf",
+        "meshes/tests/data/industrial/mixed_grids.bdf",
+        "meshes/tests/data/industrial/mixed_free.bdf",
+        "meshes/tests/data/industrial/bracket_hex20.bdf",
+        "meshes/tests/data/industrial/bracket_ortho.bdf",
+    ]);
+    // The grid and free-field files alone have no solids: rejected (naming the input).
+    for (name, b) in &s {
+        let want = if name.starts_with("mixed_") {
+            Outcome::Rejected
+        } else {
+            Outcome::Accepted
+        };
+        assert_eq!(check_bdf(b), Ok(want), "seed {name}");
+    }
+    fuzz(
+        "nastran_bdf",
+        reports(),
+        inputs(s, 2048),
+        READER_CASES,
+        bytes,
+        |i| check_bdf(&i.bytes),
+    );
+}
+
+#[test]
+fn fuzz_abaqus_input() {
+    let s = seeds(&[
+        "meshes/tests/data/industrial/assembly.inp",
+        "meshes/tests/data/industrial/bracket_hex20.inp",
+        "meshes/tests/data/industrial/bracket_ortho.inp",
+    ]);
+    accepted(&s, check_inp);
+    fuzz(
+        "abaqus_inp",
+        reports(),
+        inputs(s, 2048),
+        READER_CASES,
+        bytes,
+        |i| check_inp(&i.bytes),
+    );
+}
+
 // ------------------------------------------------------------------------------ scene + --set
 
 /// Keys the overrides aim at (real ones, array indices, nonsense).
@@ -775,6 +899,8 @@ fn regression_corpus_replays() {
                 "msh" => check_msh(&b),
                 "op4" => check_op4(&b),
                 "punch" => check_punch(&b),
+                "bdf" => check_bdf(&b),
+                "inp" => check_inp(&b),
                 "scene" => check_scene(
                     &out("corpus-scene"),
                     &SceneCase {

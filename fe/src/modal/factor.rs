@@ -1,6 +1,7 @@
 //! The shifted matrix K − σM and its factorisation, used as the operator (K − σM)⁻¹.
 
 use super::options::FactorKind;
+use crate::cholesky::{SplitCholesky, SplitStats};
 use crate::ordering::{CholeskyFill, DofPermutation};
 use crate::{FeError, Real};
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -17,6 +18,8 @@ use faer::{Conj, MatMut, Par, Side, Spec};
 
 /// A factorisation of K − σM.
 pub(crate) enum Factor {
+    /// Two subdomains and the top separator, factorised and solved in parallel.
+    Split(Box<SplitCholesky>),
     Llt(SymbolicCholesky<usize>, Vec<Real>),
     Ldlt(SymbolicCholesky<usize>, Vec<Real>),
     Lu(Lu<usize, Real>),
@@ -30,6 +33,7 @@ pub(crate) struct Factored {
     pub supernodal: bool,
     pub factor_flops: Real,
     pub factorisations: usize,
+    pub split: Option<SplitStats>,
 }
 
 /// K − σM (lower triangle only if `lower`), merging the sorted columns of K and M.
@@ -75,16 +79,38 @@ fn shifted(
     )
 }
 
-/// Factorises K − σM: Cholesky, else LDLᵀ on the same symbolic structure, else LU.
+/// Factorises K − σM: with a nested-dissection `perm` whose top level splits the DOFs
+/// (`split` = its [first half, second half, separator] sizes), the [`SplitCholesky`];
+/// otherwise, or when that fails, Cholesky, else LDLᵀ on the same symbolic structure, else LU.
 /// `perm` is the fill-reducing ordering (AMD when `None`).
 pub(crate) fn factorise(
     k: SparseColMatRef<'_, usize, Real>,
     m: SparseColMatRef<'_, usize, Real>,
     sigma: Real,
     perm: Option<&DofPermutation>,
+    split: Option<[usize; 3]>,
 ) -> Result<Factored, FeError> {
     let par = Par::rayon(0);
     let a = shifted(k, m, sigma, true);
+    let mut split_failed = None;
+    if let (Some(p), Some(sizes)) = (perm, split) {
+        match SplitCholesky::factorize(a.as_ref(), p, sizes) {
+            Ok(f) => {
+                let st = f.stats().clone();
+                return Ok(Factored {
+                    factor: Factor::Split(Box::new(f)),
+                    kind: FactorKind::Llt,
+                    fallback_reason: None,
+                    factor_nnz: st.factor_nnz,
+                    supernodal: true,
+                    factor_flops: st.factor_flops,
+                    factorisations: 1,
+                    split: Some(st),
+                });
+            }
+            Err(e) => split_failed = Some(e.to_string()),
+        }
+    }
     let fail = |what: &str, e: String| FeError::Factorisation {
         what: format!("{what} of K - sigma M (sigma = {sigma:e})"),
         reason: e,
@@ -124,9 +150,13 @@ pub(crate) fn factorise(
                 supernodal,
                 factor_flops,
                 factorisations: 1,
+                split: None,
             })
         }
-        Err(e) => format!("Cholesky failed ({e:?}): K - sigma M is not positive definite"),
+        Err(e) => format!(
+            "Cholesky failed ({e:?}): K - sigma M is not positive definite{}",
+            split_failed.map_or(String::new(), |s| format!(" (split factor: {s})"))
+        ),
     };
     let ldlt = {
         let mut buf =
@@ -152,6 +182,7 @@ pub(crate) fn factorise(
             supernodal,
             factor_flops,
             factorisations: 2,
+            split: None,
         });
     }
     let full = shifted(k, m, sigma, false);
@@ -166,10 +197,27 @@ pub(crate) fn factorise(
         supernodal: false,
         factor_flops: 0.0,
         factorisations: 3,
+        split: None,
     })
 }
 
 impl Factor {
+    /// Solves (K − σM) X = B in place for a block B, its columns split evenly over the rayon
+    /// threads (each thread one pass over the factor with its columns).
+    pub fn solve_block(&self, rhs: MatMut<'_, Real>) {
+        if let Factor::Split(f) = self {
+            return f.solve_in_place(rhs);
+        }
+        let threads = rayon::current_num_threads().max(1);
+        let chunk = rhs.ncols().div_ceil(threads).max(1);
+        if chunk >= rhs.ncols() {
+            return self.solve_in_place(rhs);
+        }
+        use rayon::prelude::*;
+        rhs.par_col_chunks_mut(chunk)
+            .for_each(|c| self.solve_in_place(c));
+    }
+
     /// Solves (K − σM) X = B in place, B ← X.
     pub fn solve_in_place(&self, rhs: MatMut<'_, Real>) {
         // Sequential: the supernodal solve is a chain of small memory-bound products per
@@ -178,6 +226,7 @@ impl Factor {
         let par = Par::Seq;
         let ncols = rhs.ncols();
         match self {
+            Factor::Split(f) => f.solve_in_place(rhs),
             Factor::Llt(sym, vals) => {
                 let mut buf = MemBuffer::new(sym.solve_in_place_scratch::<Real>(ncols, par));
                 LltRef::new(sym, vals).solve_in_place_with_conj(

@@ -3,6 +3,12 @@
 //! Basis V (M-orthonormal) with MV = M V kept alongside, so M-inner products are plain dot
 //! products with MV and the operator input M v is already at hand. The projected matrix
 //! T = Vᵀ M Op V is kept explicitly (block tridiagonal, arrowhead after a restart).
+//!
+//! Each step: one block solve (the operator splits its columns over the threads, or works on
+//! its own subdomains in parallel), two passes of block classical Gram–Schmidt against the
+//! basis, and Cholesky QR (twice) of the new block in the M-inner product; a block that is
+//! numerically rank deficient falls back to column-by-column Gram–Schmidt with random
+//! replacement of vanishing columns. All n × b work blocks are allocated once.
 
 use super::factor::Factor;
 use super::spmm::sym_matmul;
@@ -11,6 +17,7 @@ use crate::Real;
 use faer::linalg::matmul::matmul;
 use faer::sparse::SparseColMatRef;
 use faer::{Accum, Mat, MatMut, MatRef, Par, Side};
+use std::time::Instant;
 
 /// What the caller wants: the lowest `n_modes`, and/or all with θ ≥ `theta_min`.
 pub(crate) struct Want {
@@ -29,6 +36,12 @@ pub(crate) struct LanczosOut {
     pub m_products: usize,
     pub max_basis: usize,
     pub solve_s: Real,
+    /// Seconds in Gram–Schmidt against the basis and the block QR (M products included).
+    pub orth_s: Real,
+    /// Seconds in the Rayleigh–Ritz eigen-solves and restarts.
+    pub ritz_s: Real,
+    /// Blocks that needed the column-by-column fall-back of the QR.
+    pub qr_fallbacks: usize,
 }
 
 struct Rng(u64);
@@ -64,13 +77,14 @@ fn dot(a: &[Real], b: &[Real]) -> Real {
 struct Ctx<'a> {
     op: &'a Factor,
     m: SparseColMatRef<'a, usize, Real>,
-    /// Parallelism of the small dense products (the tall-skinny ones go through
-    /// [`tall`], which splits rows over the threads itself).
-    par: Par,
     rng: Rng,
     solves: usize,
     m_products: usize,
     solve_s: Real,
+    orth_s: Real,
+    qr_fallbacks: usize,
+    /// n × b scratch for the block QR.
+    tmp: Mat<Real>,
 }
 
 impl Ctx<'_> {
@@ -79,7 +93,15 @@ impl Ctx<'_> {
         self.m_products += x.ncols();
     }
 
-    /// Two passes of classical Gram–Schmidt of `w` against the basis (v, mv); returns h.
+    fn solve(&mut self, x: MatMut<'_, Real>) {
+        let ts = Instant::now();
+        self.solves += x.ncols();
+        self.op.solve_block(x);
+        self.solve_s += ts.elapsed().as_secs_f64();
+    }
+
+    /// Two passes of block classical Gram–Schmidt of `w` against the basis (v, mv);
+    /// returns h = (MV)ᵀ w_in.
     fn project_out(
         &self,
         v: MatRef<'_, Real>,
@@ -99,8 +121,9 @@ impl Ctx<'_> {
     }
 
     /// M-orthonormalises the columns of `w` (already orthogonal to the basis), writing M w to
-    /// `mw`; returns R with W_in = Q R. Columns that vanish (relative to `pre` norms) are
-    /// replaced by random vectors orthogonal to everything (R column zero there).
+    /// `mw`; returns R with W_in = Q R. Cholesky QR twice; falls back to [`Ctx::orth_columns`]
+    /// when a column vanished (relative to its norm `pre` before the projection) or the block's
+    /// Gram matrix is too ill-conditioned for Cholesky QR.
     fn orth_block(
         &mut self,
         v: MatRef<'_, Real>,
@@ -110,8 +133,62 @@ impl Ctx<'_> {
         pre: &[Real],
     ) -> Mat<Real> {
         let b = w.ncols();
-        let n = w.nrows();
         self.m_times(w.as_ref(), mw.as_mut());
+        let vanished = (0..b).any(|j| {
+            let e = dot(w.col_as_slice(j), w.col_as_slice(j)).sqrt();
+            e.is_nan() || e <= 1e-10 * pre[j]
+        });
+        if !vanished {
+            let mut r = Mat::<Real>::identity(b, b);
+            let mut ok = true;
+            for _ in 0..2 {
+                let g = tall::tn(w.as_ref(), mw.as_ref());
+                let g = Mat::<Real>::from_fn(b, b, |i, j| 0.5 * (g[(i, j)] + g[(j, i)]));
+                let Ok(llt) = g.llt(Side::Lower) else {
+                    ok = false;
+                    break;
+                };
+                let l = llt.L();
+                // Cholesky QR is stable while cond(W) stays well below 1/sqrt(eps).
+                let well = (0..b).all(|j| l[(j, j)] > 1e-6 * g[(j, j)].sqrt());
+                if !well {
+                    ok = false;
+                    break;
+                }
+                let linv_t = l_inverse_transpose(l);
+                tall::nn(self.tmp.as_mut(), false, w.as_ref(), linv_t.as_ref(), 1.0);
+                w.copy_from(&self.tmp);
+                tall::nn(self.tmp.as_mut(), false, mw.as_ref(), linv_t.as_ref(), 1.0);
+                mw.copy_from(&self.tmp);
+                r = l.transpose() * &r;
+            }
+            if ok {
+                return r;
+            }
+            // Undo nothing: the columns still span the same space; redo column by column
+            // from the current block (R composes with what was applied).
+            self.qr_fallbacks += 1;
+            self.m_times(w.as_ref(), mw.as_mut());
+            let r2 = self.orth_columns(v, mv, w, mw, pre);
+            return r2 * &r;
+        }
+        self.qr_fallbacks += 1;
+        self.orth_columns(v, mv, w, mw, pre)
+    }
+
+    /// Column-by-column modified Gram–Schmidt (twice) in the M-inner product, `mw` = M w on
+    /// entry; columns that vanish (relative to `pre` norms) are replaced by random vectors
+    /// orthogonal to everything (R column zero there).
+    fn orth_columns(
+        &mut self,
+        v: MatRef<'_, Real>,
+        mv: MatRef<'_, Real>,
+        w: &mut Mat<Real>,
+        mw: &mut Mat<Real>,
+        pre: &[Real],
+    ) -> Mat<Real> {
+        let b = w.ncols();
+        let n = w.nrows();
         let mut r = Mat::<Real>::zeros(b, b);
         let (mut wj, mut mwj) = (vec![0.0; n], vec![0.0; n]);
         for j in 0..b {
@@ -157,7 +234,24 @@ impl Ctx<'_> {
     }
 }
 
+/// L⁻ᵀ of a small lower-triangular L (forward substitution on the identity).
+fn l_inverse_transpose(l: MatRef<'_, Real>) -> Mat<Real> {
+    let b = l.nrows();
+    let mut inv = Mat::<Real>::zeros(b, b);
+    for c in 0..b {
+        for i in c..b {
+            let mut s = if i == c { 1.0 } else { 0.0 };
+            for k in c..i {
+                s -= l[(i, k)] * inv[(k, c)];
+            }
+            inv[(i, c)] = s / l[(i, i)];
+        }
+    }
+    inv.transpose().to_owned()
+}
+
 /// Runs the block Lanczos iteration on Op = (K − σM)⁻¹M.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn lanczos(
     op: &Factor,
     m: SparseColMatRef<'_, usize, Real>,
@@ -175,22 +269,25 @@ pub(crate) fn lanczos(
     let mut ctx = Ctx {
         op,
         m,
-        par: Par::Seq,
         rng: Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1),
         solves: 0,
         m_products: 0,
         solve_s: 0.0,
+        orth_s: 0.0,
+        qr_fallbacks: 0,
+        tmp: Mat::zeros(n, b),
     };
+    let mut ritz_s = 0.0;
     let mut v = Mat::<Real>::zeros(n, mmax + b);
     let mut mv = Mat::<Real>::zeros(n, mmax + b);
     let mut t = Mat::<Real>::zeros(mmax + b, mmax + b);
+    let mut w = Mat::<Real>::zeros(n, b);
+    let mut mw = Mat::<Real>::zeros(n, b);
 
     // Starting block: Op applied to a random block (filters the high modes).
-    let mut w = Mat::<Real>::from_fn(n, b, |_, _| ctx.rng.next());
-    let mut mw = Mat::<Real>::zeros(n, b);
+    w.copy_from(Mat::<Real>::from_fn(n, b, |_, _| ctx.rng.next()));
     ctx.m_times(w.as_ref(), mw.as_mut());
-    ctx.op.solve_in_place(mw.as_mut());
-    ctx.solves += b;
+    ctx.solve(mw.as_mut());
     w.copy_from(&mw);
     let pre: Vec<Real> = (0..b)
         .map(|j| dot(w.col_as_slice(j), w.col_as_slice(j)).sqrt())
@@ -215,12 +312,10 @@ pub(crate) fn lanczos(
             });
         }
         // Apply Op to the block cur..tot and extend the basis.
-        let mut w = mv.as_ref().subcols(cur, b).to_owned();
-        let ts = std::time::Instant::now();
-        ctx.op.solve_in_place(w.as_mut());
-        ctx.solve_s += ts.elapsed().as_secs_f64();
-        ctx.solves += b;
+        w.copy_from(mv.as_ref().subcols(cur, b));
+        ctx.solve(w.as_mut());
         iterations += 1;
+        let to = Instant::now();
         let pre: Vec<Real> = (0..b)
             .map(|j| dot(w.col_as_slice(j), w.col_as_slice(j)).sqrt())
             .collect();
@@ -244,7 +339,6 @@ pub(crate) fn lanczos(
                 t[(cur + c, cur + r)] = s;
             }
         }
-        let mut mw = Mat::<Real>::zeros(n, b);
         let rr = ctx.orth_block(
             v.as_ref().subcols(0, tot),
             mv.as_ref().subcols(0, tot),
@@ -263,9 +357,12 @@ pub(crate) fn lanczos(
         cur = tot;
         tot += b;
         used_basis = used_basis.max(tot);
+        ctx.orth_s += to.elapsed().as_secs_f64();
 
         // Rayleigh–Ritz on the applied part.
+        let tr = Instant::now();
         let (theta, y, res) = ritz(&t, cur, b);
+        ritz_s += tr.elapsed().as_secs_f64();
         let nev_target = match (want.n_modes, want.theta_min) {
             (Some(k), _) => k,
             (None, Some(tm)) => theta.iter().filter(|&&th| th >= tm).count() + 1,
@@ -296,6 +393,30 @@ pub(crate) fn lanczos(
             }
             converged += 1;
         }
+        let finish = |x_count: usize, done: bool, converged: usize, ctx: &Ctx<'_>| {
+            let mut x = Mat::<Real>::zeros(n, x_count);
+            tall::nn(
+                x.as_mut(),
+                false,
+                v.as_ref().subcols(0, cur),
+                y.as_ref().subcols(0, x_count),
+                1.0,
+            );
+            LanczosOut {
+                x,
+                converged: converged.min(x_count),
+                done,
+                iterations,
+                restarts,
+                solves: ctx.solves,
+                m_products: ctx.m_products,
+                max_basis: used_basis,
+                solve_s: ctx.solve_s,
+                orth_s: ctx.orth_s,
+                ritz_s,
+                qr_fallbacks: ctx.qr_fallbacks,
+            }
+        };
         if done || cur >= n.saturating_sub(b) {
             let count = match want.n_modes {
                 Some(k) => k.min(theta.len()),
@@ -305,25 +426,7 @@ pub(crate) fn lanczos(
                 Some(tm) => theta[..count].iter().filter(|&&th| th >= tm).count(),
                 None => count,
             };
-            let mut x = Mat::<Real>::zeros(n, count);
-            tall::nn(
-                x.as_mut(),
-                false,
-                v.as_ref().subcols(0, cur),
-                y.as_ref().subcols(0, count),
-                1.0,
-            );
-            return Ok(LanczosOut {
-                x,
-                converged: converged.min(count),
-                done,
-                iterations,
-                restarts,
-                solves: ctx.solves,
-                m_products: ctx.m_products,
-                max_basis: used_basis,
-                solve_s: ctx.solve_s,
-            });
+            return Ok(finish(count, done, converged, &ctx));
         }
         if tot + b <= mmax + b && tot <= mmax {
             continue;
@@ -331,26 +434,9 @@ pub(crate) fn lanczos(
         // Thick restart: keep the best Ritz vectors plus the residual block.
         if restarts >= max_restarts {
             let count = want.n_modes.unwrap_or(converged).min(theta.len());
-            let mut x = Mat::<Real>::zeros(n, count);
-            tall::nn(
-                x.as_mut(),
-                false,
-                v.as_ref().subcols(0, cur),
-                y.as_ref().subcols(0, count),
-                1.0,
-            );
-            return Ok(LanczosOut {
-                x,
-                converged: converged.min(count),
-                done: false,
-                iterations,
-                restarts,
-                solves: ctx.solves,
-                m_products: ctx.m_products,
-                max_basis: used_basis,
-                solve_s: ctx.solve_s,
-            });
+            return Ok(finish(count, false, converged, &ctx));
         }
+        let tr = Instant::now();
         restarts += 1;
         if nev_target + 2 * b > mmax {
             // Cut-off mode found more modes than the basis can hold: grow it.
@@ -380,7 +466,7 @@ pub(crate) fn lanczos(
             t.as_ref().submatrix(cur, 0, b, cur),
             yk,
             1.0,
-            ctx.par,
+            Par::Seq,
         );
         v.as_mut().subcols_mut(0, keep).copy_from(&x);
         mv.as_mut().subcols_mut(0, keep).copy_from(&mx);
@@ -396,6 +482,7 @@ pub(crate) fn lanczos(
         }
         cur = keep;
         tot = keep + b;
+        ritz_s += tr.elapsed().as_secs_f64();
     }
 }
 
@@ -414,16 +501,44 @@ fn ritz(t: &Mat<Real>, cur: usize, b: usize) -> (Vec<Real>, Mat<Real>, Vec<Real>
         Err(_) => (vec![Real::NAN; cur], Mat::<Real>::zeros(cur, cur)),
     };
     let mut res = vec![0.0; cur];
+    let mut coupling = Mat::<Real>::zeros(b, cur);
+    matmul(
+        coupling.as_mut(),
+        Accum::Replace,
+        t.as_ref().submatrix(cur, 0, b, cur),
+        y.as_ref(),
+        1.0,
+        Par::Seq,
+    );
     for (i, ri) in res.iter_mut().enumerate() {
-        let mut s = 0.0;
-        for r in 0..b {
-            let mut acc = 0.0;
-            for k in 0..cur {
-                acc += t[(cur + r, k)] * y[(k, i)];
-            }
-            s += acc * acc;
-        }
-        *ri = s.sqrt();
+        *ri = (0..b)
+            .map(|r| coupling[(r, i)].powi(2))
+            .sum::<Real>()
+            .sqrt();
     }
     (theta, y, res)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn inverse_transpose_of_a_triangle() {
+        let l = Mat::<Real>::from_fn(4, 4, |i, j| {
+            if j > i {
+                0.0
+            } else {
+                1.0 + (i * 3 + j) as Real * 0.25
+            }
+        });
+        let it = l_inverse_transpose(l.as_ref());
+        let prod = l.transpose() * &it;
+        for i in 0..4 {
+            for j in 0..4 {
+                let e = if i == j { 1.0 } else { 0.0 };
+                assert!((prod[(i, j)] - e).abs() < 1e-13, "{i} {j} {}", prod[(i, j)]);
+            }
+        }
+    }
 }

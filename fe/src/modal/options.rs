@@ -44,6 +44,10 @@ pub struct ModalOptions {
     /// returns `FeError::Interrupted` (default: never).
     #[serde(skip)]
     pub interrupt: crate::Interrupt,
+    /// With nested dissection, factorise the two halves of its top level in parallel and
+    /// solve with them in parallel ([`SplitCholesky`](crate::cholesky::SplitCholesky))
+    /// (default: true; the same factor to round-off).
+    pub split_factor: bool,
 }
 
 impl Default for ModalOptions {
@@ -61,6 +65,7 @@ impl Default for ModalOptions {
             ordering: FillOrdering::Auto,
             nested_dissection: NestedDissectionOptions::default(),
             interrupt: crate::Interrupt::never(),
+            split_factor: true,
         }
     }
 }
@@ -165,6 +170,17 @@ pub struct ModalStats {
     pub lanczos_s: Real,
     /// Seconds in the triangular solves (part of `lanczos_s`).
     pub solve_s: Real,
+    /// The split factor's sizes and timings, when it was used.
+    pub split: Option<crate::cholesky::SplitStats>,
+    /// Seconds in Gram–Schmidt against the basis and the block QR, M products included
+    /// (part of `lanczos_s`).
+    pub orth_s: Real,
+    /// Seconds in the Rayleigh–Ritz eigen-solves and thick restarts (part of `lanczos_s`).
+    pub ritz_s: Real,
+    /// Lanczos blocks whose Cholesky QR fell back to column-by-column Gram–Schmidt.
+    pub qr_fallbacks: usize,
+    /// Seconds forming the Rayleigh quotients, M-normalising and computing the residuals.
+    pub post_s: Real,
     /// Total seconds.
     pub total_s: Real,
     /// Largest relative residual ‖Kφ − ω²Mφ‖ / max(‖Kφ‖, |σ|‖Mφ‖) of the returned modes.

@@ -135,6 +135,11 @@ pub fn solve_modes_with(
         ordering_s: 0.0,
         lanczos_s: 0.0,
         solve_s: 0.0,
+        split: None,
+        orth_s: 0.0,
+        ritz_s: 0.0,
+        qr_fallbacks: 0,
+        post_s: 0.0,
         total_s: 0.0,
         max_residual: 0.0,
     };
@@ -153,10 +158,14 @@ pub fn solve_modes_with(
         )
     } else {
         let t1 = Instant::now();
+        let mut split = None;
         let perm = match (use_nd, dof_coords) {
             (true, Some(c)) => {
                 let (p, nd) = nested_dissection(k.symbolic(), c, &opts.nested_dissection)?;
                 stats.ordering_s = nd.ordering_s;
+                if opts.split_factor && nd.top_split_dofs[0] > 0 && nd.top_split_dofs[1] > 0 {
+                    split = Some(nd.top_split_dofs);
+                }
                 stats.nested_dissection = Some(nd);
                 Some(p)
             }
@@ -167,7 +176,8 @@ pub fn solve_modes_with(
                 during: "the modal solve's factorisation",
             });
         }
-        let f = factorise(k, m, sigma, perm.as_ref())?;
+        let f = factorise(k, m, sigma, perm.as_ref(), split)?;
+        stats.split = f.split.clone();
         drop(perm);
         stats.factor_s = t1.elapsed().as_secs_f64();
         stats.factor_kind = f.kind;
@@ -206,6 +216,9 @@ pub fn solve_modes_with(
         stats.m_products = out.m_products;
         stats.max_basis = out.max_basis;
         stats.solve_s = out.solve_s;
+        stats.orth_s = out.orth_s;
+        stats.ritz_s = out.ritz_s;
+        stats.qr_fallbacks = out.qr_fallbacks;
         let status = if out.done {
             ModalStatus::Converged
         } else {
@@ -217,6 +230,7 @@ pub fn solve_modes_with(
     };
 
     // Rayleigh quotients, M-normalisation and explicit residuals.
+    let t_post = Instant::now();
     let nm = x.ncols();
     let mut kx = Mat::<Real>::zeros(n, nm);
     let mut mx = Mat::<Real>::zeros(n, nm);
@@ -264,6 +278,7 @@ pub fn solve_modes_with(
         .iter()
         .map(|&l: &Real| l.signum() * l.abs().sqrt() / (2.0 * PI))
         .collect();
+    stats.post_s = t_post.elapsed().as_secs_f64();
     stats.total_s = t0.elapsed().as_secs_f64();
     Ok(Modes {
         frequencies_hz,

@@ -64,25 +64,54 @@ pub fn nested_dissection(
     Ok((perm, stats))
 }
 
-struct Dissection<'a> {
-    g: &'a NodeGraph,
-    opts: &'a NestedDissectionOptions,
-    marks: Marks,
+pub(super) struct Dissection<'a> {
+    pub(super) g: &'a NodeGraph,
+    pub(super) opts: &'a NestedDissectionOptions,
+    pub(super) marks: Marks,
     /// Node elimination order built so far.
-    order: Vec<usize>,
-    next_id: usize,
-    stats: NestedDissectionStats,
+    pub(super) order: Vec<usize>,
+    pub(super) next_id: usize,
+    pub(super) stats: NestedDissectionStats,
 }
 
 impl Dissection<'_> {
     /// Orders `nodes`: halves recursively, then the separator.
-    fn dissect(&mut self, nodes: Vec<usize>, depth: usize) {
+    pub(super) fn dissect(&mut self, nodes: Vec<usize>, depth: usize) {
         self.stats.depth = self.stats.depth.max(depth);
         if nodes.len() <= self.opts.leaf_nodes {
             return self.leaf(&nodes);
         }
+        let (a, b, sep) = match self.bisect(nodes) {
+            Ok(parts) => parts,
+            Err(nodes) => return self.leaf(&nodes),
+        };
+        if depth == 0 {
+            self.stats.top_separator_nodes = sep.len();
+            self.stats.top_split_dofs = [self.dofs(&a), self.dofs(&b), self.dofs(&sep)];
+        }
+        self.stats.n_separators += 1;
+        self.stats.separator_nodes += sep.len();
+        self.dissect(a, depth + 1);
+        self.dissect(b, depth + 1);
+        self.order.extend_from_slice(&sep);
+    }
+
+    /// DOFs of a node set.
+    pub(super) fn dofs(&self, set: &[usize]) -> usize {
+        set.iter()
+            .map(|&v| self.g.dof_ptr[v + 1] - self.g.dof_ptr[v])
+            .sum()
+    }
+
+    /// Splits `nodes` at the median of their projection on the principal axis: (first half,
+    /// second half, separator), or the nodes back when they cannot be split geometrically.
+    #[allow(clippy::type_complexity)]
+    pub(super) fn bisect(
+        &mut self,
+        nodes: Vec<usize>,
+    ) -> Result<(Vec<usize>, Vec<usize>, Vec<usize>), Vec<usize>> {
         let Some(axis) = principal_axis(self.g, &nodes) else {
-            return self.leaf(&nodes);
+            return Err(nodes);
         };
         let proj: Vec<Real> = nodes
             .iter()
@@ -110,7 +139,7 @@ impl Dissection<'_> {
             (true, false) => true,
             (false, true) => false,
             // All points coincide along the axis: no geometric split.
-            (false, false) => return self.leaf(&nodes),
+            (false, false) => return Err(nodes),
         };
         let id = self.next_id;
         self.next_id += 1;
@@ -139,15 +168,7 @@ impl Dissection<'_> {
                 }
             }
         }
-        drop(nodes);
-        if depth == 0 {
-            self.stats.top_separator_nodes = sep.len();
-        }
-        self.stats.n_separators += 1;
-        self.stats.separator_nodes += sep.len();
-        self.dissect(a, depth + 1);
-        self.dissect(b, depth + 1);
-        self.order.extend_from_slice(&sep);
+        Ok((a, b, sep))
     }
 
     fn leaf(&mut self, nodes: &[usize]) {

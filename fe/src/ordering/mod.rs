@@ -19,10 +19,12 @@ mod fill;
 mod graph;
 mod leaf;
 mod separator;
+mod substructure;
 
 pub use dissect::nested_dissection;
 pub use fill::{cholesky_fill, CholeskyFill};
 pub use graph::dof_coordinates;
+pub use substructure::{substructure, Substructuring};
 
 use crate::{FeError, Real};
 use serde::{Deserialize, Serialize};
@@ -88,6 +90,9 @@ pub struct NestedDissectionStats {
     pub separator_nodes: usize,
     /// Nodes in the top-level separator.
     pub top_separator_nodes: usize,
+    /// DOFs of the top level's first half, second half and separator, in that order at the
+    /// start, middle and end of the permutation (all zero when the top level is a leaf).
+    pub top_split_dofs: [usize; 3],
     /// Leaves ordered.
     pub n_leaves: usize,
     /// Deepest level of the dissection tree.

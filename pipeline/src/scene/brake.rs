@@ -1,11 +1,9 @@
 //! Brake components whose geometry depends on other components (a pad on its rotor's mesh, a
-//! caliper over its two pads), and materials per physical volume.
+//! caliper over its two pads).
 
 use super::{ComponentSpec, GeometrySpec, Scene};
 use crate::error::PipelineError;
-use squeal_fe::SolidMaterial;
 use squeal_meshes::geo::{CaliperGeometry, PadGeometry, RotorGeometry};
-use squeal_meshes::Mesh;
 
 pub(crate) fn default_rotor_name() -> String {
     "rotor".into()
@@ -119,48 +117,10 @@ impl Scene {
     }
 }
 
-impl ComponentSpec {
-    /// One material per volume block of `mesh` (in `mesh.volumes` order): the entry of
-    /// `materials` named as the block's physical volume, else `material`. A `materials` name
-    /// that no block has is an error (a typo would otherwise silently give `material`).
-    pub fn block_materials(&self, mesh: &Mesh) -> Result<Vec<SolidMaterial>, PipelineError> {
-        let names: Vec<&str> = mesh
-            .volumes
-            .iter()
-            .filter_map(|b| b.name.as_deref())
-            .collect();
-        if let Some(unknown) = self.materials.keys().find(|k| !names.contains(&k.as_str())) {
-            return Err(scene_err(
-                format!("components[name = {}].materials.{unknown}", self.name),
-                format!(
-                    "the mesh has no physical volume `{unknown}` (it has: {})",
-                    names.join(", ")
-                ),
-            ));
-        }
-        mesh.volumes
-            .iter()
-            .map(|b| {
-                match b
-                    .name
-                    .as_ref()
-                    .and_then(|n| self.materials.get(n).map(|m| (n, m)))
-                {
-                    Some((n, m)) => {
-                        m.solid(&format!("components[name = {}].materials.{n}", self.name))
-                    }
-                    None => self
-                        .material
-                        .solid(&format!("components[name = {}].material", self.name)),
-                }
-            })
-            .collect()
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use squeal_meshes::Mesh;
 
     const BRAKE: &str = r#"
 [[components]]
@@ -244,7 +204,7 @@ material = { young = 3.0e7, poisson = 0.29, density = 7.33e-4 }
             });
         }
         let m = c.block_materials(&mesh).unwrap();
-        let young = |m: &SolidMaterial| match m.elasticity {
+        let young = |m: &squeal_fe::SolidMaterial| match m.elasticity {
             squeal_fe::Elasticity::Isotropic { young, .. } => young,
             _ => f64::NAN,
         };

@@ -97,6 +97,14 @@ pub struct ContactPair {
     /// (default: absent, the paper's rigid constraint). See `squeal_solver::bsql::compliance`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub normal_stiffness: Option<Real>,
+    /// With `separation` and `normal_stiffness`: the gaps of this pair separate through a
+    /// smooth unilateral law instead of events. The pressure is k_n s(x) with x the
+    /// penetration beyond the opening level and s a C² ramp that equals x above p_ε/k_n and 0
+    /// below −p_ε/k_n, p_ε = this value (a pressure, finite and > 0; the law equals the linear
+    /// spring wherever that carries at least p_ε). See `squeal_solver::bsql::smooth` and
+    /// docs/separation-integration.md (default: absent, events).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub separation_smoothing: Option<Real>,
 }
 
 fn default_tolerance() -> Real {
@@ -183,6 +191,30 @@ impl ContactPair {
                     format!(
                         "{k} must be finite and > 0 (a normal contact stiffness per unit \
                          area; leave the key out for rigid contact)"
+                    ),
+                ));
+            }
+        }
+        if let Some(p) = self.separation_smoothing {
+            if !(p.is_finite() && p > 0.0) {
+                return Err(bad(
+                    "separation_smoothing",
+                    format!("{p} must be finite and > 0 (a pressure width)"),
+                ));
+            }
+            if !self.separation || self.normal_stiffness.is_none() {
+                return Err(bad(
+                    "separation_smoothing",
+                    format!(
+                        "{p} is read only with separation = true and a normal_stiffness (the \
+                         smooth law is a compliant gap's; this pair has separation = {}, \
+                         normal_stiffness {})",
+                        self.separation,
+                        if self.normal_stiffness.is_some() {
+                            "set"
+                        } else {
+                            "absent"
+                        }
                     ),
                 ));
             }

@@ -9,6 +9,7 @@ mod brake;
 pub mod cea;
 pub mod contact;
 pub mod material;
+mod materials;
 mod overrides;
 pub mod reduction;
 pub mod ties;
@@ -110,10 +111,14 @@ pub struct ComponentSpec {
     /// Formulation of hex8 elements (default: incompatible).
     #[serde(default)]
     pub hex8: Hex8Formulation,
-    /// Material: isotropic (`young`, `poisson`, `density`) or anisotropic with material axes
-    /// (see [`material::MaterialSpec`]).
-    pub material: MaterialSpec,
-    /// Materials of named physical volumes, overriding `material` for them, e.g. a pad's
+    /// Material of the volumes that have no other: isotropic (`young`, `poisson`,
+    /// `density`) or anisotropic with material axes (see [`material::MaterialSpec`]); required
+    /// unless the geometry file gives every volume its material, as a Nastran or Abaqus file
+    /// may (default: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<MaterialSpec>,
+    /// Materials of named volumes (gmsh physical volumes, Nastran `pid_<PID>`, Abaqus section
+    /// element sets), overriding the file's and `material` for them, e.g. a pad's
     /// `{ lining = {...}, backplate = {...} }` (default: none).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub materials: BTreeMap<String, MaterialSpec>,
@@ -205,6 +210,35 @@ pub enum GeometrySpec {
     /// A gmsh `.msh` file (2.2 or 4.1), path relative to the scene file. The element order
     /// is the file's (`element` is not read).
     Msh { path: PathBuf },
+    /// Nastran bulk data, path relative to the scene file (README "Nastran and Abaqus
+    /// meshes"): its solids, materials (MAT1; MAT9 not yet), SPC sets as fixed DOFs, volumes
+    /// and node sets `pid_<PID>`, shell faces as face sets `pid_<PID>`, SET1 as `set1_<SID>`.
+    Bdf {
+        path: PathBuf,
+        /// Solid property ids to read (default: every solid; one file may hold several
+        /// components).
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        pids: Vec<u64>,
+        /// SPC set applied (0: none; default: the case control's `SPC = n`, else the deck's
+        /// only set).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        spc: Option<u64>,
+    },
+    /// Abaqus input, path relative to the scene file (README "Nastran and Abaqus meshes"):
+    /// its solids placed by their instances, materials (isotropic; anisotropic not yet),
+    /// zero *BOUNDARY conditions as fixed DOFs, *NSET/*ELSET node sets, *SURFACE face sets.
+    Inp {
+        path: PathBuf,
+        /// Instances to read (default: every instance).
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        instances: Vec<String>,
+        /// Read the instances of this part only (default: any).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        part: Option<String>,
+        /// Element sets to read within the instances (default: every element).
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        elsets: Vec<String>,
+    },
     /// A gmsh `.geo` file the user writes, path relative to the scene file, meshed by the
     /// gmsh program in 3D at the component's `element` order (hex20: incomplete second
     /// order). Its physical groups name the volumes (materials), the fixed sets, the load
@@ -234,6 +268,24 @@ pub enum GeometrySpec {
         #[serde(flatten)]
         dims: CaliperDims,
     },
+}
+
+impl GeometrySpec {
+    /// True for the file kinds that may give their volumes a material (Nastran, Abaqus).
+    pub fn file_has_materials(&self) -> bool {
+        matches!(self, GeometrySpec::Bdf { .. } | GeometrySpec::Inp { .. })
+    }
+
+    /// True for the user's mesh or geometry files (their sets are checked against the scene).
+    pub fn is_user_file(&self) -> bool {
+        matches!(
+            self,
+            GeometrySpec::Msh { .. }
+                | GeometrySpec::Geo { .. }
+                | GeometrySpec::Bdf { .. }
+                | GeometrySpec::Inp { .. }
+        )
+    }
 }
 
 /// A fixed node set: the named set's nodes have the given components held at zero.
@@ -379,11 +431,24 @@ impl Scene {
                     message: format!("`{}` is used twice", c.name),
                 });
             }
-            c.material.validate(&format!("components[{i}].material"))?;
+            if let Some(m) = &c.material {
+                m.validate(&format!("components[{i}].material"))?;
+            } else if !c.geometry.file_has_materials() {
+                return Err(PipelineError::Scene {
+                    field: format!("components[{i}].material"),
+                    message: format!(
+                        "component `{}` needs a `material` (only Nastran and Abaqus files \
+                         bring their own)",
+                        c.name
+                    ),
+                });
+            }
             match &c.geometry {
                 GeometrySpec::Rotor(g) => g.validate(),
                 GeometrySpec::Block(g) => g.validate(),
-                GeometrySpec::Msh { .. } => Ok(()),
+                GeometrySpec::Msh { .. } | GeometrySpec::Bdf { .. } | GeometrySpec::Inp { .. } => {
+                    Ok(())
+                }
                 GeometrySpec::Geo { set_numbers, .. } => squeal_meshes::GmshOptions {
                     set_numbers: set_numbers.clone(),
                     ..Default::default()

@@ -2,6 +2,7 @@
 
 use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
+use squeal_reduction::cb::SubstructureOptions;
 use squeal_reduction::CbOptions;
 use std::path::PathBuf;
 
@@ -31,6 +32,10 @@ pub struct ReductionSpec {
     /// fixed-interface modes (interiors above 1500 DOFs) before it gives up (default: 600);
     /// raise it when the error says the modes below the cutoff did not converge.
     pub lanczos_max_dim: usize,
+    /// Substructured reduction of large components: `[reduction.substructures]` with
+    /// `above_dofs` (default: off), `max_dofs`, `cutoff_factor`, `degree`, `max_degree`, `tol`,
+    /// `max_rounds` (squeal_reduction::cb::SubstructureOptions; docs/multilevel.md).
+    pub substructures: SubstructureOptions,
 }
 
 impl Default for ReductionSpec {
@@ -42,6 +47,7 @@ impl Default for ReductionSpec {
             n_modes: None,
             checks: true,
             lanczos_max_dim: CbOptions::default().lanczos_max_dim,
+            substructures: SubstructureOptions::default(),
         }
     }
 }
@@ -55,6 +61,7 @@ impl ReductionSpec {
             cutoff_factor: self.cutoff_factor,
             n_modes: self.n_modes,
             lanczos_max_dim: self.lanczos_max_dim,
+            substructures: self.substructures.clone(),
             ..CbOptions::default()
         }
     }

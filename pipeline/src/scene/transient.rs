@@ -2,6 +2,7 @@
 
 use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
+pub use squeal_solver::bsql::EventRestart;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
@@ -257,6 +258,18 @@ pub struct TransientSpec {
     /// the default `output.min_growth_rate_per_s` = 100 /s (at 20 it is 390 /s, and the guard
     /// called in-band roots above ~7 kHz unresolved).
     pub band_samples_per_period: Real,
+    /// How the BDF restarts after a separation event (`[[contact]] separation = true`):
+    /// `taylor2`, at order 2 from the Taylor past of the new state (`Bdf::reinit_taylor`), or
+    /// `order1`, at order 1 from a tenth of the last step as at a start (default: taylor2;
+    /// docs/separation-integration.md has the measurements).
+    pub event_restart: EventRestart,
+    /// Stop the run at once (status `step_collapse`) when `collapse_steps` consecutive steps
+    /// were all shorter than h_max / `collapse_factor` (h_max: the step bound, the band's or
+    /// the scene's; none: never): the run then resolves dynamics this many times faster than
+    /// the band needs, and would crawl to the step cap (default: 50; 0 = never).
+    pub collapse_factor: Real,
+    /// Consecutive steps below h_max / `collapse_factor` that stop the run (default: 200).
+    pub collapse_steps: usize,
 }
 
 /// Time integrator of `squeal transient`.
@@ -293,11 +306,22 @@ impl Default for TransientSpec {
             rho_inf: 0.9,
             band_step_bound: true,
             band_samples_per_period: 40.0,
+            event_restart: EventRestart::Taylor2,
+            collapse_factor: 50.0,
+            collapse_steps: 200,
         }
     }
 }
 
 impl TransientSpec {
+    /// The BDF's collapse threshold h_max / `collapse_factor` (None without a step bound or
+    /// with `collapse_factor` = 0).
+    pub fn h_collapse(&self) -> Option<Real> {
+        self.h_max
+            .filter(|_| self.collapse_factor > 0.0)
+            .map(|h| h / self.collapse_factor)
+    }
+
     /// Checks ranges; errors name `transient.field`.
     pub fn validate(&self) -> Result<(), PipelineError> {
         let pos = |f: &str, v: Real| {
@@ -343,6 +367,21 @@ impl TransientSpec {
             return Err(scene_err(
                 "transient.band_samples_per_period",
                 format!("{} must be finite and >= 2", self.band_samples_per_period),
+            ));
+        }
+        if !(self.collapse_factor.is_finite() && self.collapse_factor >= 0.0) {
+            return Err(scene_err(
+                "transient.collapse_factor",
+                format!(
+                    "{} must be finite and >= 0 (0: never stop on short steps)",
+                    self.collapse_factor
+                ),
+            ));
+        }
+        if self.collapse_steps == 0 {
+            return Err(scene_err(
+                "transient.collapse_steps",
+                "0 must be >= 1".into(),
             ));
         }
         if !(0.0..=1.0).contains(&self.rho_inf) {

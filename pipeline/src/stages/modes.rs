@@ -43,7 +43,8 @@ impl ModesReport {
     }
 }
 
-/// The fixed (node, component) pairs of a component's `fixed` sets.
+/// The fixed (node, component) pairs of a component's `fixed` sets and of its file's
+/// constraints, sorted and unique.
 pub fn fixed_dofs(c: &ComponentSpec, mesh: &Mesh) -> Result<Vec<(usize, usize)>, PipelineError> {
     let mut fixed = Vec::new();
     for f in &c.fixed {
@@ -69,6 +70,10 @@ pub fn fixed_dofs(c: &ComponentSpec, mesh: &Mesh) -> Result<Vec<(usize, usize)>,
             }
         }
     }
+    // The file's own constraints (Nastran SPC sets, Abaqus *BOUNDARY).
+    fixed.extend(mesh.fixed.iter().copied());
+    fixed.sort_unstable();
+    fixed.dedup();
     Ok(fixed)
 }
 
@@ -218,7 +223,12 @@ pub fn write(scene: &Scene, m: &ModesComputed, dir: &RunDir) -> Result<(), Pipel
     dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
     dir.write_json(
         "summary.json",
-        &serde_json::json!({ "verb": "modes", "version": crate::VERSION, "modes": &m.report }),
+        &serde_json::json!({
+            "verb": "modes",
+            "version": crate::VERSION,
+            "modes": &m.report,
+            "warnings": m.report.mesh.warnings(),
+        }),
     )?;
     Ok(())
 }

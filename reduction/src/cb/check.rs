@@ -6,6 +6,7 @@ use super::interface::project_blocks;
 use super::model::CbModel;
 use super::partition::{add_scaled, split, sym_spmm, to_dense, Partition, Sparse};
 use super::rigid::{rigid_body_mass, rigid_vectors, DofPoint, RigidBodyMass};
+use super::verify::{verify, Verification};
 use crate::error::ReductionError;
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
@@ -15,7 +16,19 @@ use squeal_meshes::Real;
 use std::f64::consts::PI;
 use std::fmt;
 
-/// Options of [`check`].
+/// How the full component's frequencies are obtained for models above `dense_max` DOFs.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FullMethod {
+    /// One LDLᵀ of K − σM at the band's top: the Sturm count of the full modes below it, and
+    /// the reduced modes refined by a few shift-invert solves ([`Verification`]).
+    #[default]
+    Refine,
+    /// A block Lanczos solve of the full component (a second eigen-solve: slow on big models).
+    Lanczos,
+}
+
+/// Options of [`check`]: what is compared, and the tolerances that decide `passed`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CheckOptions {
@@ -24,8 +37,20 @@ pub struct CheckOptions {
     pub frequency_of_interest_hz: Option<Real>,
     /// A reduced mode is rigid when its eigenvalue is below this × the largest (default: 1e-8).
     pub rigid_rel_tol: Real,
-    /// Full models up to this many DOFs are solved densely, larger ones by block Lanczos (default: 2000).
+    /// Full models up to this many DOFs are solved densely, larger ones by `full_method`
+    /// (default: 2000).
     pub dense_max: usize,
+    /// How the full component's frequencies are obtained above `dense_max` (default: refine).
+    pub full_method: FullMethod,
+    /// Largest |frequency error| of an elastic mode below the frequency of interest, % (default: 2).
+    pub max_error_pct: Real,
+    /// Largest relative error of the rigid-body mass and of the centre of gravity (default: 1e-6).
+    pub max_mass_rel_err: Real,
+    /// Largest max |M_qq − I| and max |K_bq| / max |K_r| (default: 1e-8).
+    pub max_modal_deviation: Real,
+    /// Largest relative residual of the refined full-component modes: above it the
+    /// verification itself is not converged (default: 1e-3).
+    pub max_refined_residual: Real,
 }
 
 impl Default for CheckOptions {
@@ -34,6 +59,11 @@ impl Default for CheckOptions {
             frequency_of_interest_hz: None,
             rigid_rel_tol: 1e-8,
             dense_max: 2000,
+            full_method: FullMethod::Refine,
+            max_error_pct: 2.0,
+            max_mass_rel_err: 1e-6,
+            max_modal_deviation: 1e-8,
+            max_refined_residual: 1e-3,
         }
     }
 }
@@ -56,6 +86,20 @@ impl CheckOptions {
                 value: self.rigid_rel_tol.to_string(),
                 reason: "must be in (0, 1)".into(),
             });
+        }
+        for (field, v) in [
+            ("max_error_pct", self.max_error_pct),
+            ("max_mass_rel_err", self.max_mass_rel_err),
+            ("max_modal_deviation", self.max_modal_deviation),
+            ("max_refined_residual", self.max_refined_residual),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(ReductionError::InvalidOption {
+                    field,
+                    value: v.to_string(),
+                    reason: "must be finite and > 0".into(),
+                });
+            }
         }
         Ok(())
     }
@@ -107,6 +151,15 @@ pub struct CbCheck {
     pub frequencies: Vec<FrequencyRow>,
     /// Largest |error_pct| over the table.
     pub max_abs_error_pct: Option<Real>,
+    /// How the full frequencies were obtained: `dense`, `refine` or `lanczos` (`none` without
+    /// the full matrices).
+    pub full_method: &'static str,
+    /// The Sturm count and refinement, with `full_method = refine`.
+    pub verification: Option<Verification>,
+    /// Whether every check is within `CheckOptions`' tolerances.
+    pub passed: bool,
+    /// What failed, one sentence each with the numbers.
+    pub failures: Vec<String>,
 }
 
 fn max_abs(a: MatRef<'_, Real>) -> Real {
@@ -191,7 +244,8 @@ pub fn check(
     let kbq_rel = max_abs(kbq.as_ref()) / kscale;
 
     // Reduced free-free modes.
-    let (red_vals, _) = eigen::dense_all(model.k.as_ref(), model.m.as_ref(), "reduced model")?;
+    let (red_vals, red_vecs) =
+        eigen::dense_all(model.k.as_ref(), model.m.as_ref(), "reduced model")?;
     let lmax = red_vals.iter().fold(0.0, |a: Real, &v| a.max(v.abs()));
     let rigid_lambda = opts.rigid_rel_tol * lmax;
     let n_rigid_modes = red_vals.iter().filter(|&&v| v.abs() < rigid_lambda).count();
@@ -254,10 +308,18 @@ pub fn check(
         .map(|&l| hz(l))
         .filter(|&f| f <= foi)
         .collect();
-    let full_hz: Vec<Real> = match full {
-        Some((k, m)) => full_frequencies(k, m, foi, opts)?,
-        None => Vec::new(),
+    let (full_hz, full_method, verification) = match full {
+        Some((k, m)) if n > opts.dense_max && foi.is_finite() => match opts.full_method {
+            FullMethod::Refine => {
+                let (hz, v) = verify(model, k, m, (&red_vals, red_vecs.as_ref()), foi, points)?;
+                (hz, "refine", Some(v))
+            }
+            FullMethod::Lanczos => (full_frequencies(k, m, foi, opts)?, "lanczos", None),
+        },
+        Some((k, m)) => (full_frequencies(k, m, foi, opts)?, "dense", None),
+        None => (Vec::new(), "none", None),
     };
+    drop(red_vecs);
     let rows = red_hz.len().max(full_hz.len());
     let frequencies: Vec<FrequencyRow> = (0..rows)
         .map(|i| {
@@ -281,7 +343,82 @@ pub fn check(
         .filter_map(|r| r.error_pct)
         .map(Real::abs)
         .reduce(Real::max);
+    // The verdict.
+    let mut failures = Vec::new();
+    if k_asymmetry > 1e-10 || m_asymmetry > 1e-10 {
+        failures.push(format!(
+            "reduced matrices not symmetric: K {k_asymmetry:.2e}, M {m_asymmetry:.2e} (> 1e-10)"
+        ));
+    }
+    if mqq_max_deviation > opts.max_modal_deviation {
+        failures.push(format!(
+            "max |M_qq - I| = {mqq_max_deviation:.2e} > {:.1e}: the modes are not M-orthonormal",
+            opts.max_modal_deviation
+        ));
+    }
+    if kbq_rel > opts.max_modal_deviation {
+        failures.push(format!(
+            "max |K_bq| / max |K| = {kbq_rel:.2e} > {:.1e}: the constraint modes are not static",
+            opts.max_modal_deviation
+        ));
+    }
+    if let Some(r) = &rigid {
+        for (what, e) in [
+            ("rigid-body mass", r.mass_rel_err),
+            ("centre of gravity", r.cg_rel_err),
+        ] {
+            if let Some(e) = e.filter(|&e| e.is_nan() || e > opts.max_mass_rel_err) {
+                failures.push(format!(
+                    "{what}: reduced vs full relative error {e:.2e} > {:.1e}",
+                    opts.max_mass_rel_err
+                ));
+            }
+        }
+    }
+    if let Some(e) = max_abs_error_pct.filter(|&e| e.is_nan() || e > opts.max_error_pct) {
+        let row = frequencies
+            .iter()
+            .find(|r| r.error_pct.is_some_and(|x| x.abs() == e));
+        failures.push(format!(
+            "frequency error {e:.3} % > {} % (mode {}, full {:.2} Hz): raise the cut-off",
+            opts.max_error_pct,
+            row.map_or(0, |r| r.mode),
+            row.and_then(|r| r.full_hz).unwrap_or(Real::NAN)
+        ));
+    }
+    if full.is_some() {
+        if let Some(row) = frequencies.iter().find(|r| r.reduced_hz.is_none()) {
+            failures.push(format!(
+                "mode {} of the full component ({:.2} Hz) has no reduced mode below {foi} Hz",
+                row.mode,
+                row.full_hz.unwrap_or(Real::NAN)
+            ));
+        }
+    }
+    if let Some(v) = &verification {
+        if v.n_refined_below < v.n_full_below {
+            failures.push(format!(
+                "{} of the {} full-component modes below {:.2} Hz (Sturm count) are missing \
+                 from the reduced model's subspace (a fixed-interface mode below the cut-off \
+                 not found?)",
+                v.n_full_below - v.n_refined_below,
+                v.n_full_below,
+                v.shift_hz
+            ));
+        }
+        if v.max_refined_residual.is_nan() || v.max_refined_residual > opts.max_refined_residual {
+            failures.push(format!(
+                "the refined full-component modes are not converged (relative residual {:.2e} \
+                 > {:.1e}): the frequency errors are not verified",
+                v.max_refined_residual, opts.max_refined_residual
+            ));
+        }
+    }
     Ok(CbCheck {
+        passed: failures.is_empty(),
+        failures,
+        full_method,
+        verification,
         n_boundary: nb,
         n_modes: nq,
         k_asymmetry,
@@ -447,6 +584,27 @@ impl fmt::Display for CbCheck {
         }
         if let Some(e) = self.max_abs_error_pct {
             writeln!(f, "  max |error| {e:.4} %")?;
+        }
+        writeln!(f, "  full frequencies by      {}", self.full_method)?;
+        if let Some(v) = &self.verification {
+            writeln!(
+                f,
+                "  modes below {:.2} Hz: full {} (Sturm count), reduced {}, refined {} \
+                 (residual {:.1e}, {} solves)",
+                v.shift_hz,
+                v.n_full_below,
+                v.n_reduced_below,
+                v.n_refined_below,
+                v.max_refined_residual,
+                v.n_solves
+            )?;
+        }
+        if self.passed {
+            writeln!(f, "  passed")?;
+        } else {
+            for x in &self.failures {
+                writeln!(f, "  FAILED: {x}")?;
+            }
         }
         Ok(())
     }

@@ -13,6 +13,7 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::{Conj, MatMut, Par, Side, Spec};
 use serde::Serialize;
+use squeal_fe::cholesky::SplitCholesky;
 use squeal_fe::ordering::{nested_dissection, NestedDissectionOptions, AUTO_ND_MIN_DOFS};
 use squeal_meshes::Real;
 use std::time::Instant;
@@ -32,6 +33,8 @@ pub enum KiiOrdering {
 pub(crate) enum KiiFactor {
     Amd(Llt<usize, Real>),
     Custom(Box<SymbolicCholesky<usize>>, Vec<Real>),
+    /// The nested dissection's two halves factorised and solved in parallel.
+    Split(Box<SplitCholesky>),
 }
 
 /// What factorising gave besides the factor.
@@ -73,10 +76,25 @@ impl KiiFactor {
             }
             Some(c) => {
                 let t = Instant::now();
-                let (perm, _) =
+                let (perm, nd) =
                     nested_dissection(kii.symbolic(), c, &NestedDissectionOptions::default())
                         .map_err(|e| fail(format!("nested dissection: {e}")))?;
                 let ordering_s = t.elapsed().as_secs_f64();
+                let [n1, n2, _] = nd.top_split_dofs;
+                if n1 > 0 && n2 > 0 {
+                    if let Ok(f) = SplitCholesky::factorize(kii.as_ref(), &perm, nd.top_split_dofs)
+                    {
+                        let factor_nnz = f.stats().factor_nnz;
+                        return Ok((
+                            KiiFactor::Split(Box::new(f)),
+                            FactorInfo {
+                                ordering: KiiOrdering::NestedDissection,
+                                ordering_s,
+                                factor_nnz,
+                            },
+                        ));
+                    }
+                }
                 let ordering =
                     SymmetricOrdering::Custom(PermRef::new_checked(&perm.perm, &perm.perm_inv, n));
                 let sym = factorize_symbolic_cholesky(
@@ -115,10 +133,17 @@ impl KiiFactor {
         }
     }
 
-    /// Overwrites `rhs` with K_ii⁻¹ rhs (one pass over the factor, sequential: callers split
-    /// the columns over the threads).
+    /// Whether one solve already uses every thread (the split factor's two halves run in
+    /// parallel): callers then pass whole blocks instead of splitting the columns.
+    pub(crate) fn is_parallel(&self) -> bool {
+        matches!(self, KiiFactor::Split(_))
+    }
+
+    /// Overwrites `rhs` with K_ii⁻¹ rhs (one pass over the factor; sequential unless
+    /// [`KiiFactor::is_parallel`]: callers split the columns over the threads).
     pub(crate) fn solve_in_place(&self, rhs: MatMut<'_, Real>) {
         match self {
+            KiiFactor::Split(f) => f.solve_in_place(rhs),
             KiiFactor::Amd(llt) => llt.solve_in_place(rhs),
             KiiFactor::Custom(sym, vals) => {
                 let par = Par::Seq;

@@ -88,6 +88,24 @@ pub struct InterfaceDof {
 /// function that is dependent on the previous ones at the nodes (norm falling below 1e-8 of
 /// its own) is dropped. Columns of different groups have disjoint supports.
 pub fn polynomial_basis(dofs: &[InterfaceDof], degree: usize) -> Result<Mat<Real>, ReductionError> {
+    basis_in_frame(dofs, degree, false)
+}
+
+/// [`polynomial_basis`] in each patch's two largest principal coordinates only: for surfaces
+/// that are not flat at the node scale (a separator of a mesh, a layer of nodes), the
+/// polynomials of the surface's plane.
+pub(crate) fn polynomial_basis_2d(
+    dofs: &[InterfaceDof],
+    degree: usize,
+) -> Result<Mat<Real>, ReductionError> {
+    basis_in_frame(dofs, degree, true)
+}
+
+fn basis_in_frame(
+    dofs: &[InterfaceDof],
+    degree: usize,
+    planar: bool,
+) -> Result<Mat<Real>, ReductionError> {
     if let Some((i, d)) = dofs
         .iter()
         .enumerate()
@@ -108,7 +126,11 @@ pub fn polynomial_basis(dofs: &[InterfaceDof], degree: usize) -> Result<Mat<Real
         if members.is_empty() {
             continue;
         }
-        let frame = PatchFrame::new(&members.iter().map(|&i| dofs[i].point).collect::<Vec<_>>())?;
+        let mut frame =
+            PatchFrame::new(&members.iter().map(|&i| dofs[i].point).collect::<Vec<_>>())?;
+        if planar {
+            frame.flatten_thinnest();
+        }
         for dir in 0..3 {
             let rows: Vec<usize> = members
                 .iter()
@@ -221,6 +243,14 @@ impl PatchFrame {
             }
         }
         Ok(Self { centre, axes, half })
+    }
+
+    /// Treats the patch's smallest principal extent as flat.
+    fn flatten_thinnest(&mut self) {
+        let k = (0..3)
+            .min_by(|&a, &b| self.half[a].total_cmp(&self.half[b]))
+            .unwrap_or(0);
+        self.half[k] = 0.0;
     }
 
     /// Principal coordinates scaled to [−1, 1] (0 along a flat direction).

@@ -13,6 +13,9 @@ pub enum EigenMethod {
     Dense,
     /// Shift-invert block Lanczos reusing the Cholesky factor of K_ii.
     BlockLanczos,
+    /// Substructured: the substructures' modes and separator shapes, then a dense second
+    /// level (`CbStats::multilevel`).
+    Substructured,
     /// No interior DOFs, or no modes asked for.
     None,
 }
@@ -61,6 +64,9 @@ pub struct CbStats {
     pub total_s: Real,
     /// Peak resident memory (VmHWM, KiB) after each phase, when /proc/self/status is readable.
     pub peak_rss_kib: PhaseMemory,
+    /// The substructured reduction's substructures, separators and error estimates, when it
+    /// was used.
+    pub multilevel: Option<super::multilevel::MultilevelStats>,
 }
 
 /// Peak resident set size after each phase, KiB (None off Linux).
@@ -163,6 +169,54 @@ impl CbModel {
             full[dof] = acc;
         }
         Ok(full)
+    }
+
+    /// Data recovery of several reduced vectors at once (the columns of `y`, n_reduced × c):
+    /// T y, n_dofs × c, by two matrix products with Ψ and Φ.
+    pub fn expand(&self, y: faer::MatRef<'_, Real>) -> Mat<Real> {
+        let nb = self.n_boundary_coords();
+        let c = y.ncols();
+        let mut full = Mat::<Real>::zeros(self.n_dofs, c);
+        for (r, &dof) in self.boundary.iter().enumerate() {
+            for j in 0..c {
+                full[(dof, j)] = y[(r, j)];
+            }
+        }
+        if let Some(f) = &self.interface {
+            let p = y.subrows(self.boundary.len(), f.n_coords());
+            let lp = &f.basis * p;
+            for (r, &dof) in f.dofs.iter().enumerate() {
+                for j in 0..c {
+                    full[(dof, j)] = lp[(r, j)];
+                }
+            }
+        }
+        let mut inner = Mat::<Real>::zeros(self.interior.len(), c);
+        let par = faer::get_global_parallelism();
+        faer::linalg::matmul::matmul(
+            inner.as_mut(),
+            faer::Accum::Replace,
+            self.psi.as_ref(),
+            y.subrows(0, nb),
+            1.0,
+            par,
+        );
+        if self.n_modes > 0 {
+            faer::linalg::matmul::matmul(
+                inner.as_mut(),
+                faer::Accum::Add,
+                self.phi.as_ref(),
+                y.subrows(nb, self.n_modes),
+                1.0,
+                par,
+            );
+        }
+        for (r, &dof) in self.interior.iter().enumerate() {
+            for j in 0..c {
+                full[(dof, j)] = inner[(r, j)];
+            }
+        }
+        full
     }
 
     /// The transformation T (n_dofs × n_reduced) with u_full = T x_reduced (dense; small models).

@@ -38,6 +38,8 @@ pub struct CbOptions {
     /// [`ReductionError::Interrupted`] (default: never). Not hashed, not serialised.
     #[serde(skip)]
     pub interrupt: squeal_fe::Interrupt,
+    /// Substructured reduction of large components (default: off, `above_dofs` = none).
+    pub substructures: super::multilevel::SubstructureOptions,
 }
 
 impl Default for CbOptions {
@@ -53,6 +55,7 @@ impl Default for CbOptions {
             lanczos_max_dim: 600,
             lanczos_tol: 1e-9,
             interrupt: squeal_fe::Interrupt::never(),
+            substructures: Default::default(),
         }
     }
 }
@@ -124,7 +127,7 @@ impl CbOptions {
         if !(self.lanczos_tol > 0.0 && self.lanczos_tol < 1e-2) {
             return Err(bad("lanczos_tol", self.lanczos_tol, "must be in (0, 1e-2)"));
         }
-        Ok(())
+        self.substructures.validate()
     }
 
     /// `Err(ReductionError::Interrupted)` when the caller asked to stop.

@@ -106,6 +106,19 @@ pub fn reduce_interface(
     if let Some(b) = b {
         check_square(b, n, "damping B")?;
     }
+    let n_interior = n - boundary.len() - interface.map_or(0, |f| f.dofs.len());
+    if let (Some(above), Some(c)) = (opts.substructures.above_dofs, dof_coords) {
+        if n_interior > above {
+            if b.is_some() {
+                return Err(ReductionError::InvalidOption {
+                    field: "substructures.above_dofs",
+                    value: above.to_string(),
+                    reason: "a damping matrix is not reduced by substructures".into(),
+                });
+            }
+            return super::multilevel::reduce(k, m, boundary, interface, opts, c);
+        }
+    }
     let all_boundary: Vec<usize> = match interface {
         Some(f) => boundary.iter().chain(&f.dofs).copied().collect(),
         None => boundary.to_vec(),
@@ -163,10 +176,13 @@ pub fn reduce_interface(
     if let Some(llt) = &llt {
         // Each solve works on a permuted copy of its columns (faer's workspace: n_i × block),
         // so the blocks are capped: whole halves of Ψ would double its memory.
+        let threads = if llt.is_parallel() {
+            1
+        } else {
+            rayon::current_num_threads()
+        };
         let chunk = match opts.constraint_block {
-            0 => nb
-                .div_ceil(rayon::current_num_threads())
-                .clamp(1, CONSTRAINT_BLOCK_MAX),
+            0 => nb.div_ceil(threads).clamp(1, CONSTRAINT_BLOCK_MAX),
             c => c,
         };
         // A block not yet started when the caller asks to stop is skipped (Ψ is dropped).
@@ -201,7 +217,11 @@ pub fn reduce_interface(
         }
         Some(llt) => {
             // One traversal of the factor per thread: split the block's columns evenly.
-            let threads = rayon::current_num_threads();
+            let threads = if llt.is_parallel() {
+                1
+            } else {
+                rayon::current_num_threads()
+            };
             let solve = |x: faer::MatMut<'_, Real>| {
                 let chunk = x.ncols().div_ceil(threads).max(1);
                 x.par_col_chunks_mut(chunk)
@@ -282,6 +302,7 @@ pub fn reduce_interface(
         products_s,
         total_s: t_start.elapsed().as_secs_f64(),
         peak_rss_kib: mem,
+        multilevel: None,
     };
     Ok(CbModel {
         k: kr,

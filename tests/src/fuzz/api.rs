@@ -71,12 +71,7 @@ pub fn arrays_case() -> impl Strategy<Value = ArraysCase> {
     let belt = squeal_pipeline::stages::accuracy::models::belt();
     let k: Vec<f64> = (0..9).map(|i| belt.k[(i / 3, i % 3)]).collect();
     let m: Vec<f64> = (0..9).map(|i| belt.m[(i / 3, i % 3)]).collect();
-    let entries = |v: Vec<f64>| {
-        v.into_iter()
-            .map(value)
-            .collect::<Vec<_>>()
-            .prop_map(|x| x)
-    };
+    let entries = |v: Vec<f64>| v.into_iter().map(value).collect::<Vec<_>>().prop_map(|x| x);
     let dof = |grid: u64, comp: u8| {
         (
             prop_oneof![8 => Just(grid), 1 => Just(1u64), 1 => 0u64..200_000],
@@ -179,7 +174,10 @@ pub fn check_arrays(dir: &Path, c: &ArraysCase) -> Result<Outcome, String> {
                 return Err("accepted a non-finite or non-symmetric K or M".into());
             }
             if (0..m.n()).any(|i| m.m[(i, i)] <= 0.0) || m.n() == 0 {
-                return Err(format!("accepted a mass with a non-positive diagonal ({} DOFs)", m.n()));
+                return Err(format!(
+                    "accepted a mass with a non-positive diagonal ({} DOFs)",
+                    m.n()
+                ));
             }
             if m.gaps.gaps.iter().any(|g| {
                 let n = g.normal.iter().map(|x| x * x).sum::<f64>().sqrt();
@@ -295,7 +293,12 @@ fn edit(doc: &mut toml::Value, path: &[String], new: Option<toml::Value>) {
 /// Seed documents with 1–4 edits: a value replaced by any value, removed, or a new key.
 pub fn doc_case(seeds: Vec<toml::Value>) -> impl Strategy<Value = DocCase> {
     let edits = proptest::collection::vec(
-        (any::<prop::sample::Index>(), 0u8..3, any_value(), "[a-z_]{1,8}"),
+        (
+            any::<prop::sample::Index>(),
+            0u8..3,
+            any_value(),
+            "[a-z_]{1,8}",
+        ),
         1..5,
     );
     (proptest::sample::select(seeds), edits).prop_map(|(mut doc, edits)| {

@@ -322,6 +322,7 @@ mod tests {
             },
             bsql: BsqlOptions::default(),
             compliance: Vec::new(),
+            smooth_width: Vec::new(),
         };
         (problem, gaps)
     }

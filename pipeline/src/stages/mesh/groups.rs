@@ -1,4 +1,5 @@
-//! A user's mesh (`kind = "msh"` or `"geo"`) against what the scene asks of it: every physical
+//! A user's mesh (`kind = "msh"`, `"geo"`, `"bdf"` or `"inp"`) against what the scene asks of
+//! it: every physical
 //! group the scene names for the component — fixed sets, friction faces, load faces and load
 //! node sets — must be in the file; and the rigid rotation `rotate_deg` of a component's nodes.
 
@@ -73,6 +74,12 @@ pub fn check_groups(
         }
     }
     let surfaces = || list(mesh.faces.keys());
+    // gmsh calls its sets physical groups; Nastran and Abaqus files have node and face sets.
+    let (group, surface) = if c.geometry.file_has_materials() {
+        ("node set", "face set")
+    } else {
+        ("physical group", "physical surface")
+    };
     for (key, name, need) in wanted {
         let found = match need {
             Need::Surface => mesh.faces.get(name).is_some_and(|b| !b.is_empty()),
@@ -83,21 +90,18 @@ pub fn check_groups(
         }
         let message = match need {
             Need::Surface if mesh.node_sets.contains_key(name) => format!(
-                "component `{}`: physical group `{name}` ({key}) has no quad4/quad8 faces; it \
-                 must be a physical surface of the hexahedra's faces (the file's physical \
-                 surfaces: {})",
+                "component `{}`: {group} `{name}` ({key}) has no quad4/quad8 faces; it must \
+                 be a {surface} of the volume cells' faces (the file's {surface}s: {})",
                 c.name,
                 surfaces()
             ),
             Need::Surface => format!(
-                "component `{}`: no physical surface `{name}` ({key}); the file's physical \
-                 surfaces: {}",
+                "component `{}`: no {surface} `{name}` ({key}); the file's {surface}s: {}",
                 c.name,
                 surfaces()
             ),
             Need::Nodes => format!(
-                "component `{}`: no physical group `{name}` ({key}); the file's physical \
-                 groups: {}",
+                "component `{}`: no {group} `{name}` ({key}); the file's {group}s: {}",
                 c.name,
                 list(mesh.node_sets.keys())
             ),
@@ -119,8 +123,8 @@ fn list<'a>(names: impl Iterator<Item = &'a String>) -> String {
     }
 }
 
-/// Turns every node of `mesh` by `deg` degrees about the unit `axis` through `origin` (right
-/// hand), by Rodrigues' formula
+/// Turns every node of `mesh` (and the material axes of its sections) by `deg` degrees about
+/// the unit `axis` through `origin` (right hand), by Rodrigues' formula
 ///
 /// $$ x' = o + d\cos\theta + (a\times d)\sin\theta + a\,(a\cdot d)(1-\cos\theta),\quad d = x - o. $$
 ///
@@ -139,6 +143,23 @@ pub fn rotate_nodes(mesh: &mut Mesh, deg: Real, axis: [Real; 3], origin: [Real; 
         let dot = a[0] * d[0] + a[1] * d[1] + a[2] * d[2];
         for k in 0..3 {
             x[k] = origin[k] + d[k] * c + cross[k] * s + a[k] * dot * (1.0 - c);
+        }
+    }
+    if mesh.sections.values().any(|s| s.axes.is_some()) {
+        // The same rotation as a matrix: x' = R x + (o − R o).
+        let rot: [[Real; 3]; 3] = std::array::from_fn(|i| {
+            std::array::from_fn(|j| {
+                let id = if i == j { 1.0 } else { 0.0 };
+                let k = [[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]];
+                c * id + s * k[i][j] + (1.0 - c) * a[i] * a[j]
+            })
+        });
+        let ro: [Real; 3] = std::array::from_fn(|i| (0..3).map(|j| rot[i][j] * origin[j]).sum());
+        let shift: [Real; 3] = std::array::from_fn(|i| origin[i] - ro[i]);
+        for sec in mesh.sections.values_mut() {
+            if let Some(ax) = &mut sec.axes {
+                *ax = ax.moved(&rot, shift);
+            }
         }
     }
 }

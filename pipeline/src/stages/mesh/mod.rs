@@ -1,11 +1,12 @@
-//! Mesh stage: a component's geometry → gmsh → [`Mesh`], or the user's own `.msh`.
+//! Mesh stage: a component's geometry → gmsh → [`Mesh`], or the user's own `.msh`, Nastran
+//! bulk data or Abaqus input.
 
 use crate::error::PipelineError;
 use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::{ComponentSpec, GeometrySpec, Scene};
 use serde::Serialize;
-use squeal_meshes::{geo, gmsh, msh, vtu, Mesh};
+use squeal_meshes::{bdf, geo, gmsh, inp, msh, vtu, Mesh, ReadReport};
 
 pub mod groups;
 
@@ -17,6 +18,28 @@ pub struct MeshReport {
     pub n_cells: usize,
     pub msh_path: String,
     pub gmsh_s: Option<f64>,
+    /// What a Nastran or Abaqus reader read, left out (unsupported cards, with counts) and
+    /// changed (None for gmsh meshes).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reader: Option<ReadReport>,
+}
+
+impl MeshReport {
+    /// The reader's unsupported cards as a warning, if any.
+    pub fn warnings(&self) -> Vec<crate::warning::Warning> {
+        let Some(r) = &self.reader else {
+            return Vec::new();
+        };
+        r.unsupported_summary()
+            .map(|message| crate::warning::Warning {
+                input: format!("{} (component `{}`)", self.msh_path, self.component),
+                message: format!("{message}: these cards are not in the model"),
+                value: r.unsupported.iter().map(|u| u.count).sum::<usize>() as f64,
+                tolerance: 0.0,
+            })
+            .into_iter()
+            .collect()
+    }
 }
 
 /// Meshes one component, writing `<out>/mesh/<name>.geo` and `.msh` when gmsh runs.
@@ -32,6 +55,9 @@ pub fn mesh_component(
         interrupt: progress.interrupt(),
         ..Default::default()
     };
+    if let Some((mesh, report)) = read_industrial(scene, c)? {
+        return Ok((mesh, report));
+    }
     // The user's file (for errors naming a missing physical group), the mesh read, gmsh's time.
     let (source, msh_path, gmsh_s) = match &c.geometry {
         GeometrySpec::Msh { path } => {
@@ -64,7 +90,10 @@ pub fn mesh_component(
                 GeometrySpec::Block(b) => geo::block(b),
                 GeometrySpec::Pad { .. } => geo::pad(&scene.pad_geometry(&c.name)?),
                 GeometrySpec::Caliper { .. } => geo::caliper(&scene.caliper_geometry(&c.name)?),
-                GeometrySpec::Msh { .. } | GeometrySpec::Geo { .. } => {
+                GeometrySpec::Msh { .. }
+                | GeometrySpec::Geo { .. }
+                | GeometrySpec::Bdf { .. }
+                | GeometrySpec::Inp { .. } => {
                     unreachable!("handled above")
                 }
             };
@@ -96,8 +125,57 @@ pub fn mesh_component(
         n_cells: mesh.volumes.iter().map(|b| b.len()).sum(),
         msh_path: msh_path.display().to_string(),
         gmsh_s,
+        reader: None,
     };
     Ok((mesh, report))
+}
+
+/// A Nastran or Abaqus component: read, its sets checked against the scene, turned by
+/// `rotate_deg` (None for the other kinds).
+fn read_industrial(
+    scene: &Scene,
+    c: &ComponentSpec,
+) -> Result<Option<(Mesh, MeshReport)>, PipelineError> {
+    let err = |source| PipelineError::mesh(&c.name, source);
+    let (path, (mut mesh, reader)) = match &c.geometry {
+        GeometrySpec::Bdf { path, pids, spc } => {
+            let p = scene.resolve(path);
+            let opts = bdf::BdfOptions {
+                pids: pids.clone(),
+                spc: *spc,
+            };
+            (p.clone(), bdf::read_bdf(&p, &opts).map_err(err)?)
+        }
+        GeometrySpec::Inp {
+            path,
+            instances,
+            part,
+            elsets,
+        } => {
+            let p = scene.resolve(path);
+            let opts = inp::InpOptions {
+                instances: instances.clone(),
+                part: part.clone(),
+                elsets: elsets.clone(),
+            };
+            (p.clone(), inp::read_inp(&p, &opts).map_err(err)?)
+        }
+        _ => return Ok(None),
+    };
+    groups::check_groups(scene, c, &mesh, &path)?;
+    if c.rotate_deg != 0.0 {
+        let axis = scene.rotor.clone().unwrap_or_default();
+        groups::rotate_nodes(&mut mesh, c.rotate_deg, axis.axis, axis.origin);
+    }
+    let report = MeshReport {
+        component: c.name.clone(),
+        n_nodes: mesh.nodes.len(),
+        n_cells: mesh.volumes.iter().map(|b| b.len()).sum(),
+        msh_path: path.display().to_string(),
+        gmsh_s: None,
+        reader: Some(reader),
+    };
+    Ok(Some((mesh, report)))
 }
 
 /// Every `set_numbers` key of a `.geo` component must be a `DefineConstant` of the file (or
@@ -158,7 +236,12 @@ pub fn run(
     dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
     dir.write_json(
         "summary.json",
-        &serde_json::json!({ "verb": "mesh", "version": crate::VERSION, "components": reports }),
+        &serde_json::json!({
+            "verb": "mesh",
+            "version": crate::VERSION,
+            "components": reports,
+            "warnings": reports.iter().flat_map(|r| r.warnings()).collect::<Vec<_>>(),
+        }),
     )?;
     Ok(reports)
 }

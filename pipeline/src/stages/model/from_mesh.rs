@@ -403,10 +403,13 @@ pub fn build_from_mesh_cached(
         .par_iter()
         .map(|c| mesh_component(scene, c, dir, progress))
         .collect::<Result<_, _>>()?;
+    // Cards a Nastran or Abaqus reader left out are warnings of the model.
+    let reader_warnings: Vec<_> = meshed.iter().flat_map(|(_, r)| r.warnings()).collect();
     let (meshes, mesh_files): (Vec<Mesh>, Vec<String>) =
         meshed.into_iter().map(|(m, r)| (m, r.msh_path)).unzip();
     let grids = merge(scene, &meshes, scene.model.merge_tolerance);
-    let (mut gaps, gap_pairs, warnings) = match_pairs(scene, &meshes, &grids)?;
+    let (mut gaps, gap_pairs, mut warnings) = match_pairs(scene, &meshes, &grids)?;
+    warnings.splice(0..0, reader_warnings);
 
     // Fixed grid DOFs of any component hold for every component sharing the grid.
     let mut global_fixed: BTreeSet<(u64, usize)> = BTreeSet::new();
@@ -658,12 +661,20 @@ pub fn build_from_mesh_cached(
             reduction_cache: r.cache.clone(),
         })
         .collect();
-    let checks = scene
+    let checks: Vec<(String, CbCheck)> = scene
         .components
         .iter()
         .zip(reduced.iter())
         .filter_map(|(spec, r)| r.check.clone().map(|c| (spec.name.clone(), c)))
         .collect();
+    for (name, c) in checks.iter().filter(|(_, c)| !c.passed) {
+        warnings.push(Warning {
+            input: format!("reduction.checks (component `{name}`)"),
+            message: format!("the Craig–Bampton check failed: {}", c.failures.join("; ")),
+            value: c.max_abs_error_pct.unwrap_or(Real::NAN),
+            tolerance: CheckOptions::default().max_error_pct,
+        });
+    }
     drop(comps);
     // Recovery needs every component's Ψ and Φ: none when one came from the component cache.
     let recoverable = reduced.iter().all(|r| r.cb.is_some());

@@ -99,7 +99,8 @@ impl std::fmt::Display for Effect {
             }
             Effect::Separation { gaps } => write!(
                 f,
-                "separation: {gaps} gaps may open and close (events), limit cycle"
+                "separation: {gaps} gaps may open and close (events, or a compliant pair's \
+                 smooth law), limit cycle"
             ),
             Effect::Integrator {
                 integrator: Integrator::Bdf,

@@ -56,8 +56,10 @@ P(t) = p_pre + r(t) p_brake with r(t) = min(t / t_load, 1) (a step at t = 0 when
 
 Friction forces per gap (paper eqs. 1-7): p_n = -lambda'_g / A + P0; dv = v_r - v_p + v_slide
 (v_r = sum_a N_a v_a on a tied gap, whose rotor force goes to the face nodes times N_a);
-V_t = dv - (dv . n) n; F_t = mu(p_n, |V_t|, T) A p_n, times (2/pi) atan(|V_t| / VTOL) below
-10 VTOL (regularisation, see squeal-contact); the pad gets +F_t V_t/|V_t|, the rotor the opposite.
+V_t = dv - (dv . n) n; F_t = mu(p_n, |V_t|, T) A p_n, times atan(|V_t| / VTOL) / atan(10) below
+10 VTOL (the regularisation of paper eq. 5, normalised by its value at 10 VTOL so that it is
+continuous there; squeal-contact's `regularisation`); the pad gets +F_t V_t/|V_t|, the rotor the
+opposite.
 
 Initial state: the steady sliding equilibrium before the brake load (v = 0, K u + G^T lambda' =
 F_f(lambda', 0), G u = 0), then consistent y'(0) to TOLINT.
@@ -106,4 +108,47 @@ pub fn export(
     )?;
     dir.write_bytes("README.md", README.as_bytes())?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::README;
+    use squeal_contact::forces::regularisation;
+
+    /// The README states the friction regularisation the code uses (issue: it said
+    /// (2/π)·atan(|V_t|/VTOL), which the code does not use). Both laws are evaluated: the
+    /// stated one, r(s) = atan(s/VTOL)/atan(10) below 10·VTOL and 1 above, equals the contact
+    /// crate's s·φ(s) to round-off over the zone and beyond; the former statement differs by
+    /// 1 − (2/π)·atan(10) = 6.3 % at the zone's end.
+    #[test]
+    fn the_readme_states_the_regularisation_the_code_uses() {
+        let text = README.split_whitespace().collect::<Vec<_>>().join(" ");
+        assert!(
+            text.contains("times atan(|V_t| / VTOL) / atan(10) below 10 VTOL"),
+            "the README's law"
+        );
+        assert!(!text.contains("(2/pi)"));
+        let vtol = 2e-3;
+        let stated = |s: f64| {
+            if s < 10.0 * vtol {
+                (s / vtol).atan() / 10f64.atan()
+            } else {
+                1.0
+            }
+        };
+        for i in 1..=300 {
+            let s = vtol * 12.0 * i as f64 / 300.0;
+            let code = s * regularisation(s, vtol).0;
+            assert!(
+                (code - stated(s)).abs() < 1e-14,
+                "s = {s}: {code} vs {}",
+                stated(s)
+            );
+        }
+        let end = 10.0 * vtol * (1.0 - 1e-12);
+        let former = 2.0 / std::f64::consts::PI * (end / vtol).atan();
+        let code = end * regularisation(end, vtol).0;
+        let gap = (code - former) / code;
+        assert!((gap - 0.0634).abs() < 1e-3, "{gap}");
+    }
 }

@@ -21,6 +21,8 @@ pub fn bdf_options(
         h0: spec.h0,
         h_max: spec.h_max,
         max_steps: spec.max_steps,
+        h_collapse: spec.h_collapse(),
+        collapse_steps: spec.collapse_steps,
         ..BdfOptions::default()
     }
 }

@@ -20,7 +20,7 @@ use super::result::{TransientOptions, TransientResult, VerdictCeaResult};
 use super::sink::Sink;
 use super::start::{start_state, Origin};
 use super::stepper::{IntegratorStats, Method, Stepper};
-use super::system::separation_mask;
+use super::system::{event_mask, separation_mask};
 use super::verdict::roots::PencilOptions;
 use super::verdict::{decide, CeaRoots, Decision, Record, Settings};
 use crate::error::PipelineError;
@@ -171,7 +171,8 @@ impl Prepared<'_> {
                 (st, origin)
             }
         };
-        let can_open = separation_mask(self.scene, model);
+        // The smooth law's gaps (`separation_smoothing`) open through the system itself.
+        let can_open = event_mask(self.scene, model);
         if can_open.iter().any(|&c| c) {
             if self.resume.is_some() {
                 return Err(PipelineError::Scene {
@@ -181,7 +182,7 @@ impl Prepared<'_> {
                         .into(),
                 });
             }
-            stepper.enable_separation(&model.gaps, can_open)?;
+            stepper.enable_separation(&model.gaps, can_open, spec.event_restart)?;
         }
         if spec.tfinal <= origin.t_start {
             return Err(PipelineError::Scene {

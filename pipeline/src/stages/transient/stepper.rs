@@ -10,7 +10,9 @@ use crate::scene::{Integrator, TransientSpec};
 use serde::Serialize;
 use squeal_contact::GapSet;
 use squeal_solver::bdf::{Bdf, BdfState, BdfStats, Status};
-use squeal_solver::bsql::{BsqlStats, BsqlSystem, Unilateral, UnilateralOptions, UnilateralStats};
+use squeal_solver::bsql::{
+    BsqlStats, BsqlSystem, EventRestart, Unilateral, UnilateralOptions, UnilateralStats,
+};
 use squeal_solver::galpha::{Galpha, GalphaStats, GalphaSystem};
 use squeal_solver::Real;
 use squeal_solver::SolverError;
@@ -195,12 +197,13 @@ impl Stepper {
     }
 
     /// Let the gaps with `can_open[k]` separate and close again (events, plastic impact,
-    /// restart at order 1; see [`squeal_solver::bsql::unilateral`]). An open gap carries
+    /// restart as `restart` says; see [`squeal_solver::bsql::unilateral`]). An open gap carries
     /// λ' = P_0 A (p_n = 0). BDF only: generalized-α gets an error naming the option.
     pub fn enable_separation(
         &mut self,
         gaps: &GapSet,
         can_open: Vec<bool>,
+        restart: EventRestart,
     ) -> Result<(), PipelineError> {
         match self {
             Stepper::Bdf { bdf, sys, uni } => {
@@ -213,7 +216,10 @@ impl Stepper {
                         Some(can_open),
                         &y,
                         &yp,
-                        UnilateralOptions::default(),
+                        UnilateralOptions {
+                            restart,
+                            ..UnilateralOptions::default()
+                        },
                     )
                     .map_err(solver_err("separation"))?,
                 );

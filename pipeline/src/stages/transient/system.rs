@@ -1,7 +1,7 @@
 //! The BSQL system from the reduced model: M, B, K, G, P(t), friction adapter.
 
 use crate::error::PipelineError;
-use crate::scene::Scene;
+use crate::scene::{ContactPair, Scene};
 use crate::stages::model::ReducedModel;
 use faer::Mat;
 use squeal_contact::GapSet;
@@ -19,9 +19,21 @@ pub(crate) fn solver_err(what: &str) -> impl FnOnce(SolverError) -> PipelineErro
 /// Per gap: may it separate (`separation = true` on its `[[contact]]` pair)? A stored model's
 /// gap table is one pair, read with the scene's `[[contact]]` table.
 pub fn separation_mask(scene: &Scene, model: &ReducedModel) -> Vec<bool> {
+    pair_mask(scene, model, |c| c.separation)
+}
+
+/// Per gap: does it separate through events (`separation = true` without
+/// `separation_smoothing`)? The smooth law's gaps open and close with no event.
+pub fn event_mask(scene: &Scene, model: &ReducedModel) -> Vec<bool> {
+    pair_mask(scene, model, |c| {
+        c.separation && c.separation_smoothing.is_none()
+    })
+}
+
+fn pair_mask(scene: &Scene, model: &ReducedModel, on: impl Fn(&ContactPair) -> bool) -> Vec<bool> {
     let mut mask = Vec::with_capacity(model.gaps.len());
     for (pair, &count) in model.gap_pairs.iter().enumerate() {
-        let on = scene.contact.get(pair).is_some_and(|c| c.separation);
+        let on = scene.contact.get(pair).is_some_and(&on);
         mask.extend(std::iter::repeat_n(on, count));
     }
     mask.resize(model.gaps.len(), false);
@@ -79,6 +91,10 @@ pub struct Problem {
     /// Normal contact compliance c_g = 1/(k_n A_g) per gap (`[[contact]] normal_stiffness`);
     /// empty when every gap is rigid (the paper's constraint).
     pub compliance: Vec<Real>,
+    /// Width ε_g = p_ε/k_n of the smooth unilateral law per gap (`[[contact]]
+    /// separation_smoothing`; 0: none), empty when no pair has one; the law's opening force
+    /// per gap is P_0 A.
+    pub smooth_width: Vec<Real>,
 }
 
 /// B = B_element (stored/reduced) + (G/W3)·K + M Φ diag(2ζω) Φᵀ M.
@@ -143,6 +159,7 @@ pub fn problem(scene: &Scene, model: &ReducedModel) -> Result<Problem, PipelineE
         step: loads.tload == 0.0,
     };
     let compliance = compliance(scene, model)?;
+    let smooth_width = smooth_widths(scene, model, &compliance);
     Ok(Problem {
         m: model.m.clone(),
         b: damping_matrix(scene, model)?,
@@ -154,7 +171,32 @@ pub fn problem(scene: &Scene, model: &ReducedModel) -> Result<Problem, PipelineE
             friction_damping_near_stick: t.friction_damping_near_stick,
         },
         compliance,
+        smooth_width,
     })
+}
+
+/// Per gap, ε = p_ε/k_n of its pair's `separation_smoothing` (0 without); empty when no pair
+/// has one. The scene's checks make such a pair compliant, so `compliance` has its gaps.
+fn smooth_widths(scene: &Scene, model: &ReducedModel, compliance: &[Real]) -> Vec<Real> {
+    if compliance.is_empty()
+        || scene
+            .contact
+            .iter()
+            .all(|c| c.separation_smoothing.is_none())
+    {
+        return Vec::new();
+    }
+    let mut w = Vec::with_capacity(model.gaps.len());
+    for (pair, &count) in model.gap_pairs.iter().enumerate() {
+        let p = scene.contact.get(pair).and_then(|c| c.separation_smoothing);
+        for k in w.len()..w.len() + count {
+            // ε = p_ε/k_n = p_ε c A.
+            let area = model.gaps.gaps[k].area;
+            w.push(p.map_or(0.0, |p| p * compliance[k] * area));
+        }
+    }
+    w.resize(model.gaps.len(), 0.0);
+    w
 }
 
 /// Per gap, the compliance c_g = 1/(k_n A_g) of its pair's `normal_stiffness` (0 for a rigid
@@ -204,6 +246,8 @@ pub fn compliance(scene: &Scene, model: &ReducedModel) -> Result<Vec<Real>, Pipe
 impl Problem {
     /// The solver's system (matrices copied).
     pub fn system(&self, gaps: GapSet) -> Result<BsqlSystem<GapFriction>, PipelineError> {
+        // The force an open gap carries: its preload's, P_0 A (p_n = 0).
+        let open_force: Vec<Real> = gaps.gaps.iter().map(|g| g.p0 * g.area).collect();
         let mut sys = BsqlSystem::new(
             self.m.clone(),
             self.b.clone(),
@@ -221,6 +265,13 @@ impl Problem {
             sys.set_compliance(self.compliance.clone())
                 .map_err(|source| PipelineError::Solver {
                     what: "normal contact compliance".into(),
+                    source,
+                })?;
+        }
+        if !self.smooth_width.is_empty() {
+            sys.set_smooth_unilateral(open_force, self.smooth_width.clone())
+                .map_err(|source| PipelineError::Solver {
+                    what: "smooth unilateral contact".into(),
                     source,
                 })?;
         }
@@ -253,6 +304,11 @@ impl Problem {
         for (k, c) in self.compliance.iter().enumerate() {
             if *c != 0.0 {
                 eat(format!("c{k}:{c:.11e};").as_bytes());
+            }
+        }
+        for (k, w) in self.smooth_width.iter().enumerate() {
+            if *w != 0.0 {
+                eat(format!("s{k}:{w:.11e};").as_bytes());
             }
         }
         format!("{h:016x}")

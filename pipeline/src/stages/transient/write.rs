@@ -7,6 +7,7 @@ use super::collect::response::response_dofs;
 use super::export;
 use super::files::history::Recorder;
 use super::files::response::ResponseFile;
+use super::options::bdf_options;
 use super::prepare::prepare;
 use super::restart::RestartSink;
 use super::result::{TransientOptions, TransientReport};
@@ -15,7 +16,7 @@ use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::{Integrator, Scene};
 use crate::stages::model;
-use squeal_solver::bdf::{BdfOptions, InitialConditionOptions};
+use squeal_solver::bdf::InitialConditionOptions;
 use squeal_solver::bsql::SteadyOptions;
 use std::path::Path;
 use std::time::Instant;
@@ -100,14 +101,7 @@ fn run_model(
             });
         }
         let sys = prepared.problem.system(model.gaps.clone())?;
-        let bdf_opts = BdfOptions {
-            max_order: spec.maxord,
-            tolerances: sys.tolerances(spec.rtol1, spec.atol1, spec.rtol2, spec.atol2),
-            h0: spec.h0,
-            h_max: spec.h_max,
-            max_steps: spec.max_steps,
-            ..Default::default()
-        };
+        let bdf_opts = bdf_options(spec, &sys, spec.rtol1, spec.maxord);
         let edir = RunDir::create(d)?;
         export::export(
             &edir,

@@ -5,7 +5,9 @@
 //! - every `[[components]]` table whole (name, geometry, element, hex8 formulation, material,
 //!   per-volume materials, fixed sets, `rotate_deg`), for a `kind = "msh"` or `"geo"` geometry
 //!   the hash of the file's bytes (not only its path; a `.geo` file's `Include`d files are not
-//!   read), and for a rotated component the `[rotor]` axis and origin it turns about;
+//!   read), for a `kind = "bdf"` or `"inp"` geometry the hash of the bytes of the file and of
+//!   every file it includes, and for a rotated component the `[rotor]` axis and origin it
+//!   turns about;
 //! - `model.merge_tolerance`;
 //! - the Craig–Bampton options of `[reduction]` (`checks` excepted: it changes no matrix);
 //! - every `[[ties]]` entry;
@@ -143,6 +145,27 @@ impl ModelKey {
                     let p = scene.resolve(path);
                     let bytes = std::fs::read(&p)
                         .map_err(|source| PipelineError::Io { path: p, source })?;
+                    Some(hex128(&bytes))
+                }
+                GeometrySpec::Bdf { path, .. } | GeometrySpec::Inp { path, .. } => {
+                    // The file and every file it includes.
+                    let p = scene.resolve(path);
+                    let files = match &c.geometry {
+                        GeometrySpec::Bdf { .. } => squeal_meshes::bdf::deck_files(&p),
+                        _ => squeal_meshes::inp::input_files(&p),
+                    }
+                    .map_err(|source| PipelineError::Mesh {
+                        component: c.name.clone(),
+                        source,
+                    })?;
+                    let mut bytes = Vec::new();
+                    for f in files {
+                        let f = std::path::PathBuf::from(f);
+                        bytes.extend(
+                            std::fs::read(&f)
+                                .map_err(|source| PipelineError::Io { path: f, source })?,
+                        );
+                    }
                     Some(hex128(&bytes))
                 }
                 _ => None,

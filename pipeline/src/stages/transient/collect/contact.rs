@@ -59,6 +59,21 @@ impl ContactMonitor {
     }
 }
 
+/// Round-off band of the contact forces: a gap counts as tensile when p_n A < −band, with band
+/// = 1e-12 × the step's force scale (the largest |λ'_g| and P0_g A_g, at least 1), the zero
+/// band of the solver's separation events (`squeal_solver::bsql::unilateral`). An open gap's
+/// row holds λ' = P0 A to round-off only (p_n ≈ −1e-20 with P0 = 0): it is not tensile, and a
+/// gap that does not cross this band is not an event either.
+fn tensile_band(lam: &[Real], area: &[Real], p0: &[Real]) -> Real {
+    let scale = lam
+        .iter()
+        .zip(area.iter().zip(p0))
+        .fold(1.0, |m: Real, (l, (a, p))| {
+            m.max(l.abs()).max((p * a).abs())
+        });
+    1e-12 * scale
+}
+
 impl Sink for ContactMonitor {
     fn step(&mut self, s: &StepView<'_>) -> Result<(), PipelineError> {
         let v = &mut self.validity;
@@ -68,8 +83,10 @@ impl Sink for ContactMonitor {
         if !s.repeat {
             v.steps += 1;
         }
+        let lam = &s.yp[self.offset..self.offset + self.area.len()];
+        let band = tensile_band(lam, &self.area, &self.p0);
         for (g, (&a, &p0)) in self.area.iter().zip(&self.p0).enumerate() {
-            let p = -s.yp[self.offset + g] / a + p0; // [Paper eq. (1)]
+            let p = -lam[g] / a + p0; // [Paper eq. (1)]
             if v.min_pressure.is_none_or(|m| p < m.pressure) {
                 v.min_pressure = Some(GapEvent {
                     t: s.t,
@@ -77,7 +94,7 @@ impl Sink for ContactMonitor {
                     pressure: p,
                 });
             }
-            if p < 0.0 {
+            if p < -band / a {
                 v.tensile_gap_steps += u64::from(!s.repeat);
                 if first {
                     v.tensile_at_start += 1;

@@ -36,7 +36,8 @@ pub struct ContactValidity {
     /// Gaps with p_n < 0 at the start (after the steady state and consistent initial
     /// conditions).
     pub tensile_at_start: usize,
-    /// (gap, accepted step) pairs with p_n < 0, the initial point included.
+    /// (gap, accepted step) pairs with p_n < 0 (beyond round-off: p_n A < −1e-12 × the force
+    /// scale, see `collect::contact`), the initial point included.
     pub tensile_gap_steps: u64,
     /// The first time a gap's p_n went below 0, the load ramp included (None: never).
     pub first_separation: Option<GapEvent>,

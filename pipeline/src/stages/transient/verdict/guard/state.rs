@@ -14,6 +14,17 @@ pub fn status_text(s: &Status) -> String {
         Status::MaxSteps { t, steps } => {
             format!("stopped at the step cap ({steps} steps) at t = {t:.4e}")
         }
+        Status::StepCollapse {
+            t,
+            h,
+            order,
+            h_collapse,
+            steps,
+        } => format!(
+            "stopped at t = {t:.4e}: the step collapsed ({steps} consecutive steps below \
+             {h_collapse:.3e} s = h_max / transient.collapse_factor; the last h = {h:.3e} s at \
+             order {order}), far below what the band needs"
+        ),
         other => format!("{other:?}"),
     }
 }

@@ -181,4 +181,29 @@ fn guards_decide_the_state() {
     let mut e = base(&tensile, &collapsed);
     e.clear_growth = true;
     assert_eq!(judge(&e).0, VerdictState::Squeal);
+    // A run stopped at once because its steps stayed far below the band's (issue 22: the
+    // step collapse to ~1e-9 s after a gap turned tensile): `unresolved`, `stopped` with the
+    // status's time and step, never a negative.
+    let crawl = Status::StepCollapse {
+        t: 2.6e-3,
+        h: 1e-9,
+        order: 1,
+        h_collapse: 5e-8,
+        steps: 200,
+    };
+    match judge(&base(&c, &crawl)).0 {
+        VerdictState::Unresolved { reasons } => assert!(
+            reasons
+                .iter()
+                .any(|r| matches!(r, Unresolved::Stopped { t, h: Some(h), .. }
+                if *t == 2.6e-3 && *h == 1e-9)),
+            "{reasons:?}"
+        ),
+        other => panic!("{other:?}"),
+    }
+    let text = status_text(&crawl);
+    assert!(
+        text.contains("200 consecutive steps below 5.000e-8 s") && text.contains("collapse_factor"),
+        "{text}"
+    );
 }

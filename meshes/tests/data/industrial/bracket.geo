@@ -1,0 +1,31 @@
+// A twisted, tapered bracket meshed in hex20 (transfinite, graded): squeal's reader tests.
+// Corners of a general hexahedron (no two faces parallel); lengths in metres.
+Point(1) = {0.000, 0.000, 0.000};
+Point(2) = {0.060, -0.003, 0.002};
+Point(3) = {0.058, 0.022, -0.001};
+Point(4) = {-0.002, 0.018, 0.001};
+Point(5) = {0.001, 0.001, 0.010};
+Point(6) = {0.061, -0.001, 0.014};
+Point(7) = {0.057, 0.021, 0.012};
+Point(8) = {0.000, 0.020, 0.009};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
+Line(5) = {5, 6}; Line(6) = {6, 7}; Line(7) = {7, 8}; Line(8) = {8, 5};
+Line(9) = {1, 5}; Line(10) = {2, 6}; Line(11) = {3, 7}; Line(12) = {4, 8};
+Curve Loop(1) = {1, 2, 3, 4}; Surface(1) = {1};
+Curve Loop(2) = {5, 6, 7, 8}; Surface(2) = {2};
+Curve Loop(3) = {1, 10, -5, -9}; Surface(3) = {3};
+Curve Loop(4) = {2, 11, -6, -10}; Surface(4) = {4};
+Curve Loop(5) = {3, 12, -7, -11}; Surface(5) = {5};
+Curve Loop(6) = {4, 9, -8, -12}; Surface(6) = {6};
+Surface Loop(1) = {1, 2, 3, 4, 5, 6};
+Volume(1) = {1};
+Transfinite Curve{1, 5} = 7 Using Progression 1.15;
+Transfinite Curve{-3, -7} = 7 Using Progression 1.15;
+Transfinite Curve{2, 4, 6, 8} = 4;
+Transfinite Curve{9, 10, 11, 12} = 3;
+Transfinite Surface{1, 2, 3, 4, 5, 6};
+Recombine Surface{1, 2, 3, 4, 5, 6};
+Transfinite Volume{1};
+Physical Volume("body") = {1};
+Physical Surface("clamp") = {6};
+Physical Surface("top") = {2};
