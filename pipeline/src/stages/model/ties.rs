@@ -17,8 +17,10 @@ use super::from_mesh::rotor_faces;
 use super::grids::Grids;
 use crate::error::PipelineError;
 use crate::scene::{Scene, TiePairing};
+use faer::sparse::linalg::matmul::sparse_sparse_matmul;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::Mat;
+use faer::Par;
 use squeal_contact::{
     bond_rows_joined, mortar_gaps, tie_gaps, ContactNode, MatchOptions, MortarOptions,
 };
@@ -270,19 +272,28 @@ impl Mpc {
         &self,
         a: &SparseColMat<usize, Real>,
     ) -> Result<SparseColMat<usize, Real>, String> {
-        let rows: Vec<Vec<(usize, Real)>> = (0..self.n_free()).map(|i| self.row(i)).collect();
-        let mut t = Vec::with_capacity(a.compute_nnz() + 8 * self.slaves.len());
-        for j in 0..a.ncols() {
-            for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
-                for &(ii, wi) in &rows[i] {
-                    for &(jj, wj) in &rows[j] {
-                        t.push(Triplet::new(ii, jj, v * wi * wj));
-                    }
-                }
+        // T and Tᵀ as sparse matrices, then two sparse products: the triplets of Tᵀ A T
+        // written out entry by entry would number Σ_ij |row_i| |row_j| over A's non-zeros,
+        // hundreds of millions for mortar rows on tet10 faces (a slave row has tens of terms).
+        let err = |e: faer::sparse::CreationError| format!("the tie matrix T: {e:?}");
+        let mut t = Vec::with_capacity(self.n_free() + 8 * self.slaves.len());
+        let mut tt = Vec::with_capacity(t.capacity());
+        for i in 0..self.n_free() {
+            for (j, w) in self.row(i) {
+                t.push(Triplet::new(i, j, w));
+                tt.push(Triplet::new(j, i, w));
             }
         }
-        SparseColMat::try_new_from_triplets(self.n_indep, self.n_indep, &t)
-            .map_err(|e| format!("the tied matrix: {e:?}"))
+        let t =
+            SparseColMat::try_new_from_triplets(self.n_free(), self.n_indep, &t).map_err(err)?;
+        let tt =
+            SparseColMat::try_new_from_triplets(self.n_indep, self.n_free(), &tt).map_err(err)?;
+        let mul = |x: faer::sparse::SparseColMatRef<'_, usize, Real>,
+                   y: faer::sparse::SparseColMatRef<'_, usize, Real>| {
+            sparse_sparse_matmul(x, y, 1.0, Par::Seq).map_err(|e| format!("the tied matrix: {e:?}"))
+        };
+        let at = mul(a.as_ref(), t.as_ref())?;
+        mul(tt.as_ref(), at.as_ref())
     }
 
     /// Tᵀ f.
