@@ -712,9 +712,23 @@ fn overhanging_pad_nodes_are_an_error_or_excluded_with_a_warning() {
     );
     let (_, m) = build(&text, &d);
     assert_eq!(m.gaps.len(), 6);
-    assert_eq!(m.warnings.len(), 1);
-    assert_eq!(m.warnings[0].input, "contact[0].unmatched");
-    assert_eq!(m.warnings[0].value, 3.0);
+    // One warning lists the excluded nodes. The only other warnings allowed are the reduction
+    // checks': this test's `n_modes = 6` truncates the pad (34.8 % error at its 18th mode),
+    // which the Craig–Bampton check reports as a warning since the cheap checks landed.
+    let unmatched: Vec<_> = m
+        .warnings
+        .iter()
+        .filter(|w| w.input == "contact[0].unmatched")
+        .collect();
+    assert_eq!(unmatched.len(), 1, "{:?}", m.warnings);
+    assert_eq!(unmatched[0].value, 3.0);
+    assert!(
+        m.warnings
+            .iter()
+            .all(|w| w.input == "contact[0].unmatched" || w.input.starts_with("reduction.checks")),
+        "{:?}",
+        m.warnings
+    );
     let bad = tiny_brake(2, 2, "nodes").replace("p0 = 1.0\n", "p0 = 1.0\nextension = 0.5\n");
     let e = Scene::from_toml_str(&bad, d.clone(), &[])
         .unwrap_err()

@@ -172,10 +172,12 @@ def test_ctrl_c_stops_a_dask_sweep_and_a_shared_cache_builds_once(tmp_path):
         assert len({p["cache_key"] for p in points}) == 1
         assert sum(1 for p in cache.iterdir() if (p / "entry.json").is_file()) == 1
 
-        # Ctrl-C during a sweep of four big-rotor models: every task stops, nothing is stored.
-        values = [0.2, 0.22, 0.24, 0.26]
+        # Ctrl-C during a sweep of forty big-rotor models: every task stops, nothing is stored.
+        # (Four models took 4.3 s on an idle machine, so a SIGINT at 4 s could come after the
+        # sweep's end; forty take over 20 s, and the SIGINT comes at 2 s.)
+        values = [0.2 + 0.005 * i for i in range(40)]
         out, cache = tmp_path / "sweep", tmp_path / "cache"
-        sent = _interrupt_after(4.0)
+        sent = _interrupt_after(2.0)
         with pytest.raises(KeyboardInterrupt):
             squeal.sweep(scene, "components.0.geometry.lz", values, client=client, out=out, cache=cache)
         took = time.perf_counter() - sent["t"]
