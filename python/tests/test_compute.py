@@ -149,3 +149,20 @@ def test_bad_arrays_name_the_array():
         squeal.cea(squeal.Scene.from_arrays(np.eye(2), r.M, r.dofs, toml="[cea]"))
     with pytest.raises(squeal.SceneError, match="model.from"):
         squeal.Scene.from_toml('[model]\nfrom = "arrays"\n')
+
+
+def test_cea_energy_closes_and_sums_per_pair():
+    # CeaResult.energy is cea.json's energy balance (docs/insight.md): per root, net work per
+    # cycle = 2σT (the identity, to 1e-8 as the Rust tests), each pair's feed-in the sum of its
+    # gaps', the kinetic shares summing to 1 with the strain and contact-spring shares.
+    c = squeal.cea(squeal.Scene.from_file(TINY).set("cea", {}))
+    e = c.energy
+    assert e["roots"] and len(e["roots"]) == len(c.eigenvalues)
+    assert e["max_identity_residual"] < 1e-8
+    for r in e["roots"]:
+        assert abs(r["net"] - r["growth"]) <= 1e-8 * max(1.0, abs(r["feed_in_total"]))
+        assert abs(sum(r["feed_in_per_pair"]) - sum(r["feed_in_per_gap"])) <= 1e-12 * max(
+            1.0, sum(abs(x) for x in r["feed_in_per_gap"])
+        )
+        shares = sum(r["kinetic_share"]) + sum(r["strain_share"]) + r["contact_strain_share"]
+        assert abs(shares - 1.0) < 1e-8, shares
