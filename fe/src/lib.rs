@@ -26,7 +26,8 @@ pub use error::FeError;
 pub use loads::{face_areas, nodal_force, pressure_load};
 pub use material::Material;
 pub use modal::{
-    solve_modes, solve_modes_with, FactorKind, ModalOptions, ModalStats, ModalStatus, Modes,
+    shifted, solve_modes, solve_modes_with, FactorKind, ModalOptions, ModalStats, ModalStatus,
+    Modes,
 };
 pub use ordering::{dof_coordinates, nested_dissection, FillOrdering, NestedDissectionOptions};
 pub use squeal_meshes::{Interrupt, Mesh, Real};

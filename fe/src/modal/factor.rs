@@ -37,7 +37,7 @@ pub(crate) struct Factored {
 }
 
 /// K − σM (lower triangle only if `lower`), merging the sorted columns of K and M.
-fn shifted(
+pub fn shifted(
     k: SparseColMatRef<'_, usize, Real>,
     m: SparseColMatRef<'_, usize, Real>,
     sigma: Real,

@@ -16,5 +16,6 @@ mod solve;
 mod spmm;
 mod tall;
 
+pub use factor::shifted;
 pub use options::{FactorKind, ModalOptions, ModalStats, ModalStatus, Modes};
 pub use solve::{solve_modes, solve_modes_with};

@@ -32,7 +32,6 @@ use faer::sparse::linalg::cholesky::{
     SymbolicCholeskyRaw, SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use faer::{Conj, Mat, MatMut, MatRef, Par, Side, Spec};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -267,7 +266,7 @@ impl ShiftedLdlt {
             n,
             detail: e,
         };
-        let a = shifted_lower(k, m, sigma);
+        let a = squeal_fe::shifted(k.as_ref(), m.as_ref(), sigma, true);
         let perm = match points.filter(|p| p.len() == n && n >= 2000) {
             Some(p) => {
                 let xyz: Vec<[Real; 3]> = p.iter().map(|d| d.xyz).collect();
@@ -362,41 +361,4 @@ impl ShiftedLdlt {
             );
         });
     }
-}
-
-/// Lower triangle of K − σM (K, M with full storage and sorted columns).
-fn shifted_lower(k: &Sparse, m: &Sparse, sigma: Real) -> Sparse {
-    let n = k.ncols();
-    let mut ptr = Vec::with_capacity(n + 1);
-    ptr.push(0);
-    let (mut rows, mut vals) = (Vec::new(), Vec::new());
-    for j in 0..n {
-        let (kr, kv) = (k.row_idx_of_col_raw(j), k.val_of_col(j));
-        let (mr, mv) = (m.row_idx_of_col_raw(j), m.val_of_col(j));
-        let (mut p, mut q) = (0, 0);
-        while p < kr.len() || q < mr.len() {
-            let rk = kr.get(p).copied().unwrap_or(usize::MAX);
-            let rm = mr.get(q).copied().unwrap_or(usize::MAX);
-            let (r, v) = if rk == rm {
-                p += 1;
-                q += 1;
-                (rk, kv[p - 1] - sigma * mv[q - 1])
-            } else if rk < rm {
-                p += 1;
-                (rk, kv[p - 1])
-            } else {
-                q += 1;
-                (rm, -sigma * mv[q - 1])
-            };
-            if r >= j {
-                rows.push(r);
-                vals.push(v);
-            }
-        }
-        ptr.push(rows.len());
-    }
-    SparseColMat::new(
-        SymbolicSparseColMat::new_checked(n, n, ptr, None, rows),
-        vals,
-    )
 }
