@@ -141,48 +141,6 @@ pub fn write_feed_in_vtu(
     ))
 }
 
-/// The branches drawn: those in an event, a coupling or unstable from the start (at most 16);
-/// with none, the 8 of largest Re p.
-fn drawn_branches(rep: &SweepReport) -> Vec<&TrackOut> {
-    let mut ids: Vec<usize> = Vec::new();
-    for e in &rep.events {
-        ids.extend(event_tracks(e));
-    }
-    for c in &rep.couplings {
-        ids.push(c.track);
-        ids.extend(c.partner);
-    }
-    ids.extend(
-        rep.tracks
-            .iter()
-            .filter(|t| t.unstable_at_start)
-            .map(|t| t.id),
-    );
-    let mut seen = std::collections::HashSet::new();
-    ids.retain(|i| seen.insert(*i));
-    if ids.is_empty() {
-        let mut by_re: Vec<(usize, Real)> = rep
-            .tracks
-            .iter()
-            .map(|t| {
-                let re = t
-                    .points
-                    .iter()
-                    .map(|p| p.real_part)
-                    .fold(Real::MIN, Real::max);
-                (t.id, re)
-            })
-            .collect();
-        by_re.sort_by(|a, b| b.1.total_cmp(&a.1));
-        ids = by_re.iter().take(8).map(|x| x.0).collect();
-    }
-    ids.truncate(16);
-    ids.iter()
-        .filter_map(|&id| rep.tracks.iter().find(|t| t.id == id))
-        .filter(|t| !t.points.is_empty())
-        .collect()
-}
-
 /// Re p of branch `t` at μ, linearly interpolated between its points.
 fn re_at(t: &TrackOut, mu: Real) -> Option<Real> {
     let p = &t.points;
@@ -200,7 +158,7 @@ fn re_at(t: &TrackOut, mu: Real) -> Option<Real> {
 /// against μ) of the branches of a sweep, coalescences marked in black, veerings in grey.
 /// Returns the stems written.
 pub fn write_mode_coupling(dir: &RunDir, rep: &SweepReport) -> Result<Vec<String>, PipelineError> {
-    let branches = drawn_branches(rep);
+    let branches = super::outputs::drawn_tracks(rep, rep.events.iter().flat_map(event_tracks));
     if branches.is_empty() {
         return Ok(Vec::new());
     }

@@ -1,6 +1,6 @@
 //! Files of `squeal cea`: mode shapes as VTU, tangent matrices as OP4 and punch, figures.
 
-use super::sweep::SweepReport;
+use super::sweep::{SweepReport, TrackOut};
 use super::tangents::Linearisation;
 use crate::error::PipelineError;
 use crate::figures::{root_locus, stability_map, write_figure};
@@ -282,11 +282,14 @@ pub fn write_stability_map(
     Ok(drawn.map(|_| stem.display().to_string()))
 }
 
-/// `root_locus.{png,svg}` (Re p vs frequency) and `root_locus_mu.{png,svg}` (Re p vs μ) of the
-/// tracks that take part in a coupling (those with a critical μ, their partners, and those
-/// unstable from the start), at most 16; with none, the 8 tracks of largest Re p.
-pub fn write_root_locus(dir: &RunDir, rep: &SweepReport) -> Result<Vec<String>, PipelineError> {
-    let mut ids: Vec<usize> = Vec::new();
+/// The tracks a sweep figure draws: `first` (e.g. the tracks of the sweep's events), then those
+/// in a coupling (a critical μ and its partner) and those unstable from the start, each once,
+/// at most 16; with none, the 8 tracks of largest Re p. Tracks without points are left out.
+pub(super) fn drawn_tracks(
+    rep: &SweepReport,
+    first: impl IntoIterator<Item = usize>,
+) -> Vec<&TrackOut> {
+    let mut ids: Vec<usize> = first.into_iter().collect();
     for c in &rep.couplings {
         ids.push(c.track);
         ids.extend(c.partner);
@@ -304,23 +307,30 @@ pub fn write_root_locus(dir: &RunDir, rep: &SweepReport) -> Result<Vec<String>, 
             .tracks
             .iter()
             .map(|t| {
-                (
-                    t.id,
-                    t.points
-                        .iter()
-                        .map(|p| p.real_part)
-                        .fold(f64::MIN, f64::max),
-                )
+                let re = t
+                    .points
+                    .iter()
+                    .map(|p| p.real_part)
+                    .fold(f64::MIN, f64::max);
+                (t.id, re)
             })
             .collect();
         by_re.sort_by(|a, b| b.1.total_cmp(&a.1));
         ids = by_re.iter().take(8).map(|x| x.0).collect();
     }
     ids.truncate(16);
-    let tracks: Vec<LocusTrack> = ids
-        .iter()
+    ids.iter()
         .filter_map(|&id| rep.tracks.iter().find(|t| t.id == id))
         .filter(|t| !t.points.is_empty())
+        .collect()
+}
+
+/// `root_locus.{png,svg}` (Re p vs frequency) and `root_locus_mu.{png,svg}` (Re p vs μ) of the
+/// tracks that take part in a coupling (those with a critical μ, their partners, and those
+/// unstable from the start), at most 16; with none, the 8 tracks of largest Re p.
+pub fn write_root_locus(dir: &RunDir, rep: &SweepReport) -> Result<Vec<String>, PipelineError> {
+    let tracks: Vec<LocusTrack> = drawn_tracks(rep, [])
+        .into_iter()
         .map(|t| {
             let f0 = t.points[0].frequency_hz;
             (
