@@ -292,3 +292,25 @@ fn the_checker_finds_imports_and_circles() {
     g.insert(vec!["b".to_string()], BTreeSet::new());
     assert!(cycle(&g).is_none());
 }
+
+/// The verdict is pure (issue 21, item 2): the files under `src/verdict/` name nothing of the
+/// crate outside that folder (no scene, sink, run folder or pipeline error) and touch no file.
+#[test]
+fn the_verdict_imports_nothing_above_it() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/verdict");
+    let mut all = BTreeMap::new();
+    modules(&dir, &Vec::new(), &mut all);
+    assert!(all.len() > 5, "{} verdict modules found", all.len());
+    let forbidden = ["Sink", "Scene", "RunDir", "PipelineError", "fs"];
+    let mut bad = Vec::new();
+    for p in all.values() {
+        let text = std::fs::read_to_string(p).unwrap();
+        for path in paths(&code(&text)) {
+            let outside = path[0] == "crate" && path.get(1).is_none_or(|s| s != "verdict");
+            if outside || path.iter().any(|s| forbidden.contains(&s.as_str())) {
+                bad.push(format!("{}: {}", p.display(), path.join("::")));
+            }
+        }
+    }
+    assert!(bad.is_empty(), "the verdict imports from above it: {bad:?}");
+}

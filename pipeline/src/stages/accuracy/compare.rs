@@ -2,7 +2,7 @@
 //! frequency of the response.
 
 use super::drive::RunOutcome;
-use crate::stages::transient::verdict;
+use crate::verdict;
 use serde::Serialize;
 
 type Real = f64;

@@ -105,7 +105,7 @@ pub struct TransientIndicators {
     pub status: squeal_solver::bdf::Status,
     pub squeal: bool,
     /// `squeal`, `no_squeal`, or `unresolved` with its reasons.
-    pub verdict: crate::stages::transient::guard::VerdictState,
+    pub verdict: crate::verdict::guard::VerdictState,
     pub growth_rate_per_s: Option<Real>,
     pub dominant_frequency_hz: Option<Real>,
     pub steps: u64,

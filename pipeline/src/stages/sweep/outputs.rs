@@ -149,7 +149,7 @@ pub fn markdown(rep: &SweepReport) -> String {
         if let Some(t) = p.transient.as_ref().filter(|t| !t.status.is_success()) {
             note.push(format!(
                 "transient: {}",
-                crate::stages::transient::status_text(&t.status)
+                crate::verdict::guard::status_text(&t.status)
             ));
         }
         if let Some(n) = &p.cache_note {
