@@ -6,7 +6,7 @@ pub use squeal_solver::bsql::EventRestart;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-type Real = f64;
+use squeal_solver::Real;
 
 fn scene_err(field: &str, message: String) -> PipelineError {
     PipelineError::Scene {

@@ -5,7 +5,7 @@ use super::drive::RunOutcome;
 use crate::verdict;
 use serde::Serialize;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// Errors of one run relative to the reference.
 #[derive(Debug, Clone, Default, Serialize)]

@@ -28,7 +28,7 @@ use std::path::Path;
 use std::time::Instant;
 pub use study::{CaseSpec, FigureSpec, StudySpec};
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// What the command line adds.
 #[derive(Debug, Clone, Default)]

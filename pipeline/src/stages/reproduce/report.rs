@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::Path;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// One of the paper's findings and whether this run shows it.
 #[derive(Debug, Clone, Serialize)]

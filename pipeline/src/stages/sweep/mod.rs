@@ -24,7 +24,7 @@ use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// Exit status of `squeal sweep` when some values failed and the others' results are written
 /// (0: every value ran; 1: an error stopped the sweep, or every value failed).

@@ -8,7 +8,7 @@ use crate::figures::{write_figure, Figure, Series, SeriesStyle};
 use crate::output::RunDir;
 use std::fmt::Write as _;
 
-type Real = f64;
+use squeal_solver::Real;
 
 const RED: [u8; 3] = [214, 39, 40];
 const BLUE: [u8; 3] = [31, 119, 180];
