@@ -74,6 +74,12 @@ def cea(
     cache: Optional[_Path] = None,
     progress: _Progress = None,
 ) -> Dict[str, Any]: ...
+def limit_cycle(
+    scene: Scene,
+    workdir: _Path,
+    cache: Optional[_Path] = None,
+    progress: _Progress = None,
+) -> Dict[str, Any]: ...
 def compare(
     a: str,
     b: str,

@@ -259,6 +259,46 @@ def cea(
     return CeaResult(**d)
 
 
+@dataclass
+class LimitCycleResult:
+    """Limit cycles of the band-limited model by harmonic balance (``squeal limit-cycle``),
+    one per unstable root in the band, most unstable first."""
+
+    frequencies_hz: np.ndarray
+    """The cycle's frequency per mode (at the operating point when reached)."""
+    peak_normal_velocity: np.ndarray
+    """Peak over the gaps and the period of the rotor's normal velocity on the friction face."""
+    rms_normal_velocity: np.ndarray
+    """Its RMS over the gaps and the period."""
+    reached: np.ndarray
+    """Boolean per mode: the branch reached the operating point with its harmonics converged."""
+    report: Dict[str, Any]
+    """``limit_cycle.json``'s content (``band_model``: kept/removed roots and the error
+    estimate; ``modes``: root, Hopf point, branch, harmonics, Floquet stability)."""
+    warnings: List[str]
+
+
+def limit_cycle(
+    scene: Scene,
+    *,
+    cache: Optional[PathLike] = None,
+    workdir: Optional[PathLike] = None,
+    progress: Optional[ProgressCallback] = None,
+) -> LimitCycleResult:
+    """Limit cycles of the scene's band-limited model (``[transient] band_cutoff``) by harmonic
+    balance with AFT, continued in μ from each unstable in-band root's Hopf point, as
+    ``squeal limit-cycle`` (docs/limit-cycle.md)."""
+    f = "squeal.limit_cycle"
+    _args.scene(f, scene)
+    cache = _args.path(f, "cache", cache)
+    workdir = _args.path(f, "workdir", workdir)
+    _args.callback(f, "progress", progress)
+    with _Workdir(workdir) as w:
+        d = _squeal.limit_cycle(scene, w, cache=_fs(cache), progress=progress)
+    _warn(d["warnings"])
+    return LimitCycleResult(**d)
+
+
 EXIT_BEYOND_TOLERANCE = 4
 """``squeal compare``'s exit status when a check fails (``CompareResult.exit_code``)."""
 

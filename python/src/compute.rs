@@ -418,3 +418,42 @@ pub fn compare<'py>(
     })?;
     json_to_py(py, &report)
 }
+
+/// The limit cycles of the band-limited model (`squeal limit-cycle`): `report` is
+/// `limit_cycle.json`'s body (band model, per unstable mode the cycle).
+#[pyfunction]
+#[pyo3(signature = (scene, workdir, cache=None, progress=None))]
+pub fn limit_cycle<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    workdir: PathBuf,
+    cache: Option<PathBuf>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let hook = Hook::new(crate::args::callable("squeal", "progress", progress, py)?);
+    let s = &scene.inner;
+    let (c, m) = run(py, &hook, |h| {
+        let (m, _) = build(s, &workdir, cache.as_ref(), h)?;
+        squeal_pipeline::stages::limit_cycle::compute(s, &m, &h.progress).map(|c| (c, m))
+    })?;
+    let d = PyDict::new(py);
+    d.set_item(
+        "frequencies_hz",
+        Array1::from_iter(c.modes.iter().map(|x| x.frequency_hz)).into_pyarray(py),
+    )?;
+    d.set_item(
+        "peak_normal_velocity",
+        Array1::from_iter(c.modes.iter().map(|x| x.peak_normal_velocity)).into_pyarray(py),
+    )?;
+    d.set_item(
+        "rms_normal_velocity",
+        Array1::from_iter(c.modes.iter().map(|x| x.rms_normal_velocity)).into_pyarray(py),
+    )?;
+    d.set_item(
+        "reached",
+        Array1::from_iter(c.modes.iter().map(|x| x.reached)).into_pyarray(py),
+    )?;
+    d.set_item("report", json_to_py(py, &c)?)?;
+    d.set_item("warnings", warn_list(&m.warnings))?;
+    Ok(d)
+}

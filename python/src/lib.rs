@@ -26,6 +26,7 @@ fn _squeal(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compute::reduce, m)?)?;
     m.add_function(wrap_pyfunction!(compute::transient, m)?)?;
     m.add_function(wrap_pyfunction!(compute::cea, m)?)?;
+    m.add_function(wrap_pyfunction!(compute::limit_cycle, m)?)?;
     m.add_function(wrap_pyfunction!(compute::sweep_value, m)?)?;
     m.add_function(wrap_pyfunction!(compute::model_key, m)?)?;
     m.add_function(wrap_pyfunction!(compute::compare, m)?)?;
