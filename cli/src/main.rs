@@ -107,6 +107,15 @@ enum Verb {
         #[command(flatten)]
         cache: CacheArgs,
     },
+    /// Limit cycles by harmonic balance on the band-limited model (`[transient] band_cutoff`),
+    /// continued in μ from each unstable in-band root's Hopf point: limit_cycle.json (per
+    /// unstable mode the cycle's frequency and the rotor face's normal velocity, peak and RMS).
+    LimitCycle {
+        #[command(flatten)]
+        run: RunArgs,
+        #[command(flatten)]
+        cache: CacheArgs,
+    },
     /// Design iterations: run CEA and/or the transient for each value of one scene parameter,
     /// rebuilding the reduced model only when the value changes it (model cache): per-value
     /// folders, sweep.json, sweep.md, sweep_indicators.{png,svg}, sweep_frequencies.{png,svg}.
@@ -330,6 +339,35 @@ fn run(cli: Cli) -> Result<ExitCode> {
                     r.status
                 );
             }
+        }
+        Verb::LimitCycle { run, cache } => {
+            let scene = Scene::load(&run.scene.scene, &run.scene.set)?;
+            let dir = run_dir(&run)?;
+            let cache = cache.dir().map(stages::model::ModelCache::new);
+            let r = stages::limit_cycle::run(&scene, &dir, progress, cache.as_ref())?;
+            let mut lines = format!(
+                "{} unstable mode(s) in the band; {}",
+                r.result.modes.len(),
+                r.result.band_model.line()
+            );
+            for m in &r.result.modes {
+                lines.push_str(&format!(
+                    "\n  root {:.2} Hz (Re p {:+.2} /s): {} {:.2} Hz, face normal velocity peak \
+                     {:.4e}, rms {:.4e}, stable {:?}",
+                    m.root_frequency_hz,
+                    m.root_real_part,
+                    if m.reached {
+                        "limit cycle"
+                    } else {
+                        "NOT reached, last point"
+                    },
+                    m.frequency_hz,
+                    m.peak_normal_velocity,
+                    m.rms_normal_velocity,
+                    m.stable
+                ));
+            }
+            progress.info(lines);
         }
         Verb::Cea {
             run,

@@ -88,6 +88,10 @@ pub struct Scene {
     /// of [`AccuracySpec`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub accuracy: Option<AccuracySpec>,
+    /// Harmonic-balance options of `squeal limit-cycle` (default: absent = the defaults of
+    /// [`squeal_solver::hb::HbOptions`], the velocity scale the largest sliding speed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub limit_cycle: Option<squeal_solver::hb::HbOptions>,
     /// Folder that relative paths in the scene are resolved against (not read from the file).
     #[serde(skip)]
     pub base_dir: PathBuf,
@@ -579,6 +583,12 @@ impl Scene {
         self.output.validate()?;
         if let Some(a) = &self.accuracy {
             a.validate()?;
+        }
+        if let Some(l) = &self.limit_cycle {
+            l.validate().map_err(|e| PipelineError::Scene {
+                field: "limit_cycle".into(),
+                message: e.to_string(),
+            })?;
         }
         Ok(())
     }

@@ -270,6 +270,19 @@ pub struct TransientSpec {
     pub collapse_factor: Real,
     /// Consecutive steps below h_max / `collapse_factor` that stop the run (default: 200).
     pub collapse_steps: usize,
+    /// Integrate the band-limited model instead of the reduced model: its contact-linearised
+    /// roots up to `band_cutoff` × the band top kept as states, the rest replaced by their
+    /// static response (exact at the gap DOFs), the contact law exact
+    /// (`squeal_solver::condense`; docs/limit-cycle.md). Unstable roots above the cut-off
+    /// (interface flutter) are gone by construction, and reported (default: false).
+    pub band_limited: bool,
+    /// Cut-off of the band-limited model, a multiple of the band top (the model's
+    /// `frequency_of_interest_hz`) (default: 2.0; >= 1).
+    pub band_cutoff: Real,
+    /// Largest admissible error estimate of the band-limited model over the band (relative
+    /// transfer-function error at the contact DOFs); a larger estimate refuses the run, naming
+    /// the lowest removed root to raise the cut-off past (default: 0.01).
+    pub band_tolerance: Real,
 }
 
 /// Time integrator of `squeal transient` (defined with the verdict, whose guard models each
@@ -302,6 +315,9 @@ impl Default for TransientSpec {
             event_restart: EventRestart::Taylor2,
             collapse_factor: 50.0,
             collapse_steps: 200,
+            band_limited: false,
+            band_cutoff: 2.0,
+            band_tolerance: 0.01,
         }
     }
 }
@@ -375,6 +391,25 @@ impl TransientSpec {
             return Err(scene_err(
                 "transient.collapse_steps",
                 "0 must be >= 1".into(),
+            ));
+        }
+        if !(self.band_cutoff.is_finite() && self.band_cutoff >= 1.0) {
+            return Err(scene_err(
+                "transient.band_cutoff",
+                format!(
+                    "{} must be finite and >= 1 (a multiple of the band top; below 1 it would \
+                     remove in-band roots)",
+                    self.band_cutoff
+                ),
+            ));
+        }
+        if !(self.band_tolerance.is_finite()
+            && self.band_tolerance > 0.0
+            && self.band_tolerance < 1.0)
+        {
+            return Err(scene_err(
+                "transient.band_tolerance",
+                format!("{} must be in (0, 1)", self.band_tolerance),
             ));
         }
         if !(0.0..=1.0).contains(&self.rho_inf) {

@@ -3,6 +3,7 @@
 pub mod accuracy;
 pub mod cea;
 pub mod compare;
+pub mod limit_cycle;
 pub mod mesh;
 pub mod model;
 pub mod modes;

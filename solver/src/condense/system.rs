@@ -243,7 +243,13 @@ impl<F: FrictionForces> BandSystem<F> {
                 probe[(a, b)] = cf0[(a, b)];
             }
             for k in 0..ng {
-                probe[(a, n_c + k)] = d0[(a, k)] + g_c[(k, a)];
+                // A unilateral row's normal pair enters the remainder when it opens.
+                let open = if contact.open_force[k].is_some() {
+                    1.0
+                } else {
+                    0.0
+                };
+                probe[(a, n_c + k)] = d0[(a, k)] + open * g_c[(k, a)];
             }
         }
         let off_span = &probe - &pm * (&p_pinv * &probe);

@@ -185,3 +185,22 @@ pub(crate) fn find_hopf<F: FrictionForces>(
         z: lin.z,
     }))
 }
+
+/// The roots of the band-limited model linearised at its own equilibrium at time `t` (after
+/// the load ramp) with the friction scaled by `s`: A_lin(s)'s eigenvalues, both of each pair
+/// (see the module's derivation). At s = 1 these are the model's CEA roots, found through its
+/// equilibrium and outputs rather than read from the condensation; the friction scale is
+/// restored on return.
+///
+/// # Errors
+/// The equilibrium's Newton or a callback failing; the eigendecomposition failing.
+pub fn linearised_roots<F: FrictionForces>(
+    sys: &mut BandSystem<F>,
+    t: Real,
+    s: Real,
+) -> Result<Vec<Cplx>, SolverError> {
+    let before = sys.friction_scale();
+    let l = linearise(sys, t, s);
+    sys.set_friction_scale(before);
+    Ok(eig(&l?.a)?.0)
+}

@@ -28,6 +28,7 @@
 //!   integrals, counters and contact monitor, and its result covers the whole run — the
 //!   uninterrupted run's, bit for bit.
 
+pub mod band;
 pub mod collect;
 pub mod driver;
 pub mod effects;
@@ -35,6 +36,7 @@ pub mod export;
 pub mod files;
 pub mod options;
 pub mod prepare;
+pub mod recover;
 pub mod restart;
 pub mod result;
 pub mod resume;

@@ -68,6 +68,22 @@ pub fn prepare<'a>(
             message: "generalized_alpha has no restart; use bdf".into(),
         });
     }
+    if spec.band_limited && spec.integrator == Integrator::GeneralizedAlpha {
+        return Err(PipelineError::Scene {
+            field: "transient.band_limited".into(),
+            message:
+                "the band-limited model runs on the BDF integrator (transient.integrator = \"bdf\")"
+                    .into(),
+        });
+    }
+    if spec.band_limited && spec.restart.is_some() {
+        return Err(PipelineError::Scene {
+            field: "transient.restart".into(),
+            message: "a band-limited run writes no restart file and continues none; \
+                      run it from its start"
+                .into(),
+        });
+    }
     let problem = system::problem(scene, model)?;
     if spec.integrator == Integrator::GeneralizedAlpha && !problem.compliance.is_empty() {
         let i = scene

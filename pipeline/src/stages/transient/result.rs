@@ -94,6 +94,10 @@ pub struct TransientResult {
     /// The BDF's steps after the load ramp by order, whose mean numerical decay the guard
     /// weighs (None for generalized-α).
     pub steps_by_order_after_ramp: Option<StepsByOrder>,
+    /// The band-limited model the run integrated (`transient.band_limited`): the cut-off, what
+    /// was kept and removed (count, the largest removed unstable root), the error estimate.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub band_limited: Option<super::band::BandReport>,
     /// What the contact did: tensile gap-steps, the first separation, the smallest p_n.
     pub contact: ContactValidity,
     /// Separation events (`[[contact]] separation = true`): openings, closings, impact

@@ -8,6 +8,7 @@
 //!   roots of a CEA at the steady state when the scene asks for one;
 //! - result: the [`TransientResult`].
 
+use super::band::{self, BandReport};
 use super::collect::contact::ContactMonitor;
 use super::collect::face::FaceMonitor;
 use super::collect::orders::OrderTally;
@@ -18,7 +19,7 @@ use super::files::history::Recorder;
 use super::prepare::Prepared;
 use super::result::{TransientOptions, TransientResult, VerdictCeaResult};
 use super::sink::Sink;
-use super::start::{start_state, Origin};
+use super::start::{start_state, Origin, SteadySummary};
 use super::stepper::{IntegratorStats, Method, Stepper};
 use super::system::{event_mask, separation_mask};
 use crate::error::PipelineError;
@@ -70,7 +71,7 @@ impl Prepared<'_> {
         opts: &TransientOptions,
         sinks: &mut [&mut dyn Sink],
     ) -> Result<TransientResult, PipelineError> {
-        let (mut stepper, origin) = self.start()?;
+        let (mut stepper, origin, band) = self.start(progress)?;
         let mut own = self.own(origin, opts)?;
         let continued = self
             .resume
@@ -124,13 +125,43 @@ impl Prepared<'_> {
             &self.settings(own.origin.t_start, opts, &own),
             roots,
         );
-        Ok(self.result(&stepper, own, outcome, decision, cea))
+        let mut result = self.result(&stepper, own, outcome, decision, cea);
+        result.band_limited = band;
+        Ok(result)
     }
 
     /// The stepper at the start (the restart's state, or the steady sliding state and
-    /// consistent y'(0)), with separation on when the scene asks, and the run's origin.
-    fn start(&self) -> Result<(Stepper, Origin), PipelineError> {
+    /// consistent y'(0)), with separation on when the scene asks, and the run's origin; on
+    /// the band-limited model (`transient.band_limited`) its own steady state and initial
+    /// values, and what the condensation removed (also in the run's log).
+    fn start(
+        &self,
+        progress: &Progress,
+    ) -> Result<(Stepper, Origin, Option<BandReport>), PipelineError> {
         let (spec, model) = (&self.spec, self.model);
+        if spec.band_limited {
+            let b = band::build(self.scene, model, &self.problem)?;
+            progress.info(b.report.line());
+            let (st, residual) = Stepper::band(&self.problem, &model.gaps, spec, b.system)?;
+            let origin = Origin {
+                t_start: st.t(),
+                steady_state: Some(SteadySummary {
+                    iterations: st_band_iterations(&st),
+                    residual_norm: residual,
+                }),
+                initial_conditions: None,
+            };
+            if spec.tfinal <= origin.t_start {
+                return Err(PipelineError::Scene {
+                    field: "transient.tfinal".into(),
+                    message: format!(
+                        "{} is not after the start time {}",
+                        spec.tfinal, origin.t_start
+                    ),
+                });
+            }
+            return Ok((st, origin, Some(b.report)));
+        }
         let resumed = self.resume.as_ref().and_then(|r| r.checkpoint());
         let (mut stepper, origin) = match &self.resume {
             Some(r) => {
@@ -193,7 +224,7 @@ impl Prepared<'_> {
                 ),
             });
         }
-        Ok((stepper, origin))
+        Ok((stepper, origin, None))
     }
 
     /// The run's own sinks, continuing a resumed run's records.
@@ -301,6 +332,7 @@ impl Prepared<'_> {
             restarted_from: self.resume.as_ref().map(|r| r.path.clone()),
             step_bound: self.bound.clone(),
             steps_by_order_after_ramp: own.orders.result,
+            band_limited: None,
             contact: own.contact.validity,
             separation,
             limit_cycle: d.limit_cycle,
@@ -352,5 +384,13 @@ impl Prepared<'_> {
                 error: Some(e.to_string()),
             },
         }
+    }
+}
+
+/// Newton iterations of the band-limited model's steady state and initial values.
+fn st_band_iterations(st: &Stepper) -> usize {
+    match st {
+        Stepper::Band { sys, .. } => sys.stats().algebraic_iterations as usize,
+        _ => 0,
     }
 }

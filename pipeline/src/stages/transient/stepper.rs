@@ -3,6 +3,7 @@
 //! checkpoints.
 
 use super::options::{bdf_options, galpha_options};
+use super::recover::{BandStart, FullView};
 use super::restart::RestartFile;
 use super::system::{solver_err, GapFriction, Problem};
 use crate::error::PipelineError;
@@ -13,6 +14,7 @@ use squeal_solver::bdf::{Bdf, BdfState, BdfStats, Status};
 use squeal_solver::bsql::{
     BsqlStats, BsqlSystem, EventRestart, Unilateral, UnilateralOptions, UnilateralStats,
 };
+use squeal_solver::condense::BandSystem;
 use squeal_solver::galpha::{Galpha, GalphaStats, GalphaSystem};
 use squeal_solver::Real;
 use squeal_solver::SolverError;
@@ -71,6 +73,14 @@ pub enum Stepper {
         ga: Galpha,
         sys: GalphaSystem<GapFriction>,
         obs: BsqlSystem<GapFriction>,
+    },
+    /// BDF on the band-limited model (`transient.band_limited`); a BSQL system observes the
+    /// full model's variables recovered from it.
+    Band {
+        bdf: Bdf,
+        sys: BandSystem<GapFriction>,
+        obs: BsqlSystem<GapFriction>,
+        full: FullView,
     },
 }
 
@@ -165,6 +175,27 @@ impl Stepper {
         }
     }
 
+    /// BDF on the band-limited model `sys` ([`BandStart`]); returns the largest residual of
+    /// its initial values too.
+    pub fn band(
+        problem: &Problem,
+        gaps: &GapSet,
+        spec: &TransientSpec,
+        sys: BandSystem<GapFriction>,
+    ) -> Result<(Self, Real), PipelineError> {
+        let b = BandStart::new(problem, gaps, spec, sys)?;
+        let (bdf, sys, obs, full) = (b.bdf, b.sys, b.obs, b.full);
+        Ok((
+            Stepper::Band {
+                bdf,
+                sys,
+                obs,
+                full,
+            },
+            b.residual,
+        ))
+    }
+
     /// A BDF integrator continuing a restart file's state (`path`: the file, named in errors).
     ///
     /// `stats`: the BSQL counters of the run that wrote it (from its checkpoint), restored
@@ -225,6 +256,10 @@ impl Stepper {
                 );
                 Ok(())
             }
+            Stepper::Band { .. } => Err(PipelineError::Scene {
+                field: "contact[].separation".into(),
+                message: "the band-limited model opens compliant gaps without events".into(),
+            }),
             Stepper::GeneralizedAlpha { .. } => Err(PipelineError::Scene {
                 field: "contact[].separation".into(),
                 message: "separation events need the BDF integrator \
@@ -245,7 +280,7 @@ impl Stepper {
     /// Which integrator.
     pub fn integrator(&self) -> Integrator {
         match self {
-            Stepper::Bdf { .. } => Integrator::Bdf,
+            Stepper::Bdf { .. } | Stepper::Band { .. } => Integrator::Bdf,
             Stepper::GeneralizedAlpha { .. } => Integrator::GeneralizedAlpha,
         }
     }
@@ -253,7 +288,7 @@ impl Stepper {
     /// Time of the solution in `y()`.
     pub fn t(&self) -> Real {
         match self {
-            Stepper::Bdf { bdf, .. } => bdf.t(),
+            Stepper::Bdf { bdf, .. } | Stepper::Band { bdf, .. } => bdf.t(),
             Stepper::GeneralizedAlpha { ga, .. } => ga.t(),
         }
     }
@@ -262,6 +297,7 @@ impl Stepper {
     pub fn y(&self) -> &[Real] {
         match self {
             Stepper::Bdf { bdf, .. } => bdf.y(),
+            Stepper::Band { full, .. } => &full.y,
             Stepper::GeneralizedAlpha { ga, .. } => ga.y(),
         }
     }
@@ -270,6 +306,7 @@ impl Stepper {
     pub fn yp(&self) -> &[Real] {
         match self {
             Stepper::Bdf { bdf, .. } => bdf.yp(),
+            Stepper::Band { full, .. } => &full.yp,
             Stepper::GeneralizedAlpha { ga, .. } => ga.yp(),
         }
     }
@@ -277,7 +314,9 @@ impl Stepper {
     /// Step size of the next step, and the BDF order (2 for generalized-α).
     pub fn h_order(&self) -> (Real, usize) {
         match self {
-            Stepper::Bdf { bdf, .. } => (bdf.state().h, bdf.state().order),
+            Stepper::Bdf { bdf, .. } | Stepper::Band { bdf, .. } => {
+                (bdf.state().h, bdf.state().order)
+            }
             Stepper::GeneralizedAlpha { ga, .. } => (ga.h(), 2),
         }
     }
@@ -286,14 +325,17 @@ impl Stepper {
     pub fn bdf_state(&self) -> Option<&BdfState> {
         match self {
             Stepper::Bdf { bdf, .. } => Some(bdf.state()),
-            Stepper::GeneralizedAlpha { .. } => None,
+            // The band state is not the reduced model's: no restart file.
+            Stepper::Band { .. } | Stepper::GeneralizedAlpha { .. } => None,
         }
     }
 
     /// The BDF's accepted steps by order so far (None for generalized-α).
     pub fn order_histogram(&self) -> Option<&[u64]> {
         match self {
-            Stepper::Bdf { bdf, .. } => Some(&bdf.stats().order_histogram),
+            Stepper::Bdf { bdf, .. } | Stepper::Band { bdf, .. } => {
+                Some(&bdf.stats().order_histogram)
+            }
             Stepper::GeneralizedAlpha { .. } => None,
         }
     }
@@ -306,6 +348,11 @@ impl Stepper {
                 bsql: sys.stats().clone(),
                 separation: uni.as_ref().map(|u| u.stats().clone()),
             },
+            Stepper::Band { bdf, obs, .. } => IntegratorStats::Bdf {
+                bdf: bdf.stats().clone(),
+                bsql: obs.stats().clone(),
+                separation: None,
+            },
             Stepper::GeneralizedAlpha { ga, .. } => IntegratorStats::GeneralizedAlpha {
                 galpha: ga.stats().clone(),
             },
@@ -316,7 +363,7 @@ impl Stepper {
     pub(super) fn observer(&mut self) -> &mut BsqlSystem<GapFriction> {
         match self {
             Stepper::Bdf { sys, .. } => sys,
-            Stepper::GeneralizedAlpha { obs, .. } => obs,
+            Stepper::GeneralizedAlpha { obs, .. } | Stepper::Band { obs, .. } => obs,
         }
     }
 
@@ -339,6 +386,12 @@ impl Stepper {
             Stepper::GeneralizedAlpha { ga, sys, obs } => {
                 ga.step_to(sys, tout, |_, t, y, yp| on_step(obs, t, y, yp))
             }
+            Stepper::Band {
+                bdf,
+                sys,
+                obs,
+                full,
+            } => full.step_to(bdf, sys, obs, tout, on_step),
         }
     }
 }
