@@ -198,7 +198,7 @@ pub fn parameters(scene: &Scene, model: &ReducedModel) -> (Vec<Parameter>, Vec<S
                             component: n.clone(),
                         },
                         damping.ge.get(n).copied().unwrap_or(0.0),
-                        0.01,
+                        0.1,
                         0.0,
                         inf,
                         false,

@@ -39,8 +39,11 @@ pub const STABLE_ROOTS: usize = 10;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Reach {
-    /// θ + Δθ is in [lower, upper].
+    /// θ + Δθ is in [lower, upper] and |Δθ| ≤ scale.
     Reachable,
+    /// θ + Δθ is in range but |Δθ| > scale (more than the parameter's own size, or its
+    /// typical size at 0): far beyond where the first-order estimate can be trusted.
+    BeyondFirstOrder,
     /// θ + Δθ is outside the physical range (e.g. a negative μ or modulus).
     OutsideRange,
     /// ∂Re p/∂θ is zero (or below 1e-12 |p| per unit scale): not reachable to first order.
@@ -214,6 +217,7 @@ fn entry(
     let status = match at {
         None => Reach::ZeroDerivative,
         Some(v) if v < param.lower || v > param.upper => Reach::OutsideRange,
+        Some(v) if (v - param.value).abs() > param.scale => Reach::BeyondFirstOrder,
         Some(_) => Reach::Reachable,
     };
     ParamSensitivity {
@@ -254,6 +258,7 @@ pub fn write_table(dir: &RunDir, s: &SensitivityOut) -> Result<Option<String>, P
                 match p.status {
                     Reach::Reachable => "reachable",
                     Reach::OutsideRange => "outside_range",
+                    Reach::BeyondFirstOrder => "beyond_first_order",
                     Reach::ZeroDerivative => "zero_derivative",
                 }
             ));
