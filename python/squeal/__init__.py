@@ -20,6 +20,7 @@ from __future__ import annotations
 from ._squeal import (
     Cancelled,
     InputError,
+    InputFileNotFound,
     MeshError,
     ModelError,
     OutputError,
@@ -49,6 +50,7 @@ __all__ = [
     "CeaResult",
     "CompareResult",
     "InputError",
+    "InputFileNotFound",
     "MeshError",
     "ModelError",
     "ModesResult",
