@@ -491,7 +491,7 @@ pub fn matrices_at(
                 checks: Vec::new(),
                 components: Vec::new(),
                 recovery: Vec::new(),
-                source: model.source.clone(),
+                source: model.source,
                 warnings: Vec::new(),
             };
             problem.b = damping_matrix(scene, &light)?;
