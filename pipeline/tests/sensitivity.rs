@@ -95,7 +95,13 @@ type Check = (String, bool, f64, f64);
 /// Runs the CEA with sensitivities on `scene`, then the finite-difference reference of every
 /// parameter (central, relative step 1e-4; with `richardson` > 0 Richardson-extrapolated
 /// central differences of relative steps `richardson` and twice it); returns the checks.
-fn check_all(scene: &Scene, dir: &std::path::Path, roots: usize, richardson: f64) -> Vec<Check> {
+fn check_all(
+    scene: &Scene,
+    dir: &std::path::Path,
+    roots: usize,
+    richardson: f64,
+    only: fn(&ParamKind) -> bool,
+) -> Vec<Check> {
     let run = RunDir::create(&dir.join("run")).unwrap();
     let m = model::build(scene, &run, &Progress::quiet()).unwrap();
     let t0 = std::time::Instant::now();
@@ -144,7 +150,7 @@ fn check_all(scene: &Scene, dir: &std::path::Path, roots: usize, richardson: f64
     let mut out = Vec::new();
     let mut quiet = scene.clone();
     quiet.set("cea.sensitivity", "false").unwrap();
-    for param in &s.parameters {
+    for param in s.parameters.iter().filter(|p| only(&p.kind)) {
         let h = if richardson > 0.0 { richardson } else { 1e-4 } * param.scale;
         let side = |v: f64| {
             let mut sc = quiet.clone();
@@ -224,7 +230,7 @@ fn tiny_brake_sensitivities_agree_with_finite_differences() {
         );
     let text = format!("{text}\n[cea]\nmax_frequency_hz = 2000.0\n");
     let s = Scene::from_toml_str(&text, d.clone(), &[]).unwrap();
-    let checks = check_all(&s, &d, 4, 0.0);
+    let checks = check_all(&s, &d, 4, 0.0, |_| true);
     let names: Vec<&str> = checks.iter().map(|c| c.0.as_str()).collect();
     for want in [
         "friction.law.mu0",
@@ -245,6 +251,28 @@ fn tiny_brake_sensitivities_agree_with_finite_differences() {
     }
 }
 
+/// The tiny brake with rigid contact (the paper's constraint rows G and the tangent D in the
+/// bordered problem, so ∂D/∂θ enters through `Gᵀ − D` and the multipliers' adjoint χ): the
+/// law's coefficients and the rotor speed agree with the re-solved roots to 1e-6 relative.
+#[test]
+fn tiny_brake_rigid_contact_sensitivities_agree_with_finite_differences() {
+    let d = tmp("tiny-rigid");
+    let text = std::fs::read_to_string(root().join("examples/transient/tiny-brake.toml")).unwrap();
+    let text = format!("{text}\n[cea]\nmax_frequency_hz = 2000.0\n");
+    let s = Scene::from_toml_str(&text, d.clone(), &[]).unwrap();
+    let checks = check_all(&s, &d, 4, 0.0, |k| {
+        matches!(
+            k,
+            ParamKind::FrictionLaw { .. } | ParamKind::BrakePressure | ParamKind::RotorSpeed
+        )
+    });
+    assert_eq!(checks.len(), 4, "mu0, slope, pmax, rpm");
+    for (name, _, worst, mag) in &checks {
+        eprintln!("rigid {name}: worst relative difference {worst:.2e} (|dp| {mag:.3e})");
+        assert!(*worst <= 1e-6, "{name}: {worst:.2e}");
+    }
+}
+
 /// The study brake (`examples/sample-brake/base.toml`, meshed with gmsh, so ignored in CI):
 /// the same check on its three most unstable roots, the reference Richardson-extrapolated
 /// (some derivatives are 1e-10 of |p| per unit scale, where a plain central difference at
@@ -255,7 +283,7 @@ fn tiny_brake_sensitivities_agree_with_finite_differences() {
 fn study_brake_sensitivities_agree_with_finite_differences() {
     let d = tmp("study");
     let s = Scene::load(&root().join("examples/sample-brake/base.toml"), &[]).unwrap();
-    let checks = check_all(&s, &d, 3, 1e-3);
+    let checks = check_all(&s, &d, 3, 1e-3, |_| true);
     for (name, component, worst, mag) in &checks {
         eprintln!("{name}: worst relative difference {worst:.2e} (|dp| {mag:.3e})");
         if !*component {
