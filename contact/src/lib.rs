@@ -27,8 +27,8 @@ pub mod forces;
 pub mod friction;
 pub mod gaps;
 
-/// Real scalar type of the crate.
-pub type Real = f64;
+/// The workspace's real scalar (its one definition is `squeal_meshes::Real`).
+pub use squeal_meshes::Real;
 
 pub use error::{ContactError, NodeReport};
 pub use forces::GapOutput;

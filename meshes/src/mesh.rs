@@ -34,7 +34,8 @@ use crate::topology::{self, LocalFace};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
-/// Scalar type of the whole project.
+/// The workspace's real scalar, the one definition: every other crate re-exports or uses
+/// this (`squeal_solver::Real`, `squeal_contact::Real`, `squeal_reduction::Real` are it).
 pub type Real = f64;
 
 /// Kind of a cell. Volume kinds carry stiffness and mass; face kinds carry loads and contact areas.

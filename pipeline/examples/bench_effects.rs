@@ -132,7 +132,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             gaps.add_tangents(v, lam, &mut dl, Some(&mut dv)).unwrap();
         });
         let x: Vec<f64> = r.v.iter().map(|v| v[0]).collect();
-        let vd = squeal_pipeline::stages::transient::verdict::analyse(&r.t, &x, 0.05);
+        let vd = squeal_pipeline::verdict::analyse(&r.t, &x, 0.05);
         let row = Row {
             law: name,
             active_dependencies: deps,

@@ -11,6 +11,7 @@ pub mod progress;
 pub mod scene;
 pub mod stages;
 pub mod uq;
+pub mod verdict;
 pub mod warning;
 
 pub use error::PipelineError;

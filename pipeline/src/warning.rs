@@ -7,7 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// One warning about an input.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -292,3 +292,75 @@ fn the_checker_finds_imports_and_circles() {
     g.insert(vec!["b".to_string()], BTreeSet::new());
     assert!(cycle(&g).is_none());
 }
+
+/// The verdict is pure (issue 21, item 2): the files under `src/verdict/` name nothing of the
+/// crate outside that folder (no scene, sink, run folder or pipeline error) and touch no file.
+#[test]
+fn the_verdict_imports_nothing_above_it() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/verdict");
+    let mut all = BTreeMap::new();
+    modules(&dir, &Vec::new(), &mut all);
+    assert!(all.len() > 5, "{} verdict modules found", all.len());
+    let forbidden = ["Sink", "Scene", "RunDir", "PipelineError", "fs"];
+    let mut bad = Vec::new();
+    for p in all.values() {
+        let text = std::fs::read_to_string(p).unwrap();
+        for path in paths(&code(&text)) {
+            let outside = path[0] == "crate" && path.get(1).is_none_or(|s| s != "verdict");
+            if outside || path.iter().any(|s| forbidden.contains(&s.as_str())) {
+                bad.push(format!("{}: {}", p.display(), path.join("::")));
+            }
+        }
+    }
+    assert!(bad.is_empty(), "the verdict imports from above it: {bad:?}");
+}
+
+/// One `Real` for the workspace (issue 21, item 5): `squeal_meshes::Real` is the only
+/// `type Real` in the crates' sources; every other crate uses or re-exports it.
+#[test]
+fn the_workspace_defines_real_once() {
+    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            let name = p.file_name().unwrap().to_string_lossy().to_string();
+            if p.is_dir() && !name.starts_with('.') && name != "target" {
+                walk(&p, out);
+            } else if name.ends_with(".rs") {
+                out.push(p);
+            }
+        }
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+    let mut files = Vec::new();
+    for krate in [
+        "fe",
+        "meshes",
+        "reduction",
+        "contact",
+        "solver",
+        "pipeline",
+        "cli",
+        "python",
+    ] {
+        walk(&root.join(krate), &mut files);
+    }
+    assert!(files.len() > 100, "{} sources found", files.len());
+    let defs: Vec<String> = files
+        .iter()
+        .filter(|p| {
+            let text = std::fs::read_to_string(p).unwrap();
+            code(&text).lines().any(|l| {
+                let l = l.trim_start();
+                l.starts_with("type Real ")
+                    || l.contains(" type Real ")
+                    || l.contains(" type Real=")
+            })
+        })
+        .map(|p| p.strip_prefix(root).unwrap().display().to_string())
+        .collect();
+    assert_eq!(
+        defs,
+        ["meshes/src/mesh.rs"],
+        "type Real defined in {defs:?}"
+    );
+}

@@ -26,7 +26,7 @@ use squeal_solver::bsql::{
 };
 use squeal_solver::cea::{complex_eigen, CeaMatrices, CeaOptions};
 
-type Real = f64;
+use squeal_solver::Real;
 
 const K11: Real = 1.0;
 const K12: Real = 0.3;

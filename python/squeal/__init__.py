@@ -21,6 +21,7 @@ from __future__ import annotations
 from ._squeal import (
     Cancelled,
     InputError,
+    InputFileNotFound,
     MeshError,
     ModelError,
     OutputError,
@@ -51,6 +52,7 @@ __all__ = [
     "CeaResult",
     "CompareResult",
     "InputError",
+    "InputFileNotFound",
     "MeshError",
     "ModelError",
     "ModesResult",

@@ -12,8 +12,19 @@ _Progress = Optional[Callable[[Dict[str, Any]], None]]
 _Value = Any  # bool | int | float | str | list | dict (a TOML value)
 
 class SquealError(Exception): ...
-class SceneError(SquealError): ...
-class InputError(SquealError): ...
+class SceneError(SquealError):
+    field: Optional[str]
+    """The scene key or option the error names (None: a scene file that does not parse)."""
+    path: Optional[str]
+    """The scene file that does not parse (None otherwise)."""
+
+class InputError(SquealError):
+    field: Optional[str]
+    path: Optional[str]
+    """The input file (None: an in-memory array)."""
+
+class InputFileNotFound(InputError, FileNotFoundError):
+    """A missing input file: ``errno`` 2, ``filename`` and ``path`` the file."""
 class MeshError(SquealError): ...
 class ModelError(SquealError): ...
 class SolverError(SquealError): ...

@@ -10,7 +10,7 @@ use squeal_contact::{FaceKind, FaceTie, Gap, PadSide};
 use squeal_pipeline::stages::model::gap_table::{GAP_COLUMNS, PAD_COLUMNS, TIE_COLUMNS};
 use squeal_reduction::superelement::{DofKind, ReducedDof, ReducedDofMap};
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// A complex array is refused unless every imaginary part is 0 (then its real part is exact):
 /// squeal's K, M, B are real. A structural damping K(1 + iη) has no place in the transient

@@ -6,8 +6,8 @@ use faer::Mat;
 use num_complex::Complex;
 use serde::{Deserialize, Serialize};
 
-/// Real scalar of this crate's file formats.
-pub type Real = f64;
+/// The workspace's real scalar (its one definition is `squeal_meshes::Real`).
+pub use squeal_meshes::Real;
 /// Complex scalar.
 pub type Cplx = Complex<f64>;
 

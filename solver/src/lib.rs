@@ -25,5 +25,5 @@ mod linalg;
 pub use error::SolverError;
 pub use interrupt::Interrupt;
 
-/// Real scalar type of the crate.
-pub type Real = f64;
+/// The workspace's real scalar (defined once, in `squeal-meshes`, the crate graph's root).
+pub use squeal_meshes::Real;

@@ -3,7 +3,7 @@
 use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
 
-type Real = f64;
+use squeal_solver::Real;
 
 fn scene_err(field: &str, message: String) -> PipelineError {
     PipelineError::Scene {

@@ -6,7 +6,7 @@ use squeal_contact::Gap;
 use squeal_reduction::superelement::ReducedDofMap;
 use std::sync::Arc;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// The matrices, DOF map and gaps of a stored model in memory. Checked when the model is
 /// built (`stages::model::build`), as the files of a stored model are: shapes against the DOF

@@ -19,7 +19,7 @@ use std::path::PathBuf;
 /// The most points a CEA friction sweep (`cea.sweep.mu`) may have.
 pub const MAX_SWEEP_POINTS: usize = 100_000;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// The state the problem is linearised about.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]

@@ -4,7 +4,7 @@ use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
 use squeal_contact::{FrictionLaw, TieOptions, Unmatched};
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// How the pad nodes of a `[[contact]]` pair find their rotor points (docs/pairing.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]

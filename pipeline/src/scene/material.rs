@@ -19,7 +19,7 @@ use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
 use squeal_fe::{Elasticity, MaterialAxes, Orthotropic, SolidMaterial, TransverselyIsotropic};
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// One material of a component (see the module documentation).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

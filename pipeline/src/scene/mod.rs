@@ -178,7 +178,7 @@ fn is_zero(x: &Real) -> bool {
     *x == 0.0
 }
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// Element kind of a meshed geometry.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]

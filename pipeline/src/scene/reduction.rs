@@ -6,7 +6,7 @@ use squeal_reduction::cb::SubstructureOptions;
 use squeal_reduction::CbOptions;
 use std::path::PathBuf;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// `[reduction]`: Craig–Bampton reduction of every meshed component.
 ///

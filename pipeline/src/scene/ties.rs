@@ -4,7 +4,7 @@ use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
 use squeal_contact::{TieOptions, Unmatched};
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// One side of a tie: a face set of a component.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

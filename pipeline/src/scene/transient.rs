@@ -6,7 +6,7 @@ pub use squeal_solver::bsql::EventRestart;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-type Real = f64;
+use squeal_solver::Real;
 
 fn scene_err(field: &str, message: String) -> PipelineError {
     PipelineError::Scene {
@@ -272,16 +272,9 @@ pub struct TransientSpec {
     pub collapse_steps: usize,
 }
 
-/// Time integrator of `squeal transient`.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Integrator {
-    /// Variable-order, variable-step BDF in residual form (orders 1..=MAXORD).
-    #[default]
-    Bdf,
-    /// Generalized-α (second order, numerical damping set by ρ∞).
-    GeneralizedAlpha,
-}
+/// Time integrator of `squeal transient` (defined with the verdict, whose guard models each
+/// integrator's numerical damping).
+pub use crate::verdict::Integrator;
 
 impl Default for TransientSpec {
     fn default() -> Self {

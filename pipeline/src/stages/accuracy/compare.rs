@@ -2,10 +2,10 @@
 //! frequency of the response.
 
 use super::drive::RunOutcome;
-use crate::stages::transient::verdict;
+use crate::verdict;
 use serde::Serialize;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// Errors of one run relative to the reference.
 #[derive(Debug, Clone, Default, Serialize)]

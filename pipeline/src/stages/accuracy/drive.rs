@@ -21,7 +21,7 @@ use squeal_contact::GapSet;
 use squeal_solver::bdf::Status;
 use squeal_solver::bsql::EnergyBalance;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// What one run gave.
 #[derive(Debug, Clone, Serialize)]

@@ -28,7 +28,7 @@ use crate::stages::{model, transient::system};
 use compare::RunErrors;
 use serde::Serialize;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// One row of `accuracy.json`.
 #[derive(Debug, Clone, Serialize)]

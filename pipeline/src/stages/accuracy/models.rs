@@ -15,7 +15,7 @@ use squeal_reduction::superelement::{DofKind, ReducedDof, ReducedDofMap};
 use std::f64::consts::PI;
 use std::path::Path;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// Rotor speed of every model: ω = 1 rad/s, so the sliding speed at radius 1 is V = 1.
 pub const RPM: Real = 60.0 / (2.0 * PI);

@@ -17,7 +17,7 @@ use crate::stages::model::ReducedModel;
 use squeal_meshes::vtu::{self, PointArray};
 use std::fmt::Write as _;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// The collection file.
 pub const PVD_NAME: &str = "cea_modes.pvd";

@@ -37,7 +37,7 @@ use squeal_solver::cea::{CeaMatrices, Cplx, Mode};
 use squeal_solver::insight::{mode_energy, ComponentPart, EnergyParts, GapPart, Triplet};
 use std::time::Instant;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// How the model's M, K, B were split among the components.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

@@ -14,7 +14,7 @@ use crate::stages::model::ReducedModel;
 use squeal_solver::cea::ModeEvent;
 use std::fmt::Write as _;
 
-type Real = f64;
+use squeal_solver::Real;
 
 fn drawn(dir: &RunDir, fig: &Figure, name: &str) -> Result<Option<String>, PipelineError> {
     let stem = dir.path(name);

@@ -38,7 +38,7 @@ use squeal_solver::cea::{complex_eigen, CeaOptions, CeaStats, Mode};
 use std::time::Instant;
 use tangents::{ContactSummary, StateSource};
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// What the command line adds to the scene.
 #[derive(Debug, Clone, Default)]

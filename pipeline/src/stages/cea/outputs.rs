@@ -16,7 +16,7 @@ use squeal_solver::cea::Mode;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-type Real = f64;
+use squeal_solver::Real;
 
 fn out_err(dir: &RunDir, name: &str) -> impl Fn(String) -> PipelineError {
     let path = dir.path(name);

@@ -12,7 +12,7 @@ use crate::stages::model::ReducedModel;
 use squeal_meshes::vtu::{self, PointArray};
 use squeal_solver::cea::Mode;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// File name of component `name`'s full-mesh mode shapes.
 pub fn file_name(name: &str) -> String {

@@ -8,7 +8,7 @@ use faer::{Col, Mat};
 use squeal_contact::GapSet;
 use squeal_solver::bsql::SteadyOptions;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// Smallest |U_ii|/max|U_ii| of the LU of K for the block elimination to be used (below it K
 /// is treated as singular and every state is solved by the dense Newton of

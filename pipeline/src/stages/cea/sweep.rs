@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use squeal_contact::{FrictionLaw, GapSet};
 use squeal_solver::cea::{sweep, CeaMatrices, CeaMethod, ModeEvent, Sweep, SweepStats};
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// The friction law of one sweep value.
 pub fn law_at(base: &FrictionLaw, vary: SweepVary, value: Real) -> FrictionLaw {

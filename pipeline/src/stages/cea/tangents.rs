@@ -11,7 +11,7 @@ use squeal_contact::GapSet;
 use squeal_solver::bsql::{compliant_cea, steady_state, BsqlSystem, SteadyOptions};
 use squeal_solver::cea::CeaMatrices;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// A state (u, v, λ̇) of the brake and the friction tangents there.
 #[derive(Debug, Clone)]

@@ -32,7 +32,7 @@ use modal::{MatrixDiff, ModePair};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// Exit status of `squeal compare` when a difference is beyond a tolerance the user set (1 is
 /// an error, 3 `squeal sweep`'s failed values).

@@ -14,7 +14,7 @@ use serde::Serialize;
 use squeal_reduction::superelement::{DofKind, ReducedDof};
 use std::collections::HashMap;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// A DOF's identity across models: a grid component, or a component's modal coordinate.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]

@@ -8,7 +8,7 @@ use crate::scene::{ComponentSpec, Scene};
 use squeal_meshes::Mesh;
 use std::path::Path;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// What the scene asks of one physical group of a component.
 enum Need {

@@ -12,7 +12,7 @@ use squeal_fe::{face_areas, FeError};
 use squeal_meshes::{CellKind, Mesh};
 use std::collections::BTreeMap;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// HRZ weights of a quad8 (corner, mid-side), from ∫N_a² over the reference square with a
 /// 3×3 Gauss rule (exact for these degree-4 integrands).

@@ -31,7 +31,7 @@ use squeal_reduction::superelement::{self, Component, DofKey, DofKind};
 use squeal_reduction::CbModel;
 use std::collections::{BTreeSet, HashMap};
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// One reduced component before assembly.
 struct Reduced {

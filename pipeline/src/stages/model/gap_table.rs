@@ -29,7 +29,7 @@ use squeal_contact::{FaceKind, FaceTie, Gap, GapSet, PadSide};
 use std::collections::HashMap;
 use std::path::Path;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// The CSV columns, all required.
 pub const GAP_COLUMNS: [&str; 11] = [

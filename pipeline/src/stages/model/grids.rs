@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use squeal_meshes::Mesh;
 use std::collections::HashMap;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// One global grid point.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -30,7 +30,7 @@ use squeal_reduction::superelement::{DofKind, ReducedDofMap};
 use std::collections::HashMap;
 use std::path::Path;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// Relative asymmetry max |a_ij − a_ji| / max |a_ij| above which a stored K, M or B is rejected.
 /// Symmetric matrices written by NASTRAN or squeal in OP4 (16–17 significant digits) or as

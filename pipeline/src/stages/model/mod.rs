@@ -30,7 +30,7 @@ use squeal_reduction::superelement::{DofKey, DofKind, RecoveredDof, ReducedDofMa
 use squeal_reduction::CbModel;
 use std::collections::HashMap;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// What reducing one component gave.
 #[derive(Debug, Clone, Serialize)]

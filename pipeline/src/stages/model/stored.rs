@@ -17,7 +17,7 @@ use squeal_reduction::{op4, op4::Op4WriteOptions};
 use std::collections::HashMap;
 use std::path::Path;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// Paths written by [`write_stored`].
 #[derive(Debug, Clone, serde::Serialize)]

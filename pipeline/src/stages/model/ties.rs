@@ -29,7 +29,7 @@ use squeal_meshes::Mesh;
 use squeal_reduction::superelement::{DofKey, DofKind, RecoveredDof, ReducedDofMap};
 use std::collections::{BTreeMap, HashMap};
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// Mesh-node rows of the ties inside a component: (slave node, [(master node, weight)]).
 pub type NodeRows = Vec<(usize, Vec<(usize, Real)>)>;

@@ -18,7 +18,7 @@ use squeal_contact::GapSet;
 use std::collections::HashMap;
 use std::path::PathBuf;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// The lowest one-third-octave mid-band frequency reported (Hz): squeal is audible, and a
 /// mode below it (a real divergence root included) still counts in `p_unstable`.

@@ -36,7 +36,7 @@ use std::time::Instant;
 pub use evaluate::{Evaluator, Sample};
 pub use report::PropensityOut;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// What the command line gives.
 #[derive(Debug, Clone)]

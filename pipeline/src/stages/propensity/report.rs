@@ -17,7 +17,7 @@ use crate::scene::Scene;
 use crate::uq::{probability, quantile, sobol_indices, Band, Outcome, Probability, SobolIndices};
 use serde::Serialize;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// The probability of an unstable root in one one-third-octave band.
 #[derive(Debug, Clone, Serialize)]

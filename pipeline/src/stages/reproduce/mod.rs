@@ -28,7 +28,7 @@ use std::path::Path;
 use std::time::Instant;
 pub use study::{CaseSpec, FigureSpec, StudySpec};
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// What the command line adds.
 #[derive(Debug, Clone, Default)]
@@ -74,13 +74,13 @@ pub struct CaseResult {
     pub status: squeal_solver::bdf::Status,
     pub squeal: bool,
     /// `squeal`, `no_squeal`, or `unresolved` with its reasons.
-    pub verdict: crate::stages::transient::guard::VerdictState,
+    pub verdict: crate::verdict::guard::VerdictState,
     pub growth_rate_per_s: Option<Real>,
     pub dominant_frequency_hz: Option<Real>,
     /// History column of the verdict's response.
     pub response: String,
     /// What the contact did (tensile gap-steps, first separation, smallest p_n).
-    pub contact: crate::stages::transient::validity::ContactValidity,
+    pub contact: crate::verdict::validity::ContactValidity,
     /// The step bound of the run.
     pub h_max: Option<Real>,
     /// Time the squealing root's fitted amplitude reaches the study's onset level.
@@ -92,10 +92,10 @@ pub struct CaseResult {
     /// Why the CEA failed, if it did.
     pub cea_error: Option<String>,
     /// The response's largest roots (the verdict's estimator), at most 4.
-    pub roots: Vec<crate::stages::transient::roots::Root>,
+    pub roots: Vec<crate::verdict::roots::Root>,
     /// The response's significant roots each beside the case's CEA root nearest to it, with
     /// the relative differences in σ and f (None: no CEA).
-    pub transient_vs_cea: Option<Vec<crate::stages::transient::roots::RootPair>>,
+    pub transient_vs_cea: Option<Vec<crate::verdict::roots::RootPair>>,
 }
 
 /// Summary of a study run.
@@ -311,7 +311,8 @@ fn run_case(
                                 .collect()
                         });
                 if let Some(m) = modes {
-                    transient_vs_cea = Some(transient::roots::pair_with_cea(&r.verdict.roots, &m));
+                    transient_vs_cea =
+                        Some(crate::verdict::roots::pair_with_cea(&r.verdict.roots, &m));
                 }
                 (
                     Some(

@@ -9,13 +9,13 @@ use crate::history::HistoryMap;
 use crate::output::RunDir;
 use crate::scene::Scene;
 use crate::stages::cea::sweep::{CouplingOut, SweepReport};
-use crate::stages::transient::guard::VerdictState;
-use crate::stages::transient::verdict::Verdict;
+use crate::verdict::guard::VerdictState;
+use crate::verdict::Verdict;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::Path;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// One of the paper's findings and whether this run shows it.
 #[derive(Debug, Clone, Serialize)]
@@ -147,7 +147,7 @@ pub fn column(case_dir: &Path, name: &str) -> Result<(Vec<Real>, Vec<Real>), Pip
 
 /// Onset of squeal: the time the squealing root's fitted amplitude reaches `level`.
 ///
-/// The squealing root is the verdict's deciding root ([`PencilFit::deciding`](crate::stages::transient::roots::PencilFit::deciding),
+/// The squealing root is the verdict's deciding root ([`PencilFit::deciding`](crate::verdict::roots::PencilFit::deciding),
 /// the fastest-growing significant root); its amplitude (norm over the output DOFs)
 /// is `amplitude`·e^{σ(t − t0)} over the fitted window [t0, t1]. The onset is where that
 /// reaches `level`: t0 when it starts above, None when σ ≤ 0 or the level is not reached

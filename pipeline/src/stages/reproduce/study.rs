@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 use squeal_contact::FrictionLaw;
 use std::path::{Path, PathBuf};
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// A study: one base scene, the cases that change it, and the comparison figures.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

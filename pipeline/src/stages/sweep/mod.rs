@@ -24,7 +24,7 @@ use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// Exit status of `squeal sweep` when some values failed and the others' results are written
 /// (0: every value ran; 1: an error stopped the sweep, or every value failed).
@@ -105,7 +105,7 @@ pub struct TransientIndicators {
     pub status: squeal_solver::bdf::Status,
     pub squeal: bool,
     /// `squeal`, `no_squeal`, or `unresolved` with its reasons.
-    pub verdict: crate::stages::transient::guard::VerdictState,
+    pub verdict: crate::verdict::guard::VerdictState,
     pub growth_rate_per_s: Option<Real>,
     pub dominant_frequency_hz: Option<Real>,
     pub steps: u64,

@@ -8,7 +8,7 @@ use crate::figures::{write_figure, Figure, Series, SeriesStyle};
 use crate::output::RunDir;
 use std::fmt::Write as _;
 
-type Real = f64;
+use squeal_solver::Real;
 
 const RED: [u8; 3] = [214, 39, 40];
 const BLUE: [u8; 3] = [31, 119, 180];
@@ -149,7 +149,7 @@ pub fn markdown(rep: &SweepReport) -> String {
         if let Some(t) = p.transient.as_ref().filter(|t| !t.status.is_success()) {
             note.push(format!(
                 "transient: {}",
-                crate::stages::transient::status_text(&t.status)
+                crate::verdict::guard::status_text(&t.status)
             ));
         }
         if let Some(n) = &p.cache_note {

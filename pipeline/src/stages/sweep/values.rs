@@ -4,7 +4,7 @@
 use crate::error::PipelineError;
 use crate::scene::Scene;
 
-type Real = f64;
+use squeal_solver::Real;
 
 fn bad(option: &str, text: &str, why: String) -> PipelineError {
     PipelineError::Option {

@@ -43,9 +43,11 @@ pub mod sink;
 pub mod start;
 pub mod stepper;
 pub mod system;
-pub mod verdict;
+
 pub mod write;
 
+pub use crate::verdict::guard::status_text;
+pub use crate::verdict::{self, guard, limit_cycle, roots, validity};
 pub use files::columns::ENERGY_HEADER;
 pub use files::history::History;
 pub use prepare::{prepare, step_bound, Prepared, StepBound};
@@ -53,8 +55,6 @@ pub use result::{TransientOptions, TransientReport, TransientResult, VerdictCeaR
 pub use resume::Resume;
 pub use start::{start_state, StartState, SteadySummary};
 pub use system::separation_mask;
-pub use verdict::guard::status_text;
-pub use verdict::{guard, limit_cycle, roots, validity};
 pub use write::{run, run_cached, run_on_model};
 
 use crate::error::PipelineError;

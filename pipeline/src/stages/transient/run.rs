@@ -4,7 +4,7 @@
 //!   consistent y'(0) ([`super::start::start_state`]); separation switched on;
 //! - drive: the one driver with the run's own sinks ([`Own`]: the collectors, the run's
 //!   origin, the in-memory history) and the caller's;
-//! - decide: the verdict on what the collectors hold ([`super::verdict::decide`]), with the
+//! - decide: the verdict on what the collectors hold ([`crate::verdict::decide`]), with the
 //!   roots of a CEA at the steady state when the scene asks for one;
 //! - result: the [`TransientResult`].
 
@@ -21,10 +21,10 @@ use super::sink::Sink;
 use super::start::{start_state, Origin};
 use super::stepper::{IntegratorStats, Method, Stepper};
 use super::system::{event_mask, separation_mask};
-use super::verdict::roots::PencilOptions;
-use super::verdict::{decide, CeaRoots, Decision, Record, Settings};
 use crate::error::PipelineError;
 use crate::progress::Progress;
+use crate::verdict::roots::PencilOptions;
+use crate::verdict::{decide, CeaRoots, Decision, Record, Settings};
 use squeal_solver::bdf::BdfStats;
 use squeal_solver::bsql::BsqlStats;
 use squeal_solver::Real;

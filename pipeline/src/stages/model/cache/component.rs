@@ -24,7 +24,7 @@ use squeal_reduction::cb::CbOptions;
 use squeal_reduction::superelement::DofKey;
 use std::path::{Path, PathBuf};
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// Version of the component entry layout and key bytes; bump it when either changes.
 pub const COMPONENT_CACHE_FORMAT: u32 = 1;

@@ -27,7 +27,7 @@ use squeal_reduction::superelement::ReducedDofMap;
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
-type Real = f64;
+use squeal_solver::Real;
 
 const OP4: &str = "reduced.op4";
 const DOFMAP: &str = "dofmap.json";

@@ -33,7 +33,7 @@ use crate::scene::transient::{NodeForce, PressureLoad};
 use crate::scene::{ComponentSpec, GeometrySpec, Scene};
 use serde::Serialize;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// Version of the cache entry layout and key document; bump it when either changes.
 pub const CACHE_FORMAT: u32 = 1;

@@ -2,8 +2,8 @@
 //! [`ContactValidity`] the verdict weighs (see [`crate::stages::transient::validity`]).
 
 use super::super::sink::{Checkpoint, Saved, Sink, StepView};
-use super::super::verdict::validity::{ContactValidity, GapEvent};
 use crate::error::PipelineError;
+use crate::verdict::validity::{ContactValidity, GapEvent};
 use serde::{Deserialize, Serialize};
 use squeal_contact::GapSet;
 use squeal_solver::Real;

@@ -2,8 +2,8 @@
 //! run with separation ([`crate::stages::transient::limit_cycle`]).
 
 use super::super::sink::{Sink, StepView};
-use super::super::verdict::limit_cycle::FaceSeries;
 use crate::error::PipelineError;
+use crate::verdict::limit_cycle::FaceSeries;
 use squeal_contact::GapSet;
 use squeal_solver::Real;
 

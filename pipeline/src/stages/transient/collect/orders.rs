@@ -1,8 +1,8 @@
 //! The BDF's steps by order after the load ramp ([`StepsByOrder`]), counted at chunk ends.
 
 use super::super::sink::{Checkpoint, ChunkView, EndView, Saved, Sink, StepView};
-use super::super::verdict::guard::StepsByOrder;
 use crate::error::PipelineError;
+use crate::verdict::guard::StepsByOrder;
 use serde::{Deserialize, Serialize};
 use squeal_solver::Real;
 

@@ -3,11 +3,11 @@
 //! after the ramp).
 
 use super::super::sink::{Sink, StepView};
-use super::super::verdict::Series;
 use crate::error::PipelineError;
 use crate::history::{Column, RecordKind};
 use crate::scene::Scene;
 use crate::stages::model::ReducedModel;
+use crate::verdict::Series;
 use squeal_reduction::superelement::DofKey;
 use squeal_solver::Real;
 use std::path::PathBuf;

@@ -30,7 +30,7 @@ pub use decay::{numerical_decay, StepsByOrder};
 pub use state::{status_text, FrequencySource, Resolution, Unresolved, VerdictState};
 
 use super::validity::ContactValidity;
-use crate::scene::Integrator;
+use crate::verdict::Integrator;
 use squeal_solver::bdf::Status;
 use squeal_solver::Real;
 

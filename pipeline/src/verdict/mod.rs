@@ -23,6 +23,24 @@ pub mod roots;
 pub mod validity;
 
 pub use decide::{decide, CeaRoots, Decision, Record, Settings};
+
 pub use envelope::{analyse, slope, Envelope};
 pub use fit::{fit, Series};
 pub use outcome::{SquealEvidence, Verdict};
+
+use serde::{Deserialize, Serialize};
+
+/// The time integrator a run used: the guard models its numerical damping. The scene's
+/// `transient.integrator` key names it.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Integrator {
+    /// Variable-order, variable-step BDF in residual form (orders 1..=MAXORD).
+    #[default]
+    Bdf,
+    /// Generalized-α (second order, numerical damping set by ρ∞).
+    GeneralizedAlpha,
+}
+
+#[cfg(test)]
+mod tests;

@@ -78,6 +78,12 @@ pub enum Unresolved {
     },
     /// No response after the load ramp to analyse.
     NoResponse,
+    /// The fitted roots do not explain the response (a chirp, a drifting frequency): the
+    /// fit's relative residual is above the pencil's `max_relative_residual`.
+    PoorFit {
+        relative_residual: Real,
+        max_relative_residual: Real,
+    },
     /// A limit cycle was reached but neither a clear growth before saturation nor an
     /// amplitude grown by the required factor shows that it is self-excited.
     LimitCycleWithoutGrowth {
@@ -145,6 +151,15 @@ impl std::fmt::Display for Unresolved {
                 write!(f, ": {}", status_text(status))
             }
             Unresolved::NoResponse => f.write_str("no response after the load ramp"),
+            Unresolved::PoorFit {
+                relative_residual,
+                max_relative_residual,
+            } => write!(
+                f,
+                "the fitted roots do not explain the response (relative residual \
+                 {relative_residual:.3} above {max_relative_residual}): no sum of damped \
+                 exponentials, e.g. a drifting frequency"
+            ),
             Unresolved::LimitCycleWithoutGrowth {
                 peak_normal_velocity,
                 amplitude_growth,

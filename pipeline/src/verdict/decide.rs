@@ -10,15 +10,19 @@
 //!    have seen squeal (frequencies resolved — the dominant one, a CEA's highest in-band
 //!    unstable root or else the band's top —, a long enough window, a valid contact, TFINAL
 //!    reached); else `unresolved` with the reasons.
-//! 5. With a CEA of the same state, the response's roots beside the CEA's.
+//! 5. The roots decide only when they explain the response: with a fit residual above the
+//!    pencil's `max_relative_residual` neither a growth nor a decay is claimed (`poor_fit`).
+//! 6. With a CEA of the same state, the response's roots beside the CEA's.
 
 use super::fit::{fit, Series};
-use super::guard::{judge, Evidence, FrequencySource, LimitCycleEvidence, StepsByOrder};
+use super::guard::{
+    judge, Evidence, FrequencySource, LimitCycleEvidence, StepsByOrder, Unresolved, VerdictState,
+};
 use super::limit_cycle::{FaceSeries, LimitCycle};
 use super::outcome::{SquealEvidence, Verdict};
 use super::roots::{pair_with_cea, PencilOptions, RootPair};
 use super::validity::ContactValidity;
-use crate::scene::Integrator;
+use crate::verdict::Integrator;
 use squeal_solver::bdf::Status;
 use squeal_solver::Real;
 
@@ -139,7 +143,14 @@ pub fn decide(r: &Record<'_>, s: &Settings, cea: Option<CeaRoots<'_>>) -> Decisi
         (None, Some(band)) => frequencies.push((FrequencySource::BandTop, band)),
         _ => {}
     }
-    let clear_growth = growth_while_valid.is_squeal(s.growth_threshold_per_s, s.min_growth_factor);
+    // The roots judge the run only when they explain its response.
+    let poor_fit = growth_while_valid
+        .estimator
+        .as_ref()
+        .map(|e| e.relative_residual)
+        .filter(|&r| r > s.pencil.max_relative_residual);
+    let clear_growth = poor_fit.is_none()
+        && growth_while_valid.is_squeal(s.growth_threshold_per_s, s.min_growth_factor);
     let (state, resolution, detectable) = judge(&Evidence {
         clear_growth,
         window: verdict.window,
@@ -163,6 +174,16 @@ pub fn decide(r: &Record<'_>, s: &Settings, cea: Option<CeaRoots<'_>>) -> Decisi
                 amplitude_growth: saturation.map(|s| s.amplitude_growth),
             }),
     });
+    let state = match (state, poor_fit) {
+        (VerdictState::NoSqueal, Some(r)) => VerdictState::Unresolved {
+            reasons: vec![poor_fit_reason(r, &s.pencil)],
+        },
+        (VerdictState::Unresolved { mut reasons }, Some(r)) => {
+            reasons.push(poor_fit_reason(r, &s.pencil));
+            VerdictState::Unresolved { reasons }
+        }
+        (state, _) => state,
+    };
     verdict.evidence = state.is_squeal().then_some(match clear_growth {
         true => SquealEvidence::Growth,
         false => SquealEvidence::LimitCycle,
@@ -176,5 +197,12 @@ pub fn decide(r: &Record<'_>, s: &Settings, cea: Option<CeaRoots<'_>>) -> Decisi
         verdict,
         limit_cycle,
         transient_vs_cea,
+    }
+}
+
+fn poor_fit_reason(relative_residual: Real, p: &PencilOptions) -> Unresolved {
+    Unresolved::PoorFit {
+        relative_residual,
+        max_relative_residual: p.max_relative_residual,
     }
 }

@@ -1,6 +1,6 @@
 //! The integrator's numerical decay of an undamped oscillation: what a negative must stay below.
 
-use crate::scene::Integrator;
+use crate::verdict::Integrator;
 use num_complex::Complex64;
 use serde::Serialize;
 use squeal_solver::Real;

@@ -30,6 +30,11 @@ pub struct PencilOptions {
     /// … or within this fraction of the refit window's resolution 1/T_r, whichever is
     /// larger (default: 0.25).
     pub refit_resolution_fraction: Real,
+    /// The fitted roots explain the response when the fit's relative residual
+    /// ‖v − Σ a e^{st}‖/‖v‖ is at most this (default: 0.2; the sample study's fits are
+    /// 4e-6–0.055). Above it the response is no sum of damped exponentials (a chirp, a
+    /// drifting frequency) and neither a growth nor a decay is claimed.
+    pub max_relative_residual: Real,
 }
 
 impl Default for PencilOptions {
@@ -46,6 +51,7 @@ impl Default for PencilOptions {
             refits: 2,
             refit_frequency_tol: 0.01,
             refit_resolution_fraction: 0.25,
+            max_relative_residual: 0.2,
         }
     }
 }
