@@ -29,7 +29,7 @@ use serde::Serialize;
 use squeal_contact::{FrictionLaw, GapSet};
 use squeal_solver::cea::CeaMatrices;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// What a parameter is.
 #[derive(Debug, Clone, PartialEq, Serialize)]

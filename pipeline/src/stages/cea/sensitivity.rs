@@ -27,7 +27,7 @@ use squeal_solver::cea::{CeaMatrices, Mode};
 use squeal_solver::insight::{eigen_triplet, eigenvalue_derivative, MatrixDerivative};
 use std::time::Instant;
 
-type Real = f64;
+use squeal_solver::Real;
 
 /// Relative step of the matrices' central difference (× the parameter's scale).
 pub const STEP: Real = 1e-4;
