@@ -8,6 +8,7 @@ The same engine as the ``squeal`` command, in memory::
     r = squeal.reduce(scene)              # K, M, B as numpy; DOF map and gaps as records
     t = squeal.transient(scene)           # time history, summary, verdict
     df = squeal.sweep(scene, "friction.law.mu0", [0.3, 0.5, 0.7])   # a pandas DataFrame
+    p = squeal.propensity(scene, {"friction.law.mu0": "uniform(0.4, 0.6)"}, 256)  # P(squeal)
 
 Every computation releases the GIL; ``progress=`` takes a callable receiving one event dict
 per step (``squeal.TqdmProgress()`` draws tqdm bars) and Ctrl-C cancels a run
@@ -20,6 +21,7 @@ from __future__ import annotations
 from ._squeal import (
     Cancelled,
     InputError,
+    InputFileNotFound,
     MeshError,
     ModelError,
     OutputError,
@@ -44,6 +46,7 @@ from .api import (
     transient,
 )
 from .progress import TqdmProgress
+from .propensity import PropensityResult, propensity
 from .sweep import sweep
 
 __all__ = [
@@ -51,11 +54,13 @@ __all__ = [
     "CeaResult",
     "CompareResult",
     "InputError",
+    "InputFileNotFound",
     "LimitCycleResult",
     "MeshError",
     "ModelError",
     "ModesResult",
     "OutputError",
+    "PropensityResult",
     "ReducedModel",
     "Scene",
     "SceneError",
@@ -68,6 +73,7 @@ __all__ = [
     "cea",
     "limit_cycle",
     "modes",
+    "propensity",
     "reduce",
     "sweep",
     "transient",

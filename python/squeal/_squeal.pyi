@@ -12,8 +12,19 @@ _Progress = Optional[Callable[[Dict[str, Any]], None]]
 _Value = Any  # bool | int | float | str | list | dict (a TOML value)
 
 class SquealError(Exception): ...
-class SceneError(SquealError): ...
-class InputError(SquealError): ...
+class SceneError(SquealError):
+    field: Optional[str]
+    """The scene key or option the error names (None: a scene file that does not parse)."""
+    path: Optional[str]
+    """The scene file that does not parse (None otherwise)."""
+
+class InputError(SquealError):
+    field: Optional[str]
+    path: Optional[str]
+    """The input file (None: an in-memory array)."""
+
+class InputFileNotFound(InputError, FileNotFoundError):
+    """A missing input file: ``errno`` 2, ``filename`` and ``path`` the file."""
 class MeshError(SquealError): ...
 class ModelError(SquealError): ...
 class SolverError(SquealError): ...
@@ -108,3 +119,33 @@ def sweep_value(
     cancel: Optional[Callable[[], bool]] = None,
 ) -> str: ...
 def model_key(scene: Scene) -> Optional[str]: ...
+def propensity_plan(
+    scene: Scene,
+    dists: Sequence[Tuple[str, str]],
+    corr: Sequence[Tuple[str, str, float]],
+    samples: int,
+    replicates: Optional[int] = None,
+    seed: int = 1,
+    rereduce: bool = False,
+) -> str: ...
+def propensity_evaluate(
+    scene: Scene,
+    plan: str,
+    rows: Sequence[int],
+    workdir: _Path,
+    cache_dir: Optional[_Path] = None,
+    progress: _Progress = None,
+    cancel: Optional[Callable[[], bool]] = None,
+) -> str: ...
+def propensity_finish(
+    scene: Scene,
+    plan: str,
+    samples: str,
+    out: _Path,
+    n_dofs: int = 0,
+    n_gaps: int = 0,
+    build_s: float = 0.0,
+    evaluate_s: float = 0.0,
+    wall_s: float = 0.0,
+    threads: int = 1,
+) -> str: ...

@@ -171,6 +171,16 @@ class CeaResult:
         ``components``, pairs in ``pairs``) per unit mode energy, and the identity's closure."""
         return self.report.get("energy", {})
 
+    @property
+    def sensitivity(self) -> Dict[str, Any]:
+        """Sensitivities of the roots to the design parameters (``cea.json``'s
+        ``sensitivity``; docs/insight.md): ``roots[j]`` (unstable roots first, then the least
+        stable ones) has ``mode`` (index into the modes) and ``params`` ranked by
+        ``|normalised|`` (scale × ∂Re p/∂θ), each with ``d_real_part``, ``d_frequency_hz``,
+        ``delta_to_neutral`` (the first-order change bringing Re p to 0) and ``status``;
+        ``parameters`` lists the parameters varied. Empty with ``[cea] sensitivity = false``."""
+        return self.report.get("sensitivity") or {}
+
 
 def modes(
     scene: Scene,

@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 /// Runs `f` without the GIL on a thread of its own while this thread polls for Ctrl-C and the
 /// hook's `cancel()` ([`Hook::poll`]); maps its error through the hook (KeyboardInterrupt,
 /// callback exceptions, pipeline errors).
-fn run<T: Send>(
+pub(crate) fn run<T: Send>(
     py: Python<'_>,
     hook: &Hook,
     f: impl FnOnce(&Hook) -> Result<T, PipelineError> + Send,

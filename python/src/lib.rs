@@ -12,6 +12,7 @@ mod arrays;
 mod compute;
 mod errors;
 mod progress;
+mod propensity;
 mod scene;
 mod values;
 
@@ -30,6 +31,9 @@ fn _squeal(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compute::sweep_value, m)?)?;
     m.add_function(wrap_pyfunction!(compute::model_key, m)?)?;
     m.add_function(wrap_pyfunction!(compute::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(propensity::propensity_plan, m)?)?;
+    m.add_function(wrap_pyfunction!(propensity::propensity_evaluate, m)?)?;
+    m.add_function(wrap_pyfunction!(propensity::propensity_finish, m)?)?;
     m.add_function(wrap_pyfunction!(scene::scene_from_state, m)?)?;
     Ok(())
 }

@@ -166,3 +166,30 @@ def test_cea_energy_closes_and_sums_per_pair():
         )
         shares = sum(r["kinetic_share"]) + sum(r["strain_share"]) + r["contact_strain_share"]
         assert abs(shares - 1.0) < 1e-8, shares
+
+
+def test_cea_sensitivity_ranked_with_the_change_to_neutral():
+    # CeaResult.sensitivity is cea.json's sensitivity (docs/insight.md): per root the design
+    # parameters ranked by |normalised| = scale x dRe p/dtheta, each with the first-order change
+    # -Re p / (dRe p/dtheta) that brings Re p to zero (the Rust tests check the derivatives
+    # against finite differences of the re-solved CEA); the friction law's mu0 is among them.
+    c = squeal.cea(squeal.Scene.from_file(TINY).set("cea", {}))
+    s = c.sensitivity
+    assert s["roots"] and s["parameters"]
+    names = {p["name"] for p in s["parameters"]}
+    assert {"friction.law.mu0", "loads.pmax", "rotor.rpm"} <= names
+    unstable = set(np.flatnonzero(c.unstable))
+    for r in s["roots"]:
+        assert r["unstable"] == (r["mode"] in unstable)
+        norms = [abs(p["normalised"]) for p in r["params"]]
+        assert norms == sorted(norms, reverse=True)
+        assert len(r["params"]) == len(s["parameters"])
+        for p in r["params"]:
+            if p["status"] == "zero_derivative":
+                assert p["delta_to_neutral"] is None
+                continue
+            assert p["delta_to_neutral"] == pytest.approx(
+                -r["refined_real_part"] / p["d_real_part"], rel=1e-12
+            )
+    off = squeal.cea(squeal.Scene.from_file(TINY).set("cea", {"sensitivity": False}))
+    assert off.sensitivity == {}

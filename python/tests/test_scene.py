@@ -64,3 +64,31 @@ def test_pickle_round_trip():
     b = pickle.loads(pickle.dumps(a))
     assert a == b
     assert b.base_dir == a.base_dir
+
+
+def test_errors_carry_the_key_and_the_file():
+    # SceneError.field names the key of a bad value, of an unknown key and of an override.
+    a = squeal.Scene.from_file(TINY)
+    with pytest.raises(squeal.SceneError) as e:
+        squeal.Scene.from_file(TINY, set={"transient.rtol1": -1})
+    assert e.value.field == "transient.rtol1"
+    assert e.value.path is None
+    with pytest.raises(squeal.SceneError) as e:
+        a.set("friction.law.mu0x", 0.5)
+    assert e.value.field is not None and "mu0x" in e.value.field
+    # A scene file that does not parse: no field, its path.
+    with pytest.raises(squeal.SceneError) as e:
+        squeal.Scene.from_toml("[rotor\n", base_dir=TINY.parent)
+    assert e.value.field is None
+
+
+def test_a_missing_file_is_a_file_not_found_error(tmp_path):
+    missing = tmp_path / "no-such-scene.toml"
+    with pytest.raises(FileNotFoundError) as e:
+        squeal.Scene.from_file(missing)
+    assert isinstance(e.value, squeal.InputError)
+    assert isinstance(e.value, squeal.InputFileNotFound)
+    assert e.value.errno == 2
+    assert e.value.filename == str(missing) == e.value.path
+    # The message is the command line's.
+    assert str(missing) in str(e.value)

@@ -227,6 +227,9 @@ pub struct CeaSpec {
     pub max_shapes: usize,
     /// Frames of the phase animation `cea_modes.pvd` over θ ∈ [0, 2π) (default: 24; 0: none).
     pub phase_frames: usize,
+    /// Sensitivities of the roots to the design parameters (`cea.json`'s `sensitivity`,
+    /// `sensitivity.csv`; docs/insight.md) (default: true).
+    pub sensitivity: bool,
 }
 
 impl Default for CeaSpec {
@@ -240,6 +243,7 @@ impl Default for CeaSpec {
             steady: SteadyOptions::default(),
             max_shapes: 20,
             phase_frames: 24,
+            sensitivity: true,
         }
     }
 }

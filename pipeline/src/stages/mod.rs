@@ -8,6 +8,7 @@ pub mod mesh;
 pub mod model;
 pub mod modes;
 pub mod plotit;
+pub mod propensity;
 pub mod reduce;
 pub mod reproduce;
 pub mod sweep;

@@ -3,10 +3,10 @@
 
 use super::dist::{Copula, Distribution};
 use crate::error::PipelineError;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// What a design row is (for the estimators).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RowKind {
     /// Row of A.
@@ -18,7 +18,7 @@ pub enum RowKind {
 }
 
 /// One point of the design: its replicate, base index, kind and the input values.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DesignRow {
     pub replicate: usize,
     pub index: usize,
@@ -30,7 +30,7 @@ pub struct DesignRow {
 /// The design: `replicates` independent scramblings of `n_base` Sobol points in 2d
 /// dimensions (A from the first d, B from the last d), each giving n_base rows of A and B
 /// and, with `indices`, n_base rows of every A_B^(i).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Design {
     pub n_base: usize,
     pub replicates: usize,

@@ -2,22 +2,25 @@
 //! and the binomial Wilson interval), quantiles, and Saltelli's Sobol indices.
 
 use super::design::{Design, RowKind};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use statrs::distribution::{ContinuousCDF, StudentsT};
 
 /// What one evaluation found (one CEA).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Outcome {
     /// Largest Re p of the roots considered (1/s).
     pub max_real_part: f64,
     /// Indices of the one-third-octave bands ([`third_octave_bands`]) holding an unstable root.
     pub unstable_bands: Vec<usize>,
+    /// An unstable root anywhere in the validity band (also one outside every one-third-octave
+    /// band, e.g. a real divergence root at 0 Hz).
+    pub unstable: bool,
 }
 
 impl Outcome {
-    /// Unstable anywhere (an unstable root in some band).
+    /// Unstable anywhere in the validity band.
     pub fn unstable(&self) -> bool {
-        !self.unstable_bands.is_empty()
+        self.unstable || !self.unstable_bands.is_empty()
     }
 }
 

@@ -59,6 +59,7 @@ fn probability_of_an_exceedance_is_the_uniform_fraction() {
                 } else {
                     vec![]
                 },
+                unstable: r.values[0] > 1.0 / 3.0,
             })
         })
         .collect();

@@ -51,6 +51,10 @@ pub struct CheckOptions {
     /// Largest relative residual of the refined full-component modes: above it the
     /// verification itself is not converged (default: 1e-3).
     pub max_refined_residual: Real,
+    /// Compare the rigid-body mass and centre of gravity (default: true). A component held by
+    /// fixed DOFs has no rigid-body motion in its free DOFs, so the comparison means nothing
+    /// there: the caller turns it off.
+    pub rigid_body: bool,
 }
 
 impl Default for CheckOptions {
@@ -64,6 +68,7 @@ impl Default for CheckOptions {
             max_mass_rel_err: 1e-6,
             max_modal_deviation: 1e-8,
             max_refined_residual: 1e-3,
+            rigid_body: true,
         }
     }
 }
@@ -146,6 +151,8 @@ pub struct CbCheck {
     pub n_rigid_modes: usize,
     /// Frequency below which a mode counts as rigid, Hz.
     pub rigid_threshold_hz: Real,
+    /// The rigid-body mass check (None: an interface basis, or `CheckOptions::rigid_body` off
+    /// for a held component).
     pub rigid: Option<RigidCheck>,
     pub frequency_of_interest_hz: Real,
     pub frequencies: Vec<FrequencyRow>,
@@ -255,46 +262,48 @@ pub fn check(
     // Rigid-body mass.
     // Rigid-body vectors in the reduced coordinates need physical boundary DOFs only: not
     // computed with an interface basis.
-    let rigid = points.filter(|_| model.interface.is_none()).map(|pts| {
-        let bpts: Vec<DofPoint> = model.boundary.iter().map(|&d| pts[d]).collect();
-        let rb = rigid_vectors(&bpts);
-        let mbb = model.m.submatrix(0, 0, nb, nb);
-        let reduced = rigid_body_mass((rb.transpose() * mbb * &rb).as_ref());
-        let full_rb = full.map(|(_, m)| {
-            let r = rigid_vectors(pts);
-            rigid_body_mass((r.transpose() * sym_spmm(m, r.as_ref())).as_ref())
-        });
-        let size = bbox_size(pts);
-        let (mass_rel_err, cg_rel_err, matrix_rel_err) = match &full_rb {
-            Some(f) => {
-                let me = (0..3)
-                    .map(|a| ((reduced.mass[a] - f.mass[a]) / f.mass[a]).abs())
-                    .fold(0.0, Real::max);
-                let ce = (0..3)
-                    .map(|a| (reduced.cg[a] - f.cg[a]).powi(2))
-                    .sum::<Real>()
-                    .sqrt()
-                    / size;
-                let fs = f
-                    .matrix
-                    .iter()
-                    .flatten()
-                    .fold(0.0, |a: Real, v| a.max(v.abs()));
-                let de = (0..36)
-                    .map(|i| (reduced.matrix[i / 6][i % 6] - f.matrix[i / 6][i % 6]).abs())
-                    .fold(0.0, Real::max);
-                (Some(me), Some(ce), Some(de / fs))
+    let rigid = points
+        .filter(|_| model.interface.is_none() && opts.rigid_body)
+        .map(|pts| {
+            let bpts: Vec<DofPoint> = model.boundary.iter().map(|&d| pts[d]).collect();
+            let rb = rigid_vectors(&bpts);
+            let mbb = model.m.submatrix(0, 0, nb, nb);
+            let reduced = rigid_body_mass((rb.transpose() * mbb * &rb).as_ref());
+            let full_rb = full.map(|(_, m)| {
+                let r = rigid_vectors(pts);
+                rigid_body_mass((r.transpose() * sym_spmm(m, r.as_ref())).as_ref())
+            });
+            let size = bbox_size(pts);
+            let (mass_rel_err, cg_rel_err, matrix_rel_err) = match &full_rb {
+                Some(f) => {
+                    let me = (0..3)
+                        .map(|a| ((reduced.mass[a] - f.mass[a]) / f.mass[a]).abs())
+                        .fold(0.0, Real::max);
+                    let ce = (0..3)
+                        .map(|a| (reduced.cg[a] - f.cg[a]).powi(2))
+                        .sum::<Real>()
+                        .sqrt()
+                        / size;
+                    let fs = f
+                        .matrix
+                        .iter()
+                        .flatten()
+                        .fold(0.0, |a: Real, v| a.max(v.abs()));
+                    let de = (0..36)
+                        .map(|i| (reduced.matrix[i / 6][i % 6] - f.matrix[i / 6][i % 6]).abs())
+                        .fold(0.0, Real::max);
+                    (Some(me), Some(ce), Some(de / fs))
+                }
+                None => (None, None, None),
+            };
+            RigidCheck {
+                reduced,
+                full: full_rb,
+                mass_rel_err,
+                cg_rel_err,
+                matrix_rel_err,
             }
-            None => (None, None, None),
-        };
-        RigidCheck {
-            reduced,
-            full: full_rb,
-            mass_rel_err,
-            cg_rel_err,
-            matrix_rel_err,
-        }
-    });
+        });
 
     // Frequencies against the full model.
     let foi = opts

@@ -125,7 +125,7 @@ fn max_abs(a: &Mat<Real>) -> Real {
 }
 
 /// Scatters `parts` (M and K) and returns the largest relative difference to the model's.
-fn scatter_check(parts: &[ComponentPart], m: &Mat<Real>, k: &Mat<Real>) -> Real {
+pub(crate) fn scatter_check(parts: &[ComponentPart], m: &Mat<Real>, k: &Mat<Real>) -> Real {
     let mut dm = m.clone();
     let mut dk = k.clone();
     for c in parts {
@@ -151,7 +151,7 @@ fn scatter_check(parts: &[ComponentPart], m: &Mat<Real>, k: &Mat<Real>) -> Real 
 /// coordinates are `x_c = T_c x` (`ComponentRecovery::assembled`: one term of weight 1, or
 /// several for a grid DOF a tie eliminated), so its part of M is `T_cᵀ M_c T_c` on the
 /// assembled DOFs its terms touch. None when the model has no recovery data.
-fn from_reductions(model: &ReducedModel, overall: Real) -> Option<Vec<ComponentPart>> {
+pub(crate) fn from_reductions(model: &ReducedModel, overall: Real) -> Option<Vec<ComponentPart>> {
     if model.recovery.is_empty() {
         return None;
     }

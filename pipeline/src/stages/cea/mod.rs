@@ -22,6 +22,8 @@ pub mod animation;
 pub mod energy;
 pub mod insight_files;
 pub mod outputs;
+pub mod params;
+pub mod sensitivity;
 pub mod shapes;
 pub mod steady;
 pub mod sweep;
@@ -127,6 +129,9 @@ pub struct CeaOut {
     pub stats: CeaStats,
     /// Energy balance of each reported root ([`energy`]).
     pub energy: energy::EnergyOut,
+    /// Sensitivities of the roots to the design parameters ([`sensitivity`]; None with
+    /// `[cea] sensitivity = false`).
+    pub sensitivity: Option<sensitivity::SensitivityOut>,
 }
 
 /// `summary.json` of `squeal cea`.
@@ -389,6 +394,28 @@ pub fn compute(
         "identity closes to {:.1e} (eigen-equation residual {:.1e})",
         energy.max_identity_residual, energy.max_eigen_residual
     ));
+    let sens = if spec.sensitivity {
+        progress.check("cea sensitivities")?;
+        let step = progress.step("sensitivities of the roots to the design parameters");
+        let base = params::Base {
+            scene,
+            model,
+            problem: &problem,
+            lin: &lin,
+            spec: &spec,
+        };
+        let s = sensitivity::sensitivities(&base, &sys, &kept, &unstable)?;
+        step.done(format!(
+            "{} roots x {} parameters ({} steady states, {:.2} s)",
+            s.roots.len(),
+            s.parameters.len(),
+            s.n_state_solves,
+            s.time_s
+        ));
+        Some(s)
+    } else {
+        None
+    };
     let out = CeaOut {
         verb: "cea",
         version: crate::VERSION,
@@ -406,6 +433,7 @@ pub fn compute(
         outside_band,
         stats: res.stats,
         energy,
+        sensitivity: sens,
     };
     let mut sweep_rep = None;
     if let Some(sw) = &spec.sweep {
@@ -531,6 +559,9 @@ pub fn write(
         &c.out.energy,
         &shown_idx,
     )?);
+    if let Some(s) = &c.out.sensitivity {
+        files.extend(sensitivity::write_table(dir, s)?);
+    }
     if args.export_tangents {
         files.extend(outputs::export_tangents(dir, model, &c.problem, &c.lin)?);
     }

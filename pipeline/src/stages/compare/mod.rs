@@ -428,7 +428,7 @@ fn compare_models(
             |s: &Scene, m: &model::ReducedModel| -> Result<Vec<(Real, Real)>, PipelineError> {
                 // A scene without `[cea]` gets its defaults (the steady state under full load).
                 let mut s = s.clone();
-                s.cea.get_or_insert_with(Default::default);
+                s.cea.get_or_insert_with(Default::default).sensitivity = false;
                 let c = cea::compute(&s, m, &progress.silenced(), &Default::default())?;
                 Ok(c.out
                     .modes

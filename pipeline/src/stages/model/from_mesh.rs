@@ -989,7 +989,11 @@ fn reduce_component(
                 &model,
                 Some((&asm.k, &asm.m)),
                 Some(&points),
-                &CheckOptions::default(),
+                &CheckOptions {
+                    // A held component has no rigid-body motion to compare.
+                    rigid_body: fixed.is_empty(),
+                    ..CheckOptions::default()
+                },
             )
             .map_err(red_err("checks"))?,
         )

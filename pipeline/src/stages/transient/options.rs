@@ -2,10 +2,25 @@
 
 use super::system::GapFriction;
 use crate::scene::TransientSpec;
-use squeal_solver::bdf::{BdfOptions, TolerancePartition, Tolerances};
-use squeal_solver::bsql::BsqlSystem;
+use squeal_solver::bdf::{BdfOptions, InitialConditionOptions, TolerancePartition, Tolerances};
+use squeal_solver::bsql::{BsqlSystem, SteadyOptions};
 use squeal_solver::galpha::GalphaOptions;
 use squeal_solver::Real;
+
+/// The options of a run's start: the steady sliding state and the consistent y'(0), both to
+/// TOLINT. The run and the DAE export take them from here.
+pub fn start_options(tolint: Real) -> (SteadyOptions, InitialConditionOptions) {
+    (
+        SteadyOptions {
+            tol: tolint,
+            ..Default::default()
+        },
+        InitialConditionOptions {
+            tol: tolint,
+            ..Default::default()
+        },
+    )
+}
 
 /// BDF options of a run on `sys` with RTOL1 = `rtol` (ATOL1 scaled by rtol / scene RTOL1) and
 /// MAXORD `max_order`; the tolerances per partition of y = {v, λ, u} come from the system.

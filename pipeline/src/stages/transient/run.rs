@@ -354,6 +354,8 @@ impl Prepared<'_> {
         let mut cs = self.scene.clone();
         let mut spec = cs.cea.clone().unwrap_or_default();
         spec.sweep = None;
+        // The verdict needs the roots only.
+        spec.sensitivity = false;
         cs.cea = Some(spec);
         match crate::stages::cea::compute(
             &cs,

@@ -1,13 +1,14 @@
 //! Where a run starts: the steady sliding state before the brake load (TOLINT) and consistent
 //! y'(0) ([`start_state`]), and the run's origin as a checkpoint part ([`Origin`]).
 
+use super::options::start_options;
 use super::sink::{Checkpoint, Saved, Sink, StepView};
 use super::system::{solver_err, Problem};
 use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
 use squeal_contact::GapSet;
-use squeal_solver::bdf::{consistent_initial_conditions, IcStats, InitialConditionOptions};
-use squeal_solver::bsql::{steady_state, SteadyOptions};
+use squeal_solver::bdf::{consistent_initial_conditions, IcStats};
+use squeal_solver::bsql::steady_state;
 use squeal_solver::Real;
 
 /// Steady-state solve summary.
@@ -35,14 +36,7 @@ pub fn start_state(
 ) -> Result<StartState, PipelineError> {
     let mut sys = problem.system(gaps.clone())?;
     // t = −1 < 0: the ramp is 0, so the state is the sliding equilibrium under P0 alone.
-    let steady_opts = SteadyOptions {
-        tol: tolint,
-        ..Default::default()
-    };
-    let ic_opts = InitialConditionOptions {
-        tol: tolint,
-        ..Default::default()
-    };
+    let (steady_opts, ic_opts) = start_options(tolint);
     let ss = steady_state(&mut sys, -1.0, &steady_opts).map_err(solver_err("steady state"))?;
     let (mut y0, mut yp0) = ss.initial_values();
     let ic = consistent_initial_conditions(&mut sys, 0.0, &mut y0, &mut yp0, None, &ic_opts)

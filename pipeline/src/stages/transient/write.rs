@@ -7,7 +7,7 @@ use super::collect::response::response_dofs;
 use super::export;
 use super::files::history::Recorder;
 use super::files::response::ResponseFile;
-use super::options::bdf_options;
+use super::options::{bdf_options, start_options};
 use super::prepare::prepare;
 use super::restart::RestartSink;
 use super::result::{TransientOptions, TransientReport};
@@ -16,8 +16,6 @@ use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::{Integrator, Scene};
 use crate::stages::model;
-use squeal_solver::bdf::InitialConditionOptions;
-use squeal_solver::bsql::SteadyOptions;
 use std::path::Path;
 use std::time::Instant;
 
@@ -103,21 +101,9 @@ fn run_model(
         let sys = prepared.problem.system(model.gaps.clone())?;
         let bdf_opts = bdf_options(spec, &sys, spec.rtol1, spec.maxord);
         let edir = RunDir::create(d)?;
-        export::export(
-            &edir,
-            &prepared.problem,
-            &model.gaps,
-            &bdf_opts,
-            &InitialConditionOptions {
-                tol: spec.tolint,
-                ..Default::default()
-            },
-            &SteadyOptions {
-                tol: spec.tolint,
-                ..Default::default()
-            },
-            spec.tfinal,
-        )?;
+        let (steady, ic) = start_options(spec.tolint);
+        let p = &prepared.problem;
+        export::export(&edir, p, &model.gaps, &bdf_opts, &ic, &steady, spec.tfinal)?;
         progress.info(format!("exported the DAE to {}", d.display()));
     }
     let resume = prepared.resume.as_ref();

@@ -1,0 +1,306 @@
+//! One design row of a propensity study: the scene with the row's values → the reduced model
+//! (the one built for the study with the row's late values applied, or rebuilt with
+//! `--rereduce`) → a lean CEA (steady state, tangents, complex eigenvalues; no energy balance,
+//! no shapes) → the largest Re λ and the unstable roots' one-third-octave bands.
+
+use super::{value_text, Plan};
+use crate::error::PipelineError;
+use crate::output::RunDir;
+use crate::progress::Progress;
+use crate::scene::{CeaSpec, ModelSource, Scene};
+use crate::stages::cea::{banded, tangents};
+use crate::stages::model::{self, ReducedModel};
+use crate::stages::sweep::values;
+use crate::stages::transient::system;
+use crate::uq::{band_of, third_octave_bands, Band, Outcome};
+use serde::{Deserialize, Serialize};
+use squeal_contact::GapSet;
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+use squeal_solver::Real;
+
+/// The lowest one-third-octave mid-band frequency reported (Hz): squeal is audible, and a
+/// mode below it (a real divergence root included) still counts in `p_unstable`.
+pub const LOWEST_BAND_HZ: Real = 10.0;
+/// The top of the bands when neither the model nor `[cea]` gives a validity band (Hz).
+pub const DEFAULT_TOP_HZ: Real = 20_000.0;
+
+/// What one design row gave.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Sample {
+    /// Index into the design's rows.
+    pub row: usize,
+    /// The inputs' values, in the plan's key order.
+    pub values: Vec<Real>,
+    /// None: the row failed (`error`).
+    pub outcome: Option<Outcome>,
+    /// Frequency of the root with the largest Re λ (Hz).
+    pub max_real_part_frequency_hz: Option<Real>,
+    /// Unstable roots in the validity band.
+    pub n_unstable: usize,
+    pub error: Option<String>,
+}
+
+/// The model and settings every row shares.
+#[derive(Debug, Clone, Serialize)]
+pub struct EvalInfo {
+    /// `reused`: one reduced model, late values per sample; `rereduced`: built per sample.
+    pub model: &'static str,
+    pub n_dofs: usize,
+    pub n_gaps: usize,
+    /// Roots above it are outside what the reduced model represents and never count.
+    pub band_hz: Option<Real>,
+    pub bands: Vec<Band>,
+}
+
+/// Evaluates design rows of one study.
+pub struct Evaluator {
+    base: Scene,
+    keys: Vec<String>,
+    /// The study's reduced model (None: rebuilt per sample), without recovery data.
+    model: Option<ReducedModel>,
+    /// Where per-sample builds put their files (`--rereduce`).
+    scratch: Option<PathBuf>,
+    info: EvalInfo,
+}
+
+/// The validity band of a scene: what the model was reduced for, or `cea.max_frequency_hz` if
+/// lower (as `squeal cea` decides it).
+fn band_of_scene(scene: &Scene) -> Option<Real> {
+    let spec = scene.cea.clone().unwrap_or_default();
+    match (scene.band_hz(), spec.max_frequency_hz) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    }
+}
+
+/// The scene as every row starts from: a `[cea]` table (the defaults when it has none),
+/// without its friction sweep.
+fn base_scene(scene: &Scene) -> Scene {
+    let mut base = scene.clone();
+    if base.cea.is_none() {
+        base.cea = Some(CeaSpec::default());
+    }
+    if let Some(c) = base.cea.as_mut() {
+        c.sweep = None;
+    }
+    base
+}
+
+/// The settings every row of `plan` shares on `scene` (band, one-third-octave bands), with the
+/// model's size (0 when rebuilt per sample).
+pub fn info_of(scene: &Scene, plan: &Plan, n_dofs: usize, n_gaps: usize) -> EvalInfo {
+    let band_hz = band_of_scene(&base_scene(scene));
+    EvalInfo {
+        model: if plan.rereduce { "rereduced" } else { "reused" },
+        n_dofs,
+        n_gaps,
+        band_hz,
+        bands: third_octave_bands(LOWEST_BAND_HZ, band_hz.unwrap_or(DEFAULT_TOP_HZ)),
+    }
+}
+
+impl Evaluator {
+    /// Builds the study's model once (through `cache` when given), unless the plan rebuilds
+    /// it per sample.
+    pub fn new(
+        scene: &Scene,
+        plan: &Plan,
+        dir: &RunDir,
+        progress: &Progress,
+        cache: Option<&model::ModelCache>,
+    ) -> Result<Evaluator, PipelineError> {
+        let base = base_scene(scene);
+        let (model, scratch, n_dofs, n_gaps) = if plan.rereduce {
+            (None, Some(dir.path("rereduce")), 0, 0)
+        } else {
+            let (mut m, _) = model::build_cached(&base, dir, progress, cache)?;
+            m.recovery.clear();
+            let (n, g) = (m.n(), m.gaps.len());
+            (Some(m), None, n, g)
+        };
+        Ok(Evaluator {
+            keys: plan.keys(),
+            model,
+            scratch,
+            info: info_of(scene, plan, n_dofs, n_gaps),
+            base,
+        })
+    }
+
+    /// The shared settings (for the report).
+    pub fn info(&self) -> EvalInfo {
+        self.info.clone()
+    }
+
+    /// Row `row` with input values `values`; a failure (bad scene, steady state, eigen-solve)
+    /// is recorded in the sample, only a cancellation is an error.
+    pub fn evaluate(
+        &self,
+        row: usize,
+        values: &[Real],
+        progress: &Progress,
+    ) -> Result<Sample, PipelineError> {
+        let mut s = Sample {
+            row,
+            values: values.to_vec(),
+            outcome: None,
+            max_real_part_frequency_hz: None,
+            n_unstable: 0,
+            error: None,
+        };
+        match self.try_evaluate(row, values, progress) {
+            Ok((o, f, n)) => {
+                s.outcome = Some(o);
+                s.max_real_part_frequency_hz = f;
+                s.n_unstable = n;
+            }
+            Err(e) if e.is_cancelled() => return Err(e),
+            Err(e) => s.error = Some(e.to_string()),
+        }
+        Ok(s)
+    }
+
+    fn try_evaluate(
+        &self,
+        row: usize,
+        values: &[Real],
+        progress: &Progress,
+    ) -> Result<(Outcome, Option<Real>, usize), PipelineError> {
+        let assignments: Vec<(String, String)> = self
+            .keys
+            .iter()
+            .zip(values)
+            .map(|(k, v)| (k.clone(), value_text(*v)))
+            .collect();
+        let scene = values::scene_for_all(&self.base, &assignments)?;
+        match (&self.model, &self.scratch) {
+            (Some(m), _) => {
+                let m = relate(m, &scene)?;
+                self.cea(&scene, &m, progress)
+            }
+            (None, Some(scratch)) => {
+                let path = scratch.join(format!("{row:06}"));
+                let dir = RunDir::create(&path)?;
+                let m = model::build(&scene, &dir, &progress.silenced());
+                let _ = std::fs::remove_dir_all(&path);
+                self.cea(&scene, &m?, progress)
+            }
+            (None, None) => Err(PipelineError::Model("propensity: no model".into())),
+        }
+    }
+
+    /// The lean CEA: largest Re λ in the band, its frequency, the unstable roots' bands.
+    fn cea(
+        &self,
+        scene: &Scene,
+        m: &ReducedModel,
+        progress: &Progress,
+    ) -> Result<(Outcome, Option<Real>, usize), PipelineError> {
+        let mut spec = scene.cea.clone().unwrap_or_default();
+        spec.sweep = None;
+        spec.validate()?;
+        spec.solver.interrupt = progress.solver_interrupt();
+        spec.solver.compute_shapes = false;
+        let problem = system::problem(scene, m)?;
+        let lin = tangents::linearise(scene, &spec, &problem, &m.gaps)?;
+        let sys = tangents::cea_matrices(&problem, &lin, spec.friction_damping)?;
+        let band_hz = band_of_scene(scene);
+        let solver = banded(&spec.solver, band_hz);
+        let res = squeal_solver::cea::complex_eigen(&sys, &solver)
+            .map_err(|e| PipelineError::cea("complex eigenvalues".into(), e))?;
+        let fmax = band_hz.unwrap_or(Real::INFINITY);
+        let kept: Vec<_> = res
+            .modes
+            .iter()
+            .filter(|m| m.frequency_hz <= fmax)
+            .collect();
+        let top = kept
+            .iter()
+            .max_by(|a, b| a.real_part.total_cmp(&b.real_part))
+            .ok_or_else(|| {
+                PipelineError::Model(format!(
+                    "the CEA found no root up to {fmax} Hz (the validity band)"
+                ))
+            })?;
+        let mut unstable_bands: Vec<usize> = kept
+            .iter()
+            .filter(|m| m.unstable)
+            .filter_map(|m| band_of(&self.info.bands, m.frequency_hz))
+            .collect();
+        unstable_bands.sort_unstable();
+        unstable_bands.dedup();
+        let n_unstable = kept.iter().filter(|m| m.unstable).count();
+        Ok((
+            Outcome {
+                max_real_part: top.real_part,
+                unstable_bands,
+                unstable: n_unstable > 0,
+            },
+            Some(top.frequency_hz),
+            n_unstable,
+        ))
+    }
+}
+
+/// The study's model with the late values of `scene` (the values the model cache leaves out
+/// of its key): sliding velocities from `[rotor]`, contact P0 and temperatures, the friction
+/// law and VTOL — as the cache's `finish` (meshed models) and the stored-model reader apply
+/// them. M, K, B, the loads and the gap geometry are the model's.
+pub fn relate(base: &ReducedModel, scene: &Scene) -> Result<ReducedModel, PipelineError> {
+    let mut m = base.clone();
+    let rotor = scene.rotor.clone().unwrap_or_default();
+    let w = rotor.rpm * 2.0 * std::f64::consts::PI / 60.0;
+    let omega = rotor.axis.map(|a| w * a);
+    let mut gaps = std::mem::take(&mut m.gaps.gaps);
+    for g in &mut gaps {
+        let r = [0, 1, 2].map(|i| g.coords[i] - rotor.origin[i]);
+        // [Paper eq. (2)]: v_slide = ω × r.
+        g.v_slide = [
+            omega[1] * r[2] - omega[2] * r[1],
+            omega[2] * r[0] - omega[0] * r[2],
+            omega[0] * r[1] - omega[1] * r[0],
+        ];
+    }
+    match m.source {
+        ModelSource::Mesh => {
+            if m.gap_pairs.len() != scene.contact.len()
+                || m.gap_pairs.iter().sum::<usize>() != gaps.len()
+            {
+                return Err(PipelineError::Model(format!(
+                    "the model has {} contact pairs, the scene {}",
+                    m.gap_pairs.len(),
+                    scene.contact.len()
+                )));
+            }
+            let mut start = 0;
+            for (pair, &count) in scene.contact.iter().zip(&m.gap_pairs) {
+                let temps: HashMap<u64, Real> = pair.grid_temperatures.iter().copied().collect();
+                for g in &mut gaps[start..start + count] {
+                    g.p0 = pair.p0;
+                    g.temperature = temps.get(&g.pad_node).copied().unwrap_or(pair.temperature);
+                }
+                start += count;
+            }
+        }
+        _ => {
+            for g in &mut gaps {
+                if let Some(p0) = scene.model.p0 {
+                    g.p0 = p0;
+                }
+                if let Some(t) = scene.model.temperature {
+                    g.temperature = t;
+                }
+            }
+        }
+    }
+    let friction = scene.friction.clone().unwrap_or_default();
+    m.gaps = GapSet::new(gaps, friction.law, friction.vtol).map_err(|source| {
+        PipelineError::Contact {
+            what: "friction".into(),
+            source,
+        }
+    })?;
+    Ok(m)
+}

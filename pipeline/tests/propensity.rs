@@ -1,0 +1,282 @@
+//! `squeal propensity` (issue 24 item 4) through the pipeline: on Hoffmann's 2-DOF
+//! mode-coupling model with μ ~ U(a, b), P(unstable) = (b − μc)/(b − a) exactly (μc = 1/3,
+//! Hoffmann, Fischer, Bieser & Gaul 2002); an input that cannot move the roots has Sobol
+//! indices 0 and μ has S_1 = S_T = 1 (a function of one input: Sobol 1993); the late values
+//! applied to the reused model equal a fresh build's; an input that changes the reduced model
+//! is refused naming the key.
+
+use squeal_pipeline::progress::Progress;
+use squeal_pipeline::stages::model;
+use squeal_pipeline::stages::propensity::{self, evaluate::relate, PropensityArgs};
+use squeal_pipeline::{RunDir, Scene};
+
+fn root() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
+}
+
+fn tmp(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("squeal-propensity-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Hoffmann-type 2-DOF mode-coupling model as stored reduced matrices (as in
+/// `pipeline/tests/insight.rs`): a pad point (grid 1: x, z) with springs k11, k22 − k3 and
+/// coupling k12, pressed on a nearly massless rotor point (grid 2: z) held by k3; friction
+/// along x makes the constrained stiffness [[k11, k12 − μk3], [k12, k22]], whose two
+/// frequencies coalesce at μc = (k12 − ... ) = 1/3 for (k11, k12, k22, k3) = (1, 0.3, 1.2, 1)
+/// (discriminant 0.4 − 1.2μ). No damping: stable below μc, a flutter pair at ≈16.7 Hz above.
+fn hoffmann(dir: &std::path::Path) -> std::path::PathBuf {
+    use squeal_reduction::matrix::{MatrixForm, NamedMatrix};
+    use squeal_reduction::op4::{self, Op4WriteOptions};
+    let s: f64 = 1.0e4;
+    let (k11, k12, k22, k3) = (1.0, 0.3, 1.2, 1.0);
+    let k = faer::Mat::from_fn(3, 3, |i, j| {
+        s * [[k11, k12, 0.0], [k12, k22 - k3, 0.0], [0.0, 0.0, k3]][i][j]
+    });
+    let eps = 1e-6;
+    let m = faer::Mat::from_fn(3, 3, |i, j| {
+        if i == j {
+            [1.0, 1.0 - eps, eps][i]
+        } else {
+            0.0
+        }
+    });
+    let b = faer::Mat::zeros(3, 3);
+    let p = faer::Mat::from_fn(3, 1, |_, _| 0.0);
+    let mats = [
+        NamedMatrix::real("KR", k),
+        NamedMatrix::real("MR", m),
+        NamedMatrix::real("BR", b),
+        NamedMatrix::real("PBRAKE", p).with_form(MatrixForm::Rectangular),
+    ];
+    let refs: Vec<&NamedMatrix> = mats.iter().collect();
+    std::fs::write(
+        dir.join("hoffmann.op4"),
+        op4::write_bytes(&refs, &Op4WriteOptions::default()).unwrap(),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("dofmap.json"),
+        r#"{"dofs": [
+            {"component": "pad", "kind": "grid", "grid": 1, "comp": 1},
+            {"component": "pad", "kind": "grid", "grid": 1, "comp": 3},
+            {"component": "rotor", "kind": "grid", "grid": 2, "comp": 3}]}"#,
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("gaps.csv"),
+        "pad_grid,rotor_grid,x,y,z,nx,ny,nz,area,p0,temperature\n1,2,0,-1,0,0,0,1,1,1,0\n",
+    )
+    .unwrap();
+    let p = dir.join("hoffmann.toml");
+    std::fs::write(
+        &p,
+        r#"
+[model]
+from = "op4"
+matrices = "hoffmann.op4"
+dofmap = "dofmap.json"
+gaps = "gaps.csv"
+
+[friction]
+law = { kind = "constant", mu = 0.1 }
+vtol = 1e-6
+
+[rotor]
+rpm = 9549.296585513720
+axis = [0.0, 0.0, 1.0]
+
+[loads]
+pmax = 1.0
+tload = 0.0
+
+[cea]
+friction_damping = true
+"#,
+    )
+    .unwrap();
+    p
+}
+
+fn args(dists: &[(&str, &str)], samples: usize) -> PropensityArgs {
+    PropensityArgs {
+        dists: dists
+            .iter()
+            .map(|(k, d)| (k.to_string(), d.to_string()))
+            .collect(),
+        samples,
+        ..Default::default()
+    }
+}
+
+/// μ ~ U(0.2, 0.5): P(unstable) = (0.5 − 1/3)/0.3 = 5/9. Each replicate's A (and B) points
+/// are a scrambled Sobol set, whose one-dimensional projection is a (0, m, 1)-net: one point in
+/// each of the n_base intervals of width 1/n_base, so each set's fraction above μc is within
+/// 1/n_base of the exact value, and so is the mean. The estimate holds that bound (plus O(ε)
+/// for μc's shift by the rotor point's mass ε = 1e-6) and its interval holds the exact value.
+/// The unstable pair's band (16 Hz: 14.1–17.8 Hz) has the same probability; propensity.json
+/// and samples.csv are written.
+#[test]
+fn hoffmann_probability_of_instability_is_the_uniform_fraction() {
+    let d = tmp("hoffmann");
+    let scene = Scene::load(&hoffmann(&d), &[]).unwrap();
+    let dir = RunDir::create(&d.join("run")).unwrap();
+    let a = args(&[("friction.law.mu", "uniform(0.2, 0.5)")], 1024);
+    let out = propensity::run(&scene, &dir, &Progress::quiet(), &a, None).unwrap();
+    let exact = 5.0 / 9.0;
+    let p = &out.p_unstable;
+    eprintln!(
+        "P = {:.6} in [{:.4}, {:.4}] (exact {exact:.6}, error {:.2e}, n_base {}, {} replicates)",
+        p.p,
+        p.interval[0],
+        p.interval[1],
+        p.p - exact,
+        out.n_base,
+        out.replicates
+    );
+    assert_eq!(out.stats.evaluations, 1024);
+    assert_eq!(out.stats.failed, 0, "{:?}", out.errors);
+    assert!((p.p - exact).abs() <= 1.0 / out.n_base as f64 + 1e-4);
+    assert!(p.interval[0] <= exact && exact <= p.interval[1]);
+    assert!(p.interval[1] - p.interval[0] < 0.1);
+    let b16 = out
+        .bands
+        .iter()
+        .find(|b| b.band.lower_hz < 16.7 && 16.7 < b.band.upper_hz)
+        .unwrap();
+    assert!((b16.p - p.p).abs() < 1e-12, "band {} vs {}", b16.p, p.p);
+    let others: f64 = out
+        .bands
+        .iter()
+        .filter(|b| b.band.center_hz != b16.band.center_hz)
+        .map(|b| b.p)
+        .sum();
+    assert_eq!(others, 0.0);
+    let re = out.max_real_part.as_ref().unwrap();
+    assert!(re.min.abs() < 1e-6 && re.max > 1.0, "{re:?}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("run/propensity.json")).unwrap())
+            .unwrap();
+    assert_eq!(json["inputs"][0]["key"], "friction.law.mu");
+    assert!(json["p_unstable"]["interval"].is_array());
+    let csv = std::fs::read_to_string(d.join("run/samples.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1025);
+    assert!(csv.starts_with("row,replicate,kind,friction.law.mu,max_real_part"));
+}
+
+/// Two inputs, one of which cannot move the roots (the brake load scales PBRAKE = 0): its
+/// total index is 0 (Jansen's estimator is exactly 0 when f_A = f_AB), and μ's first-order and
+/// total indices are 1 (the output is a function of μ alone) to within the estimator's error.
+#[test]
+fn sobol_indices_of_a_model_of_one_relevant_input() {
+    let d = tmp("hoffmann-sobol");
+    let scene = Scene::load(&hoffmann(&d), &[]).unwrap();
+    let dir = RunDir::create(&d.join("run")).unwrap();
+    let a = args(
+        &[
+            ("friction.law.mu", "uniform(0.2, 0.5)"),
+            ("loads.pmax", "lognormal(0, 0.3)"),
+        ],
+        1024,
+    );
+    let out = propensity::run(&scene, &dir, &Progress::quiet(), &a, None).unwrap();
+    for s in [&out.sobol_max_real_part, &out.sobol_unstable] {
+        let s = s.as_ref().unwrap();
+        eprintln!(
+            "S1 {:?} {:?}, ST {:?} {:?}",
+            s.indices.first_order,
+            s.indices.first_order_interval,
+            s.indices.total,
+            s.indices.total_interval
+        );
+        assert_eq!(s.keys, ["friction.law.mu", "loads.pmax"]);
+        assert!(s.indices.total[1].abs() < 1e-9, "{:?}", s.indices.total);
+        assert!(s.indices.first_order[1].abs() < 1e-9);
+        assert!((s.indices.total[0] - 1.0).abs() < 0.05);
+        assert!((s.indices.first_order[0] - 1.0).abs() < 0.1);
+    }
+}
+
+/// The late values applied to the reused model (μ, rpm, P0, VTOL) give the gaps a fresh build
+/// of the changed scene gives, on a meshed model (the tiny brake) and a stored one.
+#[test]
+fn late_values_on_the_reused_model_equal_a_fresh_build() {
+    let d = tmp("relate");
+    let tiny = root().join("examples/transient/tiny-brake.toml");
+    let hoff = hoffmann(&d);
+    for (path, sets) in [
+        (
+            &tiny,
+            vec![
+                "friction.law.mu0=0.45",
+                "rotor.rpm=12.5",
+                "contact.0.p0=1.7",
+                "friction.vtol=2e-3",
+            ],
+        ),
+        (
+            &hoff,
+            vec!["friction.law.mu=0.41", "rotor.rpm=1000.0", "model.p0=2.5"],
+        ),
+    ] {
+        let base = Scene::load(path, &[]).unwrap();
+        let dir = RunDir::create(&d.join("base")).unwrap();
+        let m = model::build(&base, &dir, &Progress::quiet()).unwrap();
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let changed = Scene::load(path, &sets).unwrap();
+        let fresh = model::build(&changed, &dir, &Progress::quiet()).unwrap();
+        let related = relate(&m, &changed).unwrap();
+        assert_eq!(related.gaps, fresh.gaps, "{}", path.display());
+        assert_ne!(m.gaps, fresh.gaps);
+    }
+}
+
+/// Bad inputs: an unknown key, a malformed distribution, a < b violated, a key that changes
+/// the reduced model, and too few samples for the Sobol indices name the flag and the value.
+#[test]
+fn bad_inputs_name_the_flag_and_the_value() {
+    let tiny = root().join("examples/transient/tiny-brake.toml");
+    let scene = Scene::load(&tiny, &[]).unwrap();
+    for (dists, n, frag) in [
+        (
+            vec![("friction.law.mux", "uniform(0.3, 0.5)")],
+            64,
+            "--dist friction.law.mux=uniform(0.3, 0.5)",
+        ),
+        (
+            vec![("friction.law.mu0", "uniform[0.3, 0.5]")],
+            64,
+            "expected NAME(ARGS)",
+        ),
+        (vec![("friction.law.mu0", "uniform(0.5, 0.3)")], 64, "a < b"),
+        (
+            vec![("components.1.material.young", "uniform(4e3, 6e3)")],
+            64,
+            "`components.1.material.young` changes the reduced model",
+        ),
+        (
+            vec![
+                ("friction.law.mu0", "uniform(0.3, 0.5)"),
+                ("contact.0.p0", "uniform(0.5, 1.5)"),
+            ],
+            20,
+            "--samples",
+        ),
+    ] {
+        let e = propensity::plan(&scene, &args(&dists, n))
+            .unwrap_err()
+            .to_string();
+        eprintln!("{e}");
+        assert!(e.contains(frag), "{frag}: {e}");
+    }
+    // With --rereduce the component key is accepted and marked.
+    let mut a = args(&[("components.1.material.young", "uniform(4e3, 6e3)")], 16);
+    a.rereduce = true;
+    let p = propensity::plan(&scene, &a).unwrap();
+    assert!(p.rereduce && !p.inputs[0].reuses_model);
+}
