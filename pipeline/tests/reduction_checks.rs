@@ -9,7 +9,9 @@ use squeal_pipeline::{RunDir, Scene};
 
 #[test]
 fn held_components_skip_the_rigid_body_mass_check() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap();
     let file = root.join("examples/transient/tiny-brake.toml");
     let dir = std::env::temp_dir().join(format!("squeal-rbcheck-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -20,7 +22,10 @@ fn held_components_skip_the_rigid_body_mass_check() {
     let m = model::build(&scene, &run, &Progress::quiet()).unwrap();
     assert_eq!(m.checks.len(), 2, "both components checked");
     for (name, c) in &m.checks {
-        assert!(c.rigid.is_none(), "{name}: rigid-body mass compared on a held component");
+        assert!(
+            c.rigid.is_none(),
+            "{name}: rigid-body mass compared on a held component"
+        );
         // The other checks still ran: the reduced modes against the full component's.
         assert!(!c.frequencies.is_empty(), "{name}: no frequency comparison");
     }
