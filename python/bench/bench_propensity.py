@@ -61,6 +61,9 @@ def main() -> None:
     ap.add_argument("--samples", type=int, default=1000)
     ap.add_argument("--out", default=str(ROOT / "docs" / "bench" / "propensity.json"))
     ap.add_argument("--note", default="machine shared with other builds (2 cores, other helpers compiling)")
+    ap.add_argument("--paths", default="cli,threads,dask", help="which of cli, threads, dask to run")
+    ap.add_argument("--dask-samples", type=int, default=None, help="budget of the Dask run (default --samples)")
+    ap.add_argument("--cli-result", default=None, help="a propensity.json of an earlier CLI run to report instead")
     a = ap.parse_args()
     res: dict = {
         "what": "squeal propensity on the study brake (examples/sample-brake/base.toml), "
@@ -71,35 +74,48 @@ def main() -> None:
         "cli_binary": a.squeal,
         "python_module_profile": "dev (workspace crates at opt-level 2)",
     }
+    paths = a.paths.split(",")
     with tempfile.TemporaryDirectory(prefix="squeal-bench-prop-") as tmp:
         tmp = Path(tmp)
-        # CLI (rayon over the machine's cores).
-        cmd = [a.squeal, "-q", "propensity", str(BASE), "--samples", str(a.samples), "--out", str(tmp / "cli"),
-               "--cache", str(tmp / "cli-cache")]
-        for k, d in DISTS.items():
-            cmd += ["--dist", f"{k}={d}"]
-        t0 = time.perf_counter()
-        subprocess.run(cmd, check=True)
-        cli_wall = time.perf_counter() - t0
-        cli = json.loads((tmp / "cli" / "propensity.json").read_text())
-        res["cli"] = {**summary(cli), "process_wall_s": cli_wall, "threads": cli["stats"]["threads"]}
-        scene = squeal.Scene.from_file(BASE)
-        # Python, local threads.
-        t0 = time.perf_counter()
-        r = squeal.propensity(scene, DISTS, a.samples, out=tmp / "py", cache=tmp / "py-cache")
-        res["python_threads"] = {**summary(r.report), "call_wall_s": time.perf_counter() - t0}
-        # Python, Dask LocalCluster with 2 worker processes of one thread each.
-        from dask.distributed import Client, LocalCluster
-
-        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                          dashboard_address=None) as cluster, Client(cluster) as client:
+        cli = None
+        if a.cli_result:
+            cli = json.loads(Path(a.cli_result).read_text())
+            res["cli"] = {**summary(cli), "threads": cli["stats"]["threads"], "from_earlier_run": a.cli_result}
+        elif "cli" in paths:
+            # CLI (rayon over the machine's cores).
+            cmd = [a.squeal, "-q", "propensity", str(BASE), "--samples", str(a.samples), "--out", str(tmp / "cli"),
+                   "--cache", str(tmp / "cli-cache")]
+            for k, d in DISTS.items():
+                cmd += ["--dist", f"{k}={d}"]
             t0 = time.perf_counter()
-            r2 = squeal.propensity(scene, DISTS, a.samples, client=client, out=tmp / "dask",
-                                   cache=tmp / "dask-cache")
-            res["python_dask_2_workers"] = {**summary(r2.report), "call_wall_s": time.perf_counter() - t0}
-        same = (cli["p_unstable"]["p"] == r.report["p_unstable"]["p"] == r2.report["p_unstable"]["p"])
-        res["same_p_unstable_on_all_three"] = same
-        res["ratio_dask_to_cli_wall"] = res["python_dask_2_workers"]["call_wall_s"] / cli_wall
+            subprocess.run(cmd, check=True)
+            cli = json.loads((tmp / "cli" / "propensity.json").read_text())
+            res["cli"] = {**summary(cli), "process_wall_s": time.perf_counter() - t0,
+                          "threads": cli["stats"]["threads"]}
+        scene = squeal.Scene.from_file(BASE)
+        r = r2 = None
+        if "threads" in paths:
+            # Python, local threads.
+            t0 = time.perf_counter()
+            r = squeal.propensity(scene, DISTS, a.samples, out=tmp / "py", cache=tmp / "py-cache")
+            res["python_threads"] = {**summary(r.report), "call_wall_s": time.perf_counter() - t0}
+        if "dask" in paths:
+            # Python, Dask LocalCluster with 2 worker processes of one thread each.
+            from dask.distributed import Client, LocalCluster
+
+            n = a.dask_samples or a.samples
+            with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                              dashboard_address=None) as cluster, Client(cluster) as client:
+                t0 = time.perf_counter()
+                r2 = squeal.propensity(scene, DISTS, n, client=client, out=tmp / "dask",
+                                       cache=tmp / "dask-cache")
+                res["python_dask_2_workers"] = {**summary(r2.report), "samples_budget": n,
+                                                "call_wall_s": time.perf_counter() - t0}
+        if cli is not None and r2 is not None:
+            res["ratio_dask_to_cli_per_evaluation"] = (res["python_dask_2_workers"]["per_evaluation_ms"]
+                                                       / res["cli"]["per_evaluation_ms"])
+        if cli is not None and r is not None:
+            res["same_p_unstable_cli_threads"] = cli["p_unstable"]["p"] == r.report["p_unstable"]["p"]
     Path(a.out).parent.mkdir(parents=True, exist_ok=True)
     Path(a.out).write_text(json.dumps(res, indent=2) + "\n")
     print(json.dumps(res, indent=2))
