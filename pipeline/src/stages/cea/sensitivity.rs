@@ -152,7 +152,7 @@ pub fn sensitivities(
     unstable: &[usize],
 ) -> Result<SensitivityOut, PipelineError> {
     let t0 = Instant::now();
-    let (params, notes) = parameters(base.scene, base.model);
+    let (mut params, mut notes) = parameters(base.scene, base.model);
     let which = chosen(modes, unstable);
     let mut triplets = Vec::with_capacity(which.len());
     for &i in &which {
@@ -163,14 +163,25 @@ pub fn sensitivities(
     }
     let mut per_root: Vec<Vec<ParamSensitivity>> = vec![Vec::new(); which.len()];
     let mut n_state_solves = 0;
-    for param in &params {
-        let (dq, solves) = matrix_derivative(base, param)?;
+    // A parameter whose difference cannot be formed (a re-solved state that does not
+    // converge) is left out and named in `notes`: the roots and the other parameters stand.
+    let mut computed = Vec::with_capacity(params.len());
+    for param in params.drain(..) {
+        let (dq, solves) = match matrix_derivative(base, &param) {
+            Ok(d) => d,
+            Err(e) => {
+                notes.push(format!("{}: not computed: {e}", param.name));
+                continue;
+            }
+        };
         n_state_solves += solves;
         for (r, t) in triplets.iter().enumerate() {
             let s = eigenvalue_derivative(sys, t, &dq);
-            per_root[r].push(entry(param, t.p, s.dp));
+            per_root[r].push(entry(&param, t.p, s.dp));
         }
+        computed.push(param);
     }
+    let params = computed;
     let roots = which
         .iter()
         .zip(triplets)
