@@ -391,12 +391,13 @@ fn axpy(a: &Mat<Real>, f: Real, d: &Mat<Real>) -> Mat<Real> {
 
 /// The CEA matrices with `param` at `value` (everything else as in `base`): the problem
 /// changed, the steady state solved again when the parameter moves it (`base.lin` is a
-/// steady state), the tangents evaluated there.
+/// steady state), the tangents evaluated there; and whether the state was solved only to the
+/// scene's tolerance (the tight 1e-13 did not converge).
 pub fn matrices_at(
     base: &Base,
     param: &Parameter,
     value: Real,
-) -> Result<CeaMatrices, PipelineError> {
+) -> Result<(CeaMatrices, bool), PipelineError> {
     let (scene, model, pb) = (base.scene, base.model, base.problem);
     let delta = value - param.value;
     let mut gaps = model.gaps.clone();
@@ -500,6 +501,7 @@ pub fn matrices_at(
         }
     }
     let steady = matches!(base.lin.source, StateSource::SteadyState { .. });
+    let mut loosened = false;
     let lin = if param.moves_state && steady {
         let mut opts = base.spec.steady.clone();
         // The state's round-off enters the difference quotient divided by the step: solved
@@ -509,7 +511,10 @@ pub fn matrices_at(
         opts.max_iters = opts.max_iters.max(100);
         match at_steady_state(&problem, &gaps, &opts) {
             Ok(lin) => lin,
-            Err(_) => at_steady_state(&problem, &gaps, &base.spec.steady)?,
+            Err(_) => {
+                loosened = true;
+                at_steady_state(&problem, &gaps, &base.spec.steady)?
+            }
         }
     } else {
         let (d, c_f) = tangents(&gaps, problem.m.nrows(), &base.lin.v, &base.lin.lambda_dot)?;
@@ -519,5 +524,8 @@ pub fn matrices_at(
             ..base.lin.clone()
         }
     };
-    cea_matrices(&problem, &lin, base.spec.friction_damping)
+    Ok((
+        cea_matrices(&problem, &lin, base.spec.friction_damping)?,
+        loosened,
+    ))
 }

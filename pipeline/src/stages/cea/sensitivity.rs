@@ -126,22 +126,28 @@ fn chosen(modes: &[Mode], unstable: &[usize]) -> Vec<usize> {
 }
 
 /// The matrix derivative of `param` at `base` by central difference (one-sided over
-/// `[θ, θ + 2h]` when `θ − h` is below the parameter's range).
+/// `[θ, θ + 2h]` when `θ − h` is below the parameter's range), the steady states it re-solved,
+/// and whether a state was solved only to the scene's tolerance (the tight one did not
+/// converge).
 pub fn matrix_derivative(
     base: &Base,
     param: &Parameter,
-) -> Result<(MatrixDerivative, usize), PipelineError> {
+) -> Result<(MatrixDerivative, usize, bool), PipelineError> {
     let h = STEP * param.scale;
     let (a, b) = if param.value - h < param.lower {
         (param.value + 2.0 * h, param.value)
     } else {
         (param.value + h, param.value - h)
     };
-    let plus = matrices_at(base, param, a)?;
-    let minus = matrices_at(base, param, b)?;
+    let (plus, loose_plus) = matrices_at(base, param, a)?;
+    let (minus, loose_minus) = matrices_at(base, param, b)?;
     let dq = MatrixDerivative::central_difference(&plus, &minus, h)
         .map_err(|source| PipelineError::cea(format!("derivative of {}", param.name), source))?;
-    Ok((dq, if param.moves_state { 2 } else { 0 }))
+    Ok((
+        dq,
+        if param.moves_state { 2 } else { 0 },
+        loose_plus || loose_minus,
+    ))
 }
 
 /// The sensitivities of the roots `modes` (the CEA's reported roots, on `sys`).
@@ -168,7 +174,16 @@ pub fn sensitivities(
     let mut computed = Vec::with_capacity(params.len());
     for param in params.drain(..) {
         let (dq, solves) = match matrix_derivative(base, &param) {
-            Ok(d) => d,
+            Ok((dq, solves, loosened)) => {
+                if loosened {
+                    notes.push(format!(
+                        "{}: a re-solved steady state converged only to the scene's \
+                         tolerance {:.1e}, not 1e-13: this derivative is less accurate",
+                        param.name, base.spec.steady.tol
+                    ));
+                }
+                (dq, solves)
+            }
             Err(e) => {
                 notes.push(format!("{}: not computed: {e}", param.name));
                 continue;
