@@ -319,17 +319,6 @@ fn the_verdict_imports_nothing_above_it() {
 /// `type Real` in the crates' sources; every other crate uses or re-exports it.
 #[test]
 fn the_workspace_defines_real_once() {
-    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-        for e in std::fs::read_dir(dir).unwrap() {
-            let p = e.unwrap().path();
-            let name = p.file_name().unwrap().to_string_lossy().to_string();
-            if p.is_dir() && !name.starts_with('.') && name != "target" {
-                walk(&p, out);
-            } else if name.ends_with(".rs") {
-                out.push(p);
-            }
-        }
-    }
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
     let mut files = Vec::new();
     for krate in [
@@ -342,7 +331,9 @@ fn the_workspace_defines_real_once() {
         "cli",
         "python",
     ] {
-        walk(&root.join(krate), &mut files);
+        let mut all = BTreeMap::new();
+        modules(&root.join(krate), &Vec::new(), &mut all);
+        files.extend(all.into_values());
     }
     assert!(files.len() > 100, "{} sources found", files.len());
     let defs: Vec<String> = files
