@@ -134,26 +134,24 @@ pub fn to_py(e: &PipelineError) -> PyErr {
         PipelineError::SceneParse { .. }
         | PipelineError::Scene { .. }
         | PipelineError::Override { .. }
-        | PipelineError::Option { .. } => SceneError::new_err(msg.clone()),
-        PipelineError::Io { .. } | PipelineError::Input { .. } => InputError::new_err(msg.clone()),
-        PipelineError::Mesh { .. } => MeshError::new_err(msg.clone()),
+        | PipelineError::Option { .. } => SceneError::new_err(msg),
+        PipelineError::Io { .. } | PipelineError::Input { .. } => InputError::new_err(msg),
+        PipelineError::Mesh { .. } => MeshError::new_err(msg),
         PipelineError::Fe { .. }
         | PipelineError::Reduction { .. }
         | PipelineError::Contact { .. }
-        | PipelineError::Model(_) => ModelError::new_err(msg.clone()),
-        PipelineError::Solver { .. } | PipelineError::Cea { .. } => {
-            SolverError::new_err(msg.clone())
-        }
-        PipelineError::Output { .. } => OutputError::new_err(msg.clone()),
-        PipelineError::Cancelled { .. } => Cancelled::new_err(msg.clone()),
-        PipelineError::Resumed { .. } => SquealError::new_err(msg.clone()),
+        | PipelineError::Model(_) => ModelError::new_err(msg),
+        PipelineError::Solver { .. } | PipelineError::Cea { .. } => SolverError::new_err(msg),
+        PipelineError::Output { .. } => OutputError::new_err(msg),
+        PipelineError::Cancelled { .. } => Cancelled::new_err(msg),
+        PipelineError::Resumed { .. } => SquealError::new_err(msg),
     };
-    Python::attach(|py| with_attributes(py, kind, err, &msg))
+    Python::attach(|py| with_attributes(py, kind, err, e))
 }
 
-/// `err` with its attributes set (an attribute that cannot be set leaves the error as it is:
+/// `err` (of `e`, whose innermost error is `kind`) with its attributes set (an attribute that cannot be set leaves the error as it is:
 /// the message still names the key or file).
-fn with_attributes(py: Python<'_>, kind: &PipelineError, err: PyErr, msg: &str) -> PyErr {
+fn with_attributes(py: Python<'_>, kind: &PipelineError, err: PyErr, e: &PipelineError) -> PyErr {
     let path = |p: &Path| p.display().to_string();
     let set = |err: PyErr, attrs: &[(&str, Option<String>)]| -> PyErr {
         for (name, value) in attrs {
@@ -165,11 +163,11 @@ fn with_attributes(py: Python<'_>, kind: &PipelineError, err: PyErr, msg: &str) 
         PipelineError::Io { path: p, source } if source.kind() == std::io::ErrorKind::NotFound => {
             match input_file_not_found(py) {
                 Ok(ty) => {
-                    let e = PyErr::from_type(ty.bind(py).clone(), (msg.to_string(),));
-                    let _ = e.value(py).setattr("errno", 2);
-                    let _ = e.value(py).setattr("strerror", source.to_string());
-                    let _ = e.value(py).setattr("filename", path(p));
-                    set(e, &[("path", Some(path(p)))])
+                    let nf = PyErr::from_type(ty.bind(py).clone(), (e.to_string(),));
+                    let _ = nf.value(py).setattr("errno", 2);
+                    let _ = nf.value(py).setattr("strerror", source.to_string());
+                    let _ = nf.value(py).setattr("filename", path(p));
+                    set(nf, &[("path", Some(path(p)))])
                 }
                 Err(_) => set(err, &[("path", Some(path(p)))]),
             }
