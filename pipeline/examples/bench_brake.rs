@@ -32,11 +32,11 @@
 use serde_json::json;
 use squeal_fe::{assemble, AssemblyOptions, DofMap};
 use squeal_meshes::Mesh;
+use squeal_pipeline::model::mesh::fixed_dofs;
 use squeal_pipeline::output::RunDir;
 use squeal_pipeline::progress::Progress;
 use squeal_pipeline::scene::Scene;
 use squeal_pipeline::stages::mesh::mesh_component;
-use squeal_pipeline::stages::modes::fixed_dofs;
 use squeal_reduction::cb::{self, peak_rss_kib};
 use std::path::{Path, PathBuf};
 use std::time::Instant;

@@ -1,8 +1,8 @@
 //! `squeal reduce`: the reduced model written as OP4 + punch DMIG + DOF map + gap table, with
 //! the Craig–Bampton checks (`checks.json`) and the lowest modes of the reduced (K, M).
 
-use super::model::{self, ComponentReport, StoredFiles};
 use crate::error::PipelineError;
+use crate::model::{self, ComponentReport, StoredFiles};
 use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::{ModelSource, Scene};

@@ -7,15 +7,15 @@
 //! bookkeeping, and only when asked for.
 
 use crate::error::PipelineError;
+pub use crate::problem::options::galpha_options;
+use crate::problem::start::start_state;
+use crate::problem::system::Problem;
 use crate::progress::Progress;
 use crate::scene::TransientSpec;
 use crate::stages::transient::driver::{drive, DriveOptions};
-pub use crate::stages::transient::options::galpha_options;
 use crate::stages::transient::sink::{Sink, StepView};
-use crate::stages::transient::start_state;
 pub use crate::stages::transient::stepper::Method;
 use crate::stages::transient::stepper::{IntegratorStats, Stepper};
-use crate::stages::transient::system::Problem;
 use serde::Serialize;
 use squeal_contact::GapSet;
 use squeal_solver::bdf::Status;

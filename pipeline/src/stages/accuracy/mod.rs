@@ -21,10 +21,11 @@ pub use crate::scene::AccuracySpec;
 pub use drive::{initial_state, integrate, Method, RunOutcome};
 
 use crate::error::PipelineError;
+use crate::model;
 use crate::output::RunDir;
+use crate::problem::system;
 use crate::progress::Progress;
 use crate::scene::Scene;
-use crate::stages::{model, transient::system};
 use compare::RunErrors;
 use serde::Serialize;
 

@@ -25,11 +25,11 @@
 //! least-squares solution of `(Gᵀ − D) ν = −(p²M + pC + K) φ` (one QR for all roots), and the
 //! remaining residual is reported (`eigen_residual`) beside the identity's closure.
 
-use super::tangents::Linearisation;
 use crate::error::PipelineError;
+use crate::model::ReducedModel;
+use crate::problem::system::Problem;
+use crate::problem::tangents::Linearisation;
 use crate::scene::Scene;
-use crate::stages::model::ReducedModel;
-use crate::stages::transient::system::Problem;
 use faer::linalg::solvers::SolveLstsq;
 use faer::Mat;
 use serde::Serialize;

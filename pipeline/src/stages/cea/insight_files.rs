@@ -9,8 +9,8 @@ use super::outputs::data_array;
 use super::sweep::{event_tracks, SweepReport, TrackOut};
 use crate::error::PipelineError;
 use crate::figures::{grouped_bars, write_figure, Figure, Series, SeriesStyle};
+use crate::model::ReducedModel;
 use crate::output::RunDir;
-use crate::stages::model::ReducedModel;
 use squeal_solver::cea::ModeEvent;
 use std::fmt::Write as _;
 

@@ -1,12 +1,12 @@
 //! Files of `squeal cea`: mode shapes as VTU, tangent matrices as OP4 and punch, figures.
 
 use super::sweep::{SweepReport, TrackOut};
-use super::tangents::Linearisation;
 use crate::error::PipelineError;
 use crate::figures::{root_locus, stability_map, write_figure};
+use crate::model::ReducedModel;
 use crate::output::RunDir;
-use crate::stages::model::ReducedModel;
-use crate::stages::transient::system::Problem;
+use crate::problem::system::Problem;
+use crate::problem::tangents::Linearisation;
 use faer::Mat;
 use squeal_reduction::matrix::{MatrixForm, NamedMatrix};
 use squeal_reduction::punch::{self, DmigMatrix, PunchWriteOptions};

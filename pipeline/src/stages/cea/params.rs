@@ -19,11 +19,13 @@
 //! unless the modal cut-off selects other modes; docs/insight.md measures it.
 
 use super::energy::{from_reductions, scatter_check};
-use super::tangents::{at_steady_state, cea_matrices, tangents, Linearisation, StateSource};
 use crate::error::PipelineError;
+use crate::model::ReducedModel;
+use crate::problem::system::{damping_matrix, Problem};
+use crate::problem::tangents::{
+    at_steady_state, cea_matrices, tangents, Linearisation, StateSource,
+};
 use crate::scene::{CeaSpec, Scene};
-use crate::stages::model::ReducedModel;
-use crate::stages::transient::system::{damping_matrix, Problem};
 use faer::Mat;
 use serde::Serialize;
 use squeal_contact::{FrictionLaw, GapSet};

@@ -1,8 +1,10 @@
 //! The steady sliding states of a friction sweep, with K factorised once for the whole sweep.
 
-use super::tangents::{at_steady_state, full_load_time, tangents, Linearisation, StateSource};
 use crate::error::PipelineError;
-use crate::stages::transient::system::Problem;
+use crate::problem::system::Problem;
+use crate::problem::tangents::{
+    at_steady_state, full_load_time, tangents, Linearisation, StateSource,
+};
 use faer::linalg::solvers::{PartialPivLu, Solve};
 use faer::{Col, Mat};
 use squeal_contact::GapSet;

@@ -24,10 +24,11 @@ mod report;
 pub use report::{markdown, write};
 
 use crate::error::PipelineError;
+use crate::model;
 use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::{ModelSource, Scene};
-use crate::stages::{cea, model};
+use crate::stages::cea;
 use modal::{MatrixDiff, ModePair};
 use serde::Serialize;
 use std::path::{Path, PathBuf};

@@ -5,13 +5,13 @@
 
 use super::{value_text, Plan};
 use crate::error::PipelineError;
+use crate::model::{self, ReducedModel};
 use crate::output::RunDir;
+use crate::problem::system;
 use crate::progress::Progress;
+use crate::scene::values;
 use crate::scene::{CeaSpec, ModelSource, Scene};
 use crate::stages::cea::{banded, tangents};
-use crate::stages::model::{self, ReducedModel};
-use crate::stages::sweep::values;
-use crate::stages::transient::system;
 use crate::uq::{band_of, third_octave_bands, Band, Outcome};
 use serde::{Deserialize, Serialize};
 use squeal_contact::GapSet;

@@ -1,9 +1,9 @@
 //! `--export-dae DIR`: exactly what the solver integrates, as numpy-readable files.
 
-use super::system::Problem;
 use crate::error::PipelineError;
 use crate::history::npy::write_npy;
 use crate::output::RunDir;
+use crate::problem::system::Problem;
 use faer::Mat;
 use serde::Serialize;
 use squeal_contact::GapSet;

@@ -2,10 +2,10 @@
 //! restart it continues, all checked before anything integrates.
 
 use super::resume::Resume;
-use super::system::{self, Problem};
 use crate::error::PipelineError;
+use crate::model;
+use crate::problem::system::{self, Problem};
 use crate::scene::{Integrator, Scene, TransientSpec};
-use crate::stages::model;
 use serde::Serialize;
 use squeal_solver::Real;
 

@@ -8,7 +8,6 @@
 //!   roots of a CEA at the steady state when the scene asks for one;
 //! - result: the [`TransientResult`].
 
-use super::band::{self, BandReport};
 use super::collect::contact::ContactMonitor;
 use super::collect::face::FaceMonitor;
 use super::collect::orders::OrderTally;
@@ -21,8 +20,10 @@ use super::result::{TransientOptions, TransientResult, VerdictCeaResult};
 use super::sink::Sink;
 use super::start::{start_state, Origin, SteadySummary};
 use super::stepper::{IntegratorStats, Method, Stepper};
-use super::system::{event_mask, separation_mask};
 use crate::error::PipelineError;
+use crate::problem::band::{self, BandReport};
+use crate::problem::linear::verdict_roots;
+use crate::problem::system::{event_mask, separation_mask};
 use crate::progress::Progress;
 use crate::verdict::roots::PencilOptions;
 use crate::verdict::{decide, CeaRoots, Decision, Record, Settings};
@@ -97,7 +98,7 @@ impl Prepared<'_> {
             .output
             .verdict_cea
             .runs(self.model.n())
-            .then(|| self.verdict_cea(progress));
+            .then(|| verdict_roots(self.scene, self.model, &progress.silenced()));
         let roots = cea
             .as_ref()
             .filter(|c| c.error.is_none())
@@ -345,46 +346,6 @@ impl Prepared<'_> {
                 .chain(self.resume.as_ref().and_then(|r| r.warning.clone()))
                 .collect(),
             history,
-        }
-    }
-
-    /// The CEA at the steady state under the full brake load (the state the response after
-    /// the ramp vibrates about), for the verdict; a failure is recorded, not fatal.
-    fn verdict_cea(&self, progress: &Progress) -> VerdictCeaResult {
-        let mut cs = self.scene.clone();
-        let mut spec = cs.cea.clone().unwrap_or_default();
-        spec.sweep = None;
-        // The verdict needs the roots only.
-        spec.sensitivity = false;
-        cs.cea = Some(spec);
-        match crate::stages::cea::compute(
-            &cs,
-            self.model,
-            &progress.silenced(),
-            &Default::default(),
-        ) {
-            // The CEA's modes are those in its validity band; the rest it counts apart.
-            Ok(c) => VerdictCeaResult {
-                unstable_in_band: c
-                    .unstable()
-                    .iter()
-                    .map(|(_, m)| (m.frequency_hz, m.real_part))
-                    .collect(),
-                unstable_outside_band: c.out.outside_band.n_unstable,
-                modes_in_band: c
-                    .out
-                    .modes
-                    .iter()
-                    .map(|m| (m.frequency_hz, m.real_part))
-                    .collect(),
-                error: None,
-            },
-            Err(e) => VerdictCeaResult {
-                unstable_in_band: Vec::new(),
-                unstable_outside_band: 0,
-                modes_in_band: Vec::new(),
-                error: Some(e.to_string()),
-            },
         }
     }
 }

@@ -2,11 +2,11 @@
 //! the driver steps and asks for its state and counters. It knows nothing of sinks or
 //! checkpoints.
 
-use super::options::{bdf_options, galpha_options};
-use super::recover::{BandStart, FullView};
 use super::restart::RestartFile;
-use super::system::{solver_err, GapFriction, Problem};
 use crate::error::PipelineError;
+use crate::problem::options::{bdf_options, galpha_options};
+use crate::problem::recover::{BandStart, FullView};
+use crate::problem::system::{solver_err, GapFriction, Problem};
 use crate::scene::{Integrator, TransientSpec};
 use serde::Serialize;
 use squeal_contact::GapSet;

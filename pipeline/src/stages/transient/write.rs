@@ -7,15 +7,15 @@ use super::collect::response::response_dofs;
 use super::export;
 use super::files::history::Recorder;
 use super::files::response::ResponseFile;
-use super::options::{bdf_options, start_options};
 use super::prepare::prepare;
 use super::restart::RestartSink;
 use super::result::{TransientOptions, TransientReport};
 use crate::error::PipelineError;
+use crate::model;
 use crate::output::RunDir;
+use crate::problem::options::{bdf_options, start_options};
 use crate::progress::Progress;
 use crate::scene::{Integrator, Scene};
-use crate::stages::model;
 use std::path::Path;
 use std::time::Instant;
 

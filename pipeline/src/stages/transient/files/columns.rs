@@ -2,8 +2,8 @@
 
 use crate::error::PipelineError;
 use crate::history::{Column, RecordKind};
+use crate::model::ReducedModel;
 use crate::scene::Scene;
-use crate::stages::model::ReducedModel;
 use squeal_contact::GapSet;
 use squeal_reduction::superelement::DofKey;
 use squeal_solver::Real;

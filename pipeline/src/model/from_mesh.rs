@@ -11,12 +11,12 @@ use super::grids::{merge, Grids};
 use super::ties::Mpc;
 use super::{symmetrise, ComponentRecovery, ComponentReport, ReducedModel};
 use crate::error::PipelineError;
+use crate::model::mesh::fixed_dofs;
+use crate::model::mesh::mesh_component;
 use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::ContactBoundary;
 use crate::scene::{ModelSource, Pairing, Scene};
-use crate::stages::mesh::mesh_component;
-use crate::stages::modes::fixed_dofs;
 use crate::warning::Warning;
 use faer::Mat;
 use rayon::prelude::*;
@@ -415,7 +415,7 @@ pub fn build_from_mesh_cached(
     let mut global_fixed: BTreeSet<(u64, usize)> = BTreeSet::new();
     for (c, spec) in scene.components.iter().enumerate() {
         let fixed = fixed_dofs(spec, &meshes[c])?;
-        crate::stages::modes::check_not_all_fixed(scene, spec, &meshes[c], &fixed, &mesh_files[c])?;
+        crate::model::mesh::check_not_all_fixed(scene, spec, &meshes[c], &fixed, &mesh_files[c])?;
         for (node, k) in fixed {
             global_fixed.insert((grids.grid_of[c][node], k));
         }

@@ -17,9 +17,9 @@
 
 use super::system::{GapFriction, Problem};
 use crate::error::PipelineError;
+use crate::model::ReducedModel;
+use crate::problem::tangents;
 use crate::scene::Scene;
-use crate::stages::cea::tangents;
-use crate::stages::model::ReducedModel;
 use faer::Mat;
 use serde::Serialize;
 use squeal_contact::GapSet;

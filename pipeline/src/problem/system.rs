@@ -1,8 +1,8 @@
 //! The BSQL system from the reduced model: M, B, K, G, P(t), friction adapter.
 
 use crate::error::PipelineError;
+use crate::model::ReducedModel;
 use crate::scene::{ContactPair, Scene};
-use crate::stages::model::ReducedModel;
 use faer::Mat;
 use squeal_contact::GapSet;
 use squeal_solver::bsql::{BsqlOptions, BsqlSystem, FrictionForces, LoadHistory};

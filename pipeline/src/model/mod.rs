@@ -8,6 +8,7 @@ mod from_mesh;
 pub mod gap_table;
 pub mod grids;
 pub mod inputs;
+pub mod mesh;
 mod stored;
 pub mod ties;
 

@@ -13,11 +13,11 @@
 
 use super::key::{hash128, ModelKey, CACHE_FORMAT};
 use crate::error::PipelineError;
+use crate::model::grids::GridInfo;
+use crate::model::stored::stored_matrices;
+use crate::model::ReducedModel;
+use crate::model::{gap_table, inputs};
 use crate::scene::{ModelSource, Scene};
-use crate::stages::model::grids::GridInfo;
-use crate::stages::model::stored::stored_matrices;
-use crate::stages::model::ReducedModel;
-use crate::stages::model::{gap_table, inputs};
 use faer::Mat;
 use serde::{Deserialize, Serialize};
 use squeal_contact::{FrictionLaw, Gap, GapSet, MatchOptions};

@@ -2,9 +2,9 @@
 //! D = ∂F_f/∂λ̇ and C_f = ∂F_f/∂v. [Paper eq. (18)]
 
 use crate::error::PipelineError;
+use crate::problem::restart::RestartFile;
+use crate::problem::system::{GapFriction, Problem};
 use crate::scene::{CeaSpec, CeaState, Scene};
-use crate::stages::transient::restart::RestartFile;
-use crate::stages::transient::system::{GapFriction, Problem};
 use faer::Mat;
 use serde::Serialize;
 use squeal_contact::GapSet;
