@@ -307,7 +307,7 @@ fn run_pipeline(
     eprintln!(
         "model: {} reduced DOFs, {} gaps, built in {build_s:.1} s (peak {:?} KiB)",
         model.n(),
-        model.gaps.len(),
+        model.gap_geometry.len(),
         rss_build
     );
     let components: Vec<serde_json::Value> = model
@@ -344,7 +344,7 @@ fn run_pipeline(
         "loadavg_at_start": load_at_start,
         "what": "pipeline: build_from_mesh (mesh -> assembly -> Craig-Bampton of the components in parallel -> superelement assembly -> gaps), then CEA at the steady state (and a mu sweep)",
         "n_reduced_dofs": model.n(),
-        "n_gaps": model.gaps.len(),
+        "n_gaps": model.gap_geometry.len(),
         "n_recovered_grid_dofs": model.dofs.recovered.len(),
         "build_s": build_s,
         "peak_rss_kib_after_build": rss_build,

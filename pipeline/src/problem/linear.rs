@@ -64,10 +64,10 @@ pub fn roots(
     model: &ReducedModel,
     progress: &Progress,
 ) -> Result<Roots, PipelineError> {
-    let gaps = &model.gaps;
+    let gaps = &problem.gaps;
     let (n, ng) = (model.n(), gaps.len());
     let step = progress.step("linearising about the sliding state");
-    let lin = tangents::linearise(scene, spec, problem, gaps)?;
+    let lin = tangents::linearise(scene, spec, problem)?;
     step.done("tangents at the state");
     let contact = tangents::contact_summary(gaps, &lin)?;
     let sys = tangents::cea_matrices(problem, &lin, spec.friction_damping)?;

@@ -5,7 +5,6 @@ use super::options::start_options;
 use super::system::{solver_err, Problem};
 use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
-use squeal_contact::GapSet;
 use squeal_solver::bdf::{consistent_initial_conditions, IcStats};
 use squeal_solver::bsql::steady_state;
 use squeal_solver::Real;
@@ -28,12 +27,8 @@ pub struct StartState {
 
 /// The steady sliding state before the brake load (TOLINT) and consistent y'(0): the start of
 /// every run that does not continue a restart (transient, accuracy study, hard cases).
-pub fn start_state(
-    problem: &Problem,
-    gaps: &GapSet,
-    tolint: Real,
-) -> Result<StartState, PipelineError> {
-    let mut sys = problem.system(gaps.clone())?;
+pub fn start_state(problem: &Problem, tolint: Real) -> Result<StartState, PipelineError> {
+    let mut sys = problem.system(problem.gaps.clone())?;
     // t = −1 < 0: the ramp is 0, so the state is the sliding equilibrium under P0 alone.
     let (steady_opts, ic_opts) = start_options(tolint);
     let ss = steady_state(&mut sys, -1.0, &steady_opts).map_err(solver_err("steady state"))?;

@@ -119,8 +119,8 @@ pub fn at_restart(
     scene: &Scene,
     path: &std::path::Path,
     problem: &Problem,
-    gaps: &GapSet,
 ) -> Result<Linearisation, PipelineError> {
+    let gaps = &problem.gaps;
     let (n, ng) = (problem.m.nrows(), gaps.len());
     let path = scene.resolve(path);
     let r = RestartFile::read(&path, &problem.model_hash(), n, ng)?;
@@ -162,11 +162,10 @@ pub fn linearise(
     scene: &Scene,
     spec: &CeaSpec,
     problem: &Problem,
-    gaps: &GapSet,
 ) -> Result<Linearisation, PipelineError> {
     match &spec.at {
-        CeaState::SteadyState => at_steady_state(problem, gaps, &spec.steady),
-        CeaState::Restart(p) => at_restart(scene, p, problem, gaps),
+        CeaState::SteadyState => at_steady_state(problem, &problem.gaps, &spec.steady),
+        CeaState::Restart(p) => at_restart(scene, p, problem),
     }
 }
 

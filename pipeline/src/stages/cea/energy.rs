@@ -295,7 +295,7 @@ fn parts(
             });
         }
     }
-    let blocks = model
+    let blocks = problem
         .gaps
         .gap_blocks(&lin.v, &lin.lambda_dot)
         .map_err(|source| PipelineError::Contact {
@@ -328,7 +328,7 @@ fn parts(
 /// The contact pair of each gap (one pair when the gap counts do not add up: a stored
 /// model's gap table).
 fn pair_index(model: &ReducedModel) -> Vec<usize> {
-    let ng = model.gaps.len();
+    let ng = model.gap_geometry.len();
     if model.gap_pairs.iter().sum::<usize>() != ng {
         return vec![0; ng];
     }
@@ -341,7 +341,7 @@ fn pair_index(model: &ReducedModel) -> Vec<usize> {
 }
 
 fn pair_labels(scene: &Scene, model: &ReducedModel) -> Vec<PairLabel> {
-    let ng = model.gaps.len();
+    let ng = model.gap_geometry.len();
     if model.gap_pairs.iter().sum::<usize>() != ng || model.gap_pairs.is_empty() {
         return vec![PairLabel {
             name: scene.contact.first().map_or_else(

@@ -81,7 +81,7 @@ pub fn write_feed_in_vtu(
     energy: &EnergyOut,
     modes: &[usize],
 ) -> Result<Option<String>, PipelineError> {
-    let gaps = &model.gaps.gaps;
+    let gaps = &model.gap_geometry.gaps;
     let roots: Vec<&RootEnergy> = modes.iter().filter_map(|&k| root_of(energy, k)).collect();
     if gaps.is_empty() || roots.is_empty() {
         return Ok(None);

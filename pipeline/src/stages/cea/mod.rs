@@ -293,7 +293,7 @@ pub fn compute(
     // Ctrl-C reaches inside the eigen-solves, the sweep's points and refinements.
     spec.solver.interrupt = progress.solver_interrupt();
     let problem = system::problem(scene, model)?;
-    let gaps = &model.gaps;
+    let gaps = &problem.gaps;
     let (n, ng) = (model.n(), gaps.len());
     let linear::Roots {
         lin,
@@ -467,7 +467,7 @@ pub fn write(
     cache_use: Option<model::CacheUse>,
     wall: Instant,
 ) -> Result<CeaReport, PipelineError> {
-    let (n, ng) = (model.n(), model.gaps.len());
+    let (n, ng) = (model.n(), model.gap_geometry.len());
     let (modes, unstable) = (&c.out.modes, &c.out.unstable);
     let mut files = Vec::new();
     files.push(dir.write_json("cea.json", &c.out)?.display().to_string());

@@ -325,6 +325,8 @@ mod tests {
             bsql: BsqlOptions::default(),
             compliance: Vec::new(),
             smooth_width: Vec::new(),
+            gaps: gaps.clone(),
+            op: Default::default(),
         };
         (problem, gaps)
     }

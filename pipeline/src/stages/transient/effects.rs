@@ -142,7 +142,7 @@ impl std::fmt::Display for Ignored {
 pub fn effects(scene: &Scene, model: &ReducedModel, p: &Problem) -> (Vec<Effect>, Vec<Ignored>) {
     let mut on = Vec::new();
     let mut ignored = Vec::new();
-    let gaps = &model.gaps;
+    let gaps = &p.gaps;
     let law = &gaps.law;
     if !gaps.is_empty() {
         on.push(Effect::Contact { gaps: gaps.len() });

@@ -106,7 +106,7 @@ pub fn prepare<'a>(
     let resume = match &spec.restart {
         Some(p) => {
             let path = scene.resolve(p);
-            let r = Resume::load(&path, &model_hash, model.n(), model.gaps.len())?;
+            let r = Resume::load(&path, &model_hash, model.n(), model.gap_geometry.len())?;
             // The restart's last step may end past TFINAL (the run then ends at TFINAL by
             // interpolation, as the uninterrupted run did); TFINAL before that step cannot be
             // reached.

@@ -143,7 +143,7 @@ impl Prepared<'_> {
         if spec.band_limited {
             let b = band::build(self.scene, model, &self.problem)?;
             progress.info(b.report.line());
-            let (st, residual) = Stepper::band(&self.problem, &model.gaps, spec, b.system)?;
+            let (st, residual) = Stepper::band(&self.problem, spec, b.system)?;
             let origin = Origin {
                 t_start: st.t(),
                 steady_state: Some(SteadySummary {
@@ -167,14 +167,8 @@ impl Prepared<'_> {
         let (mut stepper, origin) = match &self.resume {
             Some(r) => {
                 let stats = r.parts.as_ref().map(|p| p.driver.bsql_stats.clone());
-                let st = Stepper::from_restart(
-                    &self.problem,
-                    &model.gaps,
-                    spec,
-                    r.file.clone(),
-                    stats,
-                    &r.path,
-                )?;
+                let st =
+                    Stepper::from_restart(&self.problem, spec, r.file.clone(), stats, &r.path)?;
                 let origin = Origin {
                     t_start: resumed.map_or(st.t(), |c| c.origin.t_start),
                     steady_state: resumed.and_then(|c| c.origin.steady_state.clone()),
@@ -183,18 +177,10 @@ impl Prepared<'_> {
                 (st, origin)
             }
             None => {
-                let s = start_state(&self.problem, &model.gaps, spec.tolint)?;
+                let s = start_state(&self.problem, spec.tolint)?;
                 let method = Method::of_spec(spec);
-                let st = Stepper::new(
-                    &self.problem,
-                    &model.gaps,
-                    spec,
-                    method,
-                    0.0,
-                    &s.y0,
-                    &s.yp0,
-                    spec.tfinal,
-                )?;
+                let st =
+                    Stepper::new(&self.problem, spec, method, 0.0, &s.y0, &s.yp0, spec.tfinal)?;
                 let origin = Origin {
                     t_start: st.t(),
                     steady_state: Some(s.steady),
@@ -214,7 +200,7 @@ impl Prepared<'_> {
                         .into(),
                 });
             }
-            stepper.enable_separation(&model.gaps, can_open, spec.event_restart)?;
+            stepper.enable_separation(&self.problem.gaps, can_open, spec.event_restart)?;
         }
         if spec.tfinal <= origin.t_start {
             return Err(PipelineError::Scene {
@@ -234,14 +220,25 @@ impl Prepared<'_> {
         let resume = self.resume.as_ref();
         let resumed = resume.and_then(|r| r.checkpoint());
         let prior = resume.and_then(|r| r.history());
-        let memory = Recorder::open_resumed(scene, model, None, opts.keep_history, prior)?;
+        let memory = Recorder::open_resumed(
+            scene,
+            model,
+            &self.problem.gaps,
+            None,
+            opts.keep_history,
+            prior,
+        )?;
         let mut response = Response::new(scene, model, memory.columns())?;
         if let Some(r) = resume.and_then(|r| r.response()) {
             response.resume(r)?;
         }
         let t_load = self.problem.load.t_load;
-        let contact =
-            ContactMonitor::resumed(&model.gaps, model.n(), t_load, resumed.map(|c| &c.contact));
+        let contact = ContactMonitor::resumed(
+            &self.problem.gaps,
+            model.n(),
+            t_load,
+            resumed.map(|c| &c.contact),
+        );
         let t_start = origin.t_start;
         let orders = OrderTally::new(t_start, t_load.max(t_start), resumed.map(|c| &c.orders));
         Ok(Own {
@@ -249,7 +246,7 @@ impl Prepared<'_> {
             contact,
             origin,
             orders,
-            face: FaceMonitor::new(&model.gaps),
+            face: FaceMonitor::new(&self.problem.gaps),
             memory,
             separation: separation_mask(scene, model).iter().any(|&c| c),
             keep_history: opts.keep_history,
@@ -325,7 +322,7 @@ impl Prepared<'_> {
             t_start: own.origin.t_start,
             t_end: outcome.t_end,
             n_dofs: model.n(),
-            n_gaps: model.gaps.len(),
+            n_gaps: model.gap_geometry.len(),
             history_rows: history.as_ref().map_or(0, |h| h.rows()),
             active_effects,
             ignored,

@@ -20,7 +20,7 @@ pub fn columns(scene: &Scene, model: &ReducedModel) -> Result<Vec<Column>, Pipel
     let index = model.grid_index();
     let mut grids = scene.output.grids.clone();
     if grids.is_empty() {
-        let g = &model.gaps.gaps;
+        let g = &model.gap_geometry.gaps;
         if !g.is_empty() {
             for i in [0, g.len() / 2, g.len() - 1] {
                 if !grids.contains(&g[i].pad_node) {
@@ -82,7 +82,7 @@ pub fn columns(scene: &Scene, model: &ReducedModel) -> Result<Vec<Column>, Pipel
             ),
         });
     }
-    let ng = model.gaps.len();
+    let ng = model.gap_geometry.len();
     let gaps: Vec<usize> = scene
         .output
         .gaps
