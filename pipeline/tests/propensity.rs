@@ -214,3 +214,94 @@ fn bad_inputs_name_the_flag_and_the_value() {
     let p = propensity::plan(&scene, &a).unwrap();
     assert!(p.rereduce && !p.inputs[0].reuses_model);
 }
+
+/// A component's Young's modulus varied on the one reduced model (the reduced-matrix
+/// derivative, Craig–Bampton basis held fixed) against re-reducing the model at that modulus
+/// (`--rereduce`): the tiny brake's pad (one material, E₀ = 5e3) at 0.7, 1 and 1.3 E₀.
+///
+/// Reference: scaling every modulus of a component by s scales K_c by s, which leaves its
+/// Craig–Bampton basis unchanged (the constraint modes −K_ii⁻¹K_ib are invariant, the
+/// fixed-interface modes of (s K_ii, M_ii) are those of (K_ii, M_ii) with ω² scaled by s), so
+/// T_cᵀ(s K_c)T_c is the re-reduced matrix and the two agree to round-off at every s, as long
+/// as the re-reduction keeps the same number of modes (here a fixed count). A one-material
+/// component's `material.young` key is the same scale; a scale key combined with a re-reduced
+/// input, and a missing component, are refused naming the key.
+#[test]
+fn component_modulus_on_the_reduced_model_tracks_re_reduction() {
+    let d = tmp("component");
+    let tiny = root().join("examples/transient/tiny-brake.toml");
+    let scene = Scene::load(&tiny, &[]).unwrap();
+    let eval = |dists: &[(&str, &str)], rereduce: bool, values: &[f64]| {
+        let mut a = args(dists, 64);
+        a.rereduce = rereduce;
+        let plan = propensity::plan(&scene, &a).unwrap();
+        assert_eq!(plan.rereduce, rereduce);
+        let dir = RunDir::create(&d.join(format!("run-{rereduce}"))).unwrap();
+        let ev = propensity::Evaluator::new(&scene, &plan, &dir, &Progress::quiet(), None).unwrap();
+        values
+            .iter()
+            .map(|&v| {
+                let s = ev.evaluate(0, &[v], &Progress::quiet()).unwrap();
+                assert!(s.error.is_none(), "{:?}", s.error);
+                (
+                    s.outcome.unwrap().max_real_part,
+                    s.max_real_part_frequency_hz.unwrap(),
+                )
+            })
+            .collect::<Vec<_>>()
+    };
+    let e0 = 5.0e3;
+    let scales = [0.7, 1.0, 1.3];
+    let on_model = eval(
+        &[("components.pad.young_scale", "uniform(0.7, 1.3)")],
+        false,
+        &scales,
+    );
+    let material = eval(
+        &[("components.1.material.young", "uniform(3.5e3, 6.5e3)")],
+        false,
+        &scales.map(|s| s * e0),
+    );
+    let rebuilt = eval(
+        &[("components.1.material.young", "uniform(3.5e3, 6.5e3)")],
+        true,
+        &scales.map(|s| s * e0),
+    );
+    for (k, s) in scales.iter().enumerate() {
+        let ((ra, fa), (rb, fb), (rc, fc)) = (on_model[k], material[k], rebuilt[k]);
+        eprintln!(
+            "E = {s} E0: reduced derivative Re {ra:.6e} /s at {fa:.4} Hz; material key \
+             {rb:.6e}; re-reduced {rc:.6e} /s at {fc:.4} Hz (|dRe| {:.3e}, df/f {:.3e})",
+            (ra - rc).abs(),
+            (fa - fc).abs() / fc
+        );
+        assert!((ra - rb).abs() <= 1e-9 * ra.abs().max(1.0) && (fa - fb).abs() <= 1e-9 * fa);
+        let scale = ra.abs().max(rc.abs()).max(1e-3 * fc);
+        assert!((ra - rc).abs() <= 1e-9 * scale, "{s}: {ra} vs {rc}");
+        assert!((fa - fc).abs() <= 1e-10 * fc, "{s}: {fa} vs {fc}");
+    }
+    let refused = |dists: &[(&str, &str)], rereduce: bool| {
+        let mut a = args(dists, 64);
+        a.rereduce = rereduce;
+        propensity::plan(&scene, &a).unwrap_err().to_string()
+    };
+    let e = refused(
+        &[("components.caliper.young_scale", "uniform(0.7, 1.3)")],
+        false,
+    );
+    assert!(
+        e.contains("components.caliper.young_scale") && e.contains("no component"),
+        "{e}"
+    );
+    let e = refused(
+        &[
+            ("components.pad.young_scale", "uniform(0.7, 1.3)"),
+            ("components.0.material.young", "uniform(0.9e4, 1.1e4)"),
+        ],
+        true,
+    );
+    assert!(
+        e.contains("components.pad.young_scale") && e.contains("--rereduce"),
+        "{e}"
+    );
+}
