@@ -2,8 +2,9 @@
 //! mode-coupling model with μ ~ U(a, b), P(unstable) = (b − μc)/(b − a) exactly (μc = 1/3,
 //! Hoffmann, Fischer, Bieser & Gaul 2002); an input that cannot move the roots has Sobol
 //! indices 0 and μ has S_1 = S_T = 1 (a function of one input: Sobol 1993); the late values
-//! applied to the reused model equal a fresh build's; an input that changes the reduced model
-//! is refused naming the key.
+//! applied to the reused model equal a fresh build's; a component's modulus on the reduced
+//! model equals a re-reduction; an input that changes the reduced model is refused naming the
+//! key.
 
 mod common;
 use squeal_pipeline::problem::system;
@@ -189,9 +190,11 @@ fn bad_inputs_name_the_flag_and_the_value() {
         ),
         (vec![("friction.law.mu0", "uniform(0.5, 0.3)")], 64, "a < b"),
         (
-            vec![("components.1.material.young", "uniform(4e3, 6e3)")],
+            // Poisson's ratio changes the Craig-Bampton basis (a modulus alone scales on the
+            // reduced model: `component_modulus_on_the_reduced_model_tracks_re_reduction`).
+            vec![("components.1.material.poisson", "uniform(0.25, 0.35)")],
             64,
-            "`components.1.material.young` changes the reduced model",
+            "`components.1.material.poisson` changes the reduced model",
         ),
         (
             vec![
@@ -209,7 +212,7 @@ fn bad_inputs_name_the_flag_and_the_value() {
         assert!(e.contains(frag), "{frag}: {e}");
     }
     // With --rereduce the component key is accepted and marked.
-    let mut a = args(&[("components.1.material.young", "uniform(4e3, 6e3)")], 16);
+    let mut a = args(&[("components.1.material.poisson", "uniform(0.25, 0.35)")], 16);
     a.rereduce = true;
     let p = propensity::plan(&scene, &a).unwrap();
     assert!(p.rereduce && !p.inputs[0].reuses_model);
@@ -304,4 +307,25 @@ fn component_modulus_on_the_reduced_model_tracks_re_reduction() {
         e.contains("components.pad.young_scale") && e.contains("--rereduce"),
         "{e}"
     );
+}
+
+/// A material key of a component with materials of its own volumes (the cad brake's pads:
+/// steel backplate + lining) is not a scale of the component: refused, naming the volumes and
+/// the keys that work; the component's scale key is accepted.
+#[test]
+fn a_material_key_of_a_several_material_component_is_refused() {
+    let cad = Scene::load(&root().join("examples/cad-brake/brake.toml"), &[]).unwrap();
+    let e = propensity::component_input(&cad, "components.1.material.young").unwrap_err();
+    assert!(
+        e.contains("lining") && e.contains("young_scale") && e.contains("--rereduce"),
+        "{e}"
+    );
+    let name = cad.components[1].name.clone();
+    let c = propensity::component_input(&cad, &format!("components.{name}.young_scale"))
+        .unwrap()
+        .unwrap();
+    assert_eq!((c.component.as_str(), c.base), (name.as_str(), 1.0));
+    assert!(propensity::component_input(&cad, "friction.law.mu0")
+        .unwrap()
+        .is_none());
 }
