@@ -212,7 +212,10 @@ fn bad_inputs_name_the_flag_and_the_value() {
         assert!(e.contains(frag), "{frag}: {e}");
     }
     // With --rereduce the component key is accepted and marked.
-    let mut a = args(&[("components.1.material.poisson", "uniform(0.25, 0.35)")], 16);
+    let mut a = args(
+        &[("components.1.material.poisson", "uniform(0.25, 0.35)")],
+        16,
+    );
     a.rereduce = true;
     let p = propensity::plan(&scene, &a).unwrap();
     assert!(p.rereduce && !p.inputs[0].reuses_model);
