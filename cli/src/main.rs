@@ -169,6 +169,11 @@ enum Verb {
         /// material or geometry); without it such an input is refused.
         #[arg(long)]
         rereduce: bool,
+        /// A volume's material on the one reduced model (components.N.materials.VOLUME.young)
+        /// is checked against re-reduction at its 0.5 % and 99.5 % quantiles: the largest
+        /// Re λ may move by this fraction of itself (at least 1 /s).
+        #[arg(long, default_value_t = 0.05)]
+        basis_tolerance: f64,
         #[command(flatten)]
         cache: CacheArgs,
     },
@@ -443,6 +448,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             replicates,
             seed,
             rereduce,
+            basis_tolerance,
             cache,
         } => {
             let scene = Scene::load(&run.scene.scene, &run.scene.set)?;
@@ -459,6 +465,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 replicates,
                 seed,
                 rereduce,
+                basis_tolerance,
             };
             let dir = run_dir(&run)?;
             let cache = cache.dir().map(stages::model::ModelCache::new);

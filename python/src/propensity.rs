@@ -42,6 +42,7 @@ pub fn propensity_plan(
         replicates,
         seed,
         rereduce,
+        ..Default::default()
     };
     prop::plan(&scene.inner, &args)
         .and_then(|p| to_json(&p))

@@ -27,6 +27,7 @@ pub mod sensitivity;
 pub mod shapes;
 pub mod steady;
 pub mod sweep;
+pub mod volume;
 pub use crate::problem::tangents;
 
 use crate::error::PipelineError;

@@ -11,7 +11,8 @@ use crate::problem::{linear, system};
 use crate::progress::Progress;
 use crate::scene::values;
 use crate::scene::{CeaSpec, Scene};
-use crate::stages::cea::params::component_matrix_derivative;
+use crate::stages::cea::params::{component_matrix_derivative, ComponentProperty};
+use crate::stages::cea::volume::volume_matrix_derivative;
 use crate::uq::{band_of, third_octave_bands, Band, Outcome};
 use faer::Mat;
 use serde::{Deserialize, Serialize};
@@ -51,6 +52,29 @@ pub struct EvalInfo {
     /// Roots above it are outside what the reduced model represents and never count.
     pub band_hz: Option<Real>,
     pub bands: Vec<Band>,
+    /// Inputs that scale one volume on the reduced model, checked against re-reduction
+    /// ([`Evaluator::check_basis`]; None: not checked, e.g. chunks evaluated from Python).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub basis_checks: Vec<BasisCheck>,
+}
+
+/// One volume input's basis error: the row with the input at `value` (the others at their
+/// means, component scales at 1) on the one model through the derivative and on a model
+/// re-reduced at `value`.
+#[derive(Debug, Clone, Serialize)]
+pub struct BasisCheck {
+    pub key: String,
+    pub value: Real,
+    /// Largest Re λ (1/s) and its frequency (Hz) through the derivative.
+    pub derivative: (Real, Real),
+    /// The same re-reduced.
+    pub rereduced: (Real, Real),
+    /// |ΔRe λ| (1/s) and |Δf|/f.
+    pub real_part_change: Real,
+    pub frequency_change: Real,
+    /// The |ΔRe λ| allowed: `--basis-tolerance` × |Re λ| (re-reduced), at least 1 /s.
+    pub allowed: Real,
+    pub passed: bool,
 }
 
 /// Evaluates design rows of one study.
@@ -83,13 +107,14 @@ impl Derivative {
         key: &str,
         c: &ComponentInput,
     ) -> Result<Self, PipelineError> {
-        let d =
-            component_matrix_derivative(scene, model, &c.component, c.property).map_err(|e| {
-                PipelineError::Option {
-                    option: format!("--dist {key}"),
-                    message: format!("the reduced-matrix derivative: {e}"),
-                }
-            })?;
+        let d = match &c.volume {
+            None => component_matrix_derivative(scene, model, &c.component, c.property),
+            Some(v) => volume_matrix_derivative(scene, model, &c.component, v, c.property),
+        }
+        .map_err(|e| PipelineError::Option {
+            option: format!("--dist {key}"),
+            message: format!("the reduced-matrix derivative: {e}"),
+        })?;
         // B's element part only: the overall G/W3 K and the modal part follow K and M when
         // the problem's damping matrix is made.
         let elem = model
@@ -103,6 +128,28 @@ impl Derivative {
         };
         Ok(Derivative { k: d.k, m: d.m, b })
     }
+}
+
+/// The scene key of a volume input (`components.<index>.materials.<volume>.young`): what a
+/// re-reduction sets.
+fn scene_key(scene: &Scene, input: &super::Input) -> Result<String, PipelineError> {
+    let c = input.component.as_ref();
+    let (Some(c), Some(v)) = (c, c.and_then(|c| c.volume.as_ref())) else {
+        return Err(PipelineError::Model(format!(
+            "`{}` is no volume input",
+            input.key
+        )));
+    };
+    let i = scene
+        .components
+        .iter()
+        .position(|x| x.name == c.component)
+        .ok_or_else(|| PipelineError::Model(format!("no component `{}`", c.component)))?;
+    let prop = match c.property {
+        ComponentProperty::DensityScale => "density",
+        _ => "young",
+    };
+    Ok(format!("components.{i}.materials.{v}.{prop}"))
 }
 
 /// `a + f x`, in place.
@@ -138,6 +185,7 @@ pub fn info_of(scene: &Scene, plan: &Plan, n_dofs: usize, n_gaps: usize) -> Eval
         n_gaps,
         band_hz,
         bands: third_octave_bands(LOWEST_BAND_HZ, band_hz.unwrap_or(DEFAULT_TOP_HZ)),
+        basis_checks: Vec::new(),
     }
 }
 
@@ -185,6 +233,82 @@ impl Evaluator {
     /// The shared settings (for the report).
     pub fn info(&self) -> EvalInfo {
         self.info.clone()
+    }
+
+    /// For each input that scales one volume on the reduced model (first order in the
+    /// basis's change): the row with it at its 0.5 % and 99.5 % quantiles (the other inputs at
+    /// their means, component scales at 1), evaluated on the one model and on a model
+    /// re-reduced there (in `dir`); kept in [`EvalInfo::basis_checks`]. A change of the
+    /// largest Re λ above `tolerance` × |Re λ|, and above `floor` (1/s), is an error naming
+    /// the key.
+    pub fn check_basis(
+        &mut self,
+        plan: &Plan,
+        dir: &RunDir,
+        (tolerance, floor): (Real, Real),
+        progress: &Progress,
+    ) -> Result<(), PipelineError> {
+        let mut checks = Vec::new();
+        for (i, input) in plan.inputs.iter().enumerate() {
+            if !input.component.as_ref().is_some_and(|c| c.volume.is_some()) {
+                continue;
+            }
+            for q in [0.005, 0.995] {
+                let value = input.distribution.quantile(q);
+                let mut values: Vec<Real> = plan.inputs.iter().map(|x| x.mean).collect();
+                for (j, x) in plan.inputs.iter().enumerate() {
+                    if let Some(c) = &x.component {
+                        values[j] = c.base;
+                    }
+                }
+                values[i] = value;
+                let (o, f, _) = self.try_evaluate(0, &values, progress)?;
+                // Re-reduced: the scene's keys (the volume's too) on a fresh build.
+                let mut sets: Vec<(String, String)> = plan
+                    .inputs
+                    .iter()
+                    .zip(&values)
+                    .filter(|(x, _)| x.component.is_none())
+                    .map(|(x, v)| (x.key.clone(), value_text(*v)))
+                    .collect();
+                sets.push((scene_key(&self.base, input)?, value_text(value)));
+                let scene = values::scene_for_all(&self.base, &sets)?;
+                let path = dir.path(&format!("basis-check-{i}-{q}"));
+                let rd = RunDir::create(&path)?;
+                let m = model::build(&scene, &rd, &progress.silenced());
+                let _ = std::fs::remove_dir_all(&path);
+                let (or, fr, _) = self.cea(&scene, &m?, progress)?;
+                let (fd, fr) = (f.unwrap_or(0.0), fr.unwrap_or(0.0));
+                let change = (o.max_real_part - or.max_real_part).abs();
+                let allowed = (tolerance * or.max_real_part.abs()).max(floor);
+                checks.push(BasisCheck {
+                    key: input.key.clone(),
+                    value,
+                    derivative: (o.max_real_part, fd),
+                    rereduced: (or.max_real_part, fr),
+                    real_part_change: change,
+                    frequency_change: (fd - fr).abs() / fr.abs().max(Real::MIN_POSITIVE),
+                    allowed,
+                    passed: change <= allowed,
+                });
+            }
+        }
+        let failed = checks.iter().find(|c| !c.passed).cloned();
+        self.info.basis_checks = checks;
+        match failed {
+            Some(c) => Err(PipelineError::Option {
+                option: format!("--dist {}", c.key),
+                message: format!(
+                    "one volume's material on the reduced model (Craig-Bampton basis held \
+                     fixed) moves the largest Re λ by {:.3e} /s at {} = {} ({:.4e} /s \
+                     re-reduced, {:.4e} /s on the one model), above the {:.3e} /s allowed \
+                     (--basis-tolerance {tolerance}): pass --rereduce, or narrow the \
+                     distribution",
+                    c.real_part_change, c.key, c.value, c.rereduced.0, c.derivative.0, c.allowed
+                ),
+            }),
+            None => Ok(()),
+        }
     }
 
     /// Row `row` with input values `values`; a failure (bad scene, steady state, eigen-solve)

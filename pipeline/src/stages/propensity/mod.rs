@@ -43,6 +43,10 @@ pub use report::PropensityOut;
 
 use squeal_solver::Real;
 
+/// The least |ΔRe λ| (1/s) the basis check refuses: a growth rate a transient of a few
+/// hundred periods cannot tell from zero.
+pub const BASIS_FLOOR: Real = 1.0;
+
 /// What the command line gives.
 #[derive(Debug, Clone)]
 pub struct PropensityArgs {
@@ -58,6 +62,9 @@ pub struct PropensityArgs {
     pub seed: u32,
     /// `--rereduce`: rebuild the reduced model for every sample when an input changes it.
     pub rereduce: bool,
+    /// `--basis-tolerance`: the change of the largest Re λ allowed, relative (at least 1 /s),
+    /// between a volume's material on the reduced model and re-reduction.
+    pub basis_tolerance: Real,
 }
 
 impl Default for PropensityArgs {
@@ -69,6 +76,7 @@ impl Default for PropensityArgs {
             replicates: None,
             seed: 1,
             rereduce: false,
+            basis_tolerance: 0.05,
         }
     }
 }
@@ -96,6 +104,9 @@ pub struct Input {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ComponentInput {
     pub component: String,
+    /// One volume of the component (its `materials.<volume>`), None: every material of it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub volume: Option<String>,
     pub property: ComponentProperty,
     /// The key's value at scale 1 (1 for a `*_scale` key, E₀ or ρ₀ for a material key).
     pub base: Real,
@@ -103,9 +114,11 @@ pub struct ComponentInput {
 
 /// The component property a key names, if it is one a propensity study varies on the reduced
 /// model: `components.<name>.young_scale` / `density_scale` (every material of the component
-/// scaled), or `components.<i|name>.material.young` / `.density` of a component with that one
-/// isotropic material. None: another key. A component or material that does not fit is an
-/// error naming the key.
+/// scaled), `components.<i|name>.material.young` / `.density` of a component with that one
+/// isotropic material (both exact on the fixed basis), or `components.<i|name>.materials.
+/// <volume>.young` / `.density` of one isotropic volume (first order in the basis change,
+/// checked against re-reduction: [`basis_check`]). None: another key. A component or
+/// material that does not fit is an error naming the key.
 pub fn component_input(scene: &Scene, key: &str) -> Result<Option<ComponentInput>, String> {
     let parts: Vec<&str> = key.split('.').collect();
     if parts.first() != Some(&"components") || parts.len() < 3 {
@@ -122,6 +135,35 @@ pub fn component_input(scene: &Scene, key: &str) -> Result<Option<ComponentInput
             })
     };
     let (c, property, base) = match parts[2..] {
+        ["materials", volume, prop @ ("young" | "density")] => {
+            let c = find(parts[1])?;
+            let m = c.materials.get(volume).ok_or_else(|| {
+                let names: Vec<&String> = c.materials.keys().collect();
+                format!(
+                    "component `{}` has no `materials.{volume}` (it has {names:?})",
+                    c.name
+                )
+            })?;
+            let (property, base) = match prop {
+                "young" => (
+                    ComponentProperty::YoungScale,
+                    m.young.ok_or_else(|| {
+                        format!(
+                            "`materials.{volume}` of `{}` is anisotropic (no `young`): vary it \
+                             with --rereduce",
+                            c.name
+                        )
+                    })?,
+                ),
+                _ => (ComponentProperty::DensityScale, m.density),
+            };
+            return Ok(Some(ComponentInput {
+                component: c.name.clone(),
+                volume: Some(volume.to_string()),
+                property,
+                base,
+            }));
+        }
         ["young_scale"] => (find(parts[1])?, ComponentProperty::YoungScale, 1.0),
         ["density_scale"] => (find(parts[1])?, ComponentProperty::DensityScale, 1.0),
         ["material", prop @ ("young" | "density")] => {
@@ -129,8 +171,9 @@ pub fn component_input(scene: &Scene, key: &str) -> Result<Option<ComponentInput
             let single = |what: &str| {
                 format!(
                     "component `{}` {what}: vary `components.{}.{prop}_scale` (every material \
-                     of it scaled on the reduced model) or pass --rereduce",
-                    c.name, c.name
+                     of it scaled on the reduced model), `components.{}.materials.<volume>.\
+                     {prop}` (one volume, checked against re-reduction) or pass --rereduce",
+                    c.name, c.name, c.name
                 )
             };
             if !c.materials.is_empty() {
@@ -157,6 +200,7 @@ pub fn component_input(scene: &Scene, key: &str) -> Result<Option<ComponentInput
     };
     Ok(Some(ComponentInput {
         component: c.name.clone(),
+        volume: None,
         property,
         base,
     }))
@@ -444,7 +488,8 @@ pub fn compute(
         }
     ));
     let t0 = Instant::now();
-    let ev = Evaluator::new(scene, &plan, dir, progress, cache)?;
+    let mut ev = Evaluator::new(scene, &plan, dir, progress, cache)?;
+    ev.check_basis(&plan, dir, (args.basis_tolerance, BASIS_FLOOR), progress)?;
     let build_s = t0.elapsed().as_secs_f64();
     let rows: Vec<usize> = (0..plan.design.rows.len()).collect();
     let t1 = Instant::now();

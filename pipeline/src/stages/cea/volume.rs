@@ -1,0 +1,188 @@
+//! The reduced-matrix derivative of one volume's material in a component (a pad's lining
+//! without its backplate), the component's Craig–Bampton basis held fixed.
+//!
+//! ```text
+//! ∂K/∂s_V = T_cᵀ Φ_cᵀ K_V Φ_c T_c,   ∂M/∂s_V = T_cᵀ Φ_cᵀ M_V Φ_c T_c
+//! ```
+//! with Φ_c the component's basis on its free DOFs (each reduced coordinate recovered,
+//! through the component's internal ties when it has them), T_c its reduced coordinates'
+//! place in the assembled model, and K_V, M_V the matrices of the volume's cells alone:
+//! assembled with the volume's moduli (or density) doubled, less the component's own —
+//! element matrices are linear in D and ρ, so the difference is exact.
+//!
+//! Unlike a whole component's scale ([`super::params::component_matrix_derivative`], exact
+//! because s K_c keeps the basis), one volume's scale changes the fixed-interface modes: the
+//! derivative is first order in the basis change, and a propensity study measures its error
+//! against re-reduction (docs/insight.md).
+
+use super::params::{ComponentProperty, ReducedDerivative};
+use crate::error::PipelineError;
+use crate::model::ReducedModel;
+use crate::scene::Scene;
+use faer::Mat;
+use squeal_fe::{assemble, AssemblyOptions, Elasticity, SolidMaterial};
+use squeal_solver::Real;
+
+/// The material with its moduli (`YoungScale`) or density (`DensityScale`) times `f`.
+fn scaled(m: &SolidMaterial, property: ComponentProperty, f: Real) -> SolidMaterial {
+    let mut m = m.clone();
+    match property {
+        ComponentProperty::DensityScale => m.density *= f,
+        _ => {
+            m.elasticity = match m.elasticity {
+                Elasticity::Isotropic { young, poisson } => Elasticity::Isotropic {
+                    young: f * young,
+                    poisson,
+                },
+                Elasticity::Orthotropic(mut o) => {
+                    for x in [
+                        &mut o.e1, &mut o.e2, &mut o.e3, &mut o.g12, &mut o.g13, &mut o.g23,
+                    ] {
+                        *x *= f;
+                    }
+                    Elasticity::Orthotropic(o)
+                }
+                Elasticity::TransverselyIsotropic(mut t) => {
+                    for x in [&mut t.e_plane, &mut t.e_axis, &mut t.g_axis] {
+                        *x *= f;
+                    }
+                    Elasticity::TransverselyIsotropic(t)
+                }
+                Elasticity::Anisotropic { stiffness } => Elasticity::Anisotropic {
+                    stiffness: stiffness.map(|row| row.map(|x| f * x)),
+                },
+            }
+        }
+    }
+    m
+}
+
+/// ∂K (`YoungScale`) or ∂M (`DensityScale`) of the moduli or density of volume `volume` of
+/// `component` on `model` (a model built from meshes, with its recovery data). Errors name
+/// `components.<component>.materials.<volume>`.
+pub fn volume_matrix_derivative(
+    scene: &Scene,
+    model: &ReducedModel,
+    component: &str,
+    volume: &str,
+    property: ComponentProperty,
+) -> Result<ReducedDerivative, PipelineError> {
+    let err = |message: String| PipelineError::Scene {
+        field: format!("components.{component}.materials.{volume}"),
+        message,
+    };
+    if property == ComponentProperty::LossFactor {
+        return Err(err("a volume's loss factor has no derivative here".into()));
+    }
+    let r =
+        model
+            .recovery
+            .iter()
+            .find(|r| r.name == component)
+            .ok_or_else(|| {
+                err("the model has no Craig-Bampton basis of this component (stored matrices, or a \
+                 cached model)"
+                .into())
+            })?;
+    let spec = scene
+        .components
+        .iter()
+        .find(|c| c.name == component)
+        .ok_or_else(|| err("no such component in the scene".into()))?;
+    let base = spec.block_materials(&r.mesh)?;
+    let blocks: Vec<usize> = (0..r.mesh.volumes.len())
+        .filter(|&b| r.mesh.volumes[b].name.as_deref() == Some(volume))
+        .collect();
+    if blocks.is_empty() {
+        let names: Vec<&str> = r
+            .mesh
+            .volumes
+            .iter()
+            .filter_map(|b| b.name.as_deref())
+            .collect();
+        return Err(err(format!(
+            "the mesh has no volume `{volume}` (it has {names:?})"
+        )));
+    }
+    let mut doubled = base.clone();
+    for &b in &blocks {
+        doubled[b] = scaled(&base[b], property, 2.0);
+    }
+    let opts = AssemblyOptions {
+        hex8: spec.hex8,
+        ..Default::default()
+    };
+    let fe = |e| PipelineError::fe(component, e);
+    let a0 = assemble(&r.mesh, &base, &r.dofs, &opts).map_err(fe)?;
+    let a1 = assemble(&r.mesh, &doubled, &r.dofs, &opts).map_err(fe)?;
+    let (s0, s1) = match property {
+        ComponentProperty::DensityScale => (&a0.m, &a1.m),
+        _ => (&a0.k, &a1.k),
+    };
+    // The basis on the free DOFs: each reduced coordinate recovered (ties expanded).
+    let nr = r.cb.n_reduced();
+    let nf = r.dofs.n_free();
+    let mut phi = Mat::<Real>::zeros(nf, nr);
+    let mut e = vec![0.0; nr];
+    for j in 0..nr {
+        e[j] = 1.0;
+        let x =
+            r.cb.recover(&e)
+                .map_err(|source| PipelineError::Reduction {
+                    what: format!("component `{component}`: its basis"),
+                    source,
+                })?;
+        let x = match &r.mpc {
+            Some(t) => t.expand(&x),
+            None => x,
+        };
+        for (i, v) in x.iter().enumerate().take(nf) {
+            phi[(i, j)] = *v;
+        }
+        e[j] = 0.0;
+    }
+    // (K₁ − K₀) Φ, column by column of the sparse difference.
+    let mut kphi = Mat::<Real>::zeros(nf, nr);
+    for (a, sign) in [(s1, 1.0), (s0, -1.0)] {
+        let (cp, ri, vals) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
+        for c in 0..a.ncols() {
+            for p in cp[c]..cp[c + 1] {
+                let (row, v) = (ri[p], sign * vals[p]);
+                for j in 0..nr {
+                    kphi[(row, j)] += v * phi[(c, j)];
+                }
+            }
+        }
+    }
+    let dc = phi.transpose() * &kphi;
+    // Scattered to the assembled reduced coordinates.
+    let n = model.n();
+    let mut out = Mat::<Real>::zeros(n, n);
+    for (a, ta) in r.assembled.iter().enumerate() {
+        for (b, tb) in r.assembled.iter().enumerate() {
+            let x = dc[(a, b)];
+            if x == 0.0 {
+                continue;
+            }
+            for &(i, wi) in ta {
+                for &(j, wj) in tb {
+                    out[(i, j)] += wi * x * wj;
+                }
+            }
+        }
+    }
+    // Symmetric up to round-off: symmetrised as the model's matrices are.
+    let out = Mat::from_fn(n, n, |i, j| 0.5 * (out[(i, j)] + out[(j, i)]));
+    Ok(match property {
+        ComponentProperty::DensityScale => ReducedDerivative {
+            m: Some(out),
+            k: None,
+            b: None,
+        },
+        _ => ReducedDerivative {
+            m: None,
+            k: Some(out),
+            b: None,
+        },
+    })
+}
