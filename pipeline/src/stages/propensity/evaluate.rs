@@ -250,7 +250,7 @@ impl Evaluator {
     ) -> Result<(), PipelineError> {
         let mut checks = Vec::new();
         for (i, input) in plan.inputs.iter().enumerate() {
-            if !input.component.as_ref().is_some_and(|c| c.volume.is_some()) {
+            if input.component.as_ref().is_none_or(|c| c.volume.is_none()) {
                 continue;
             }
             for q in [0.005, 0.995] {

@@ -317,7 +317,8 @@ pub fn plan(scene: &Scene, args: &PropensityArgs) -> Result<Plan, PipelineError>
             component_input(scene, key).map_err(|m| dist_err(key, text, m))?
         };
         if let Some(c) = &component {
-            if !(d.quantile(0.001) / c.base > 0.0) {
+            let q = d.quantile(0.001) / c.base;
+            if q.is_nan() || q <= 0.0 {
                 return Err(dist_err(
                     key,
                     text,
