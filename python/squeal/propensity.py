@@ -4,7 +4,6 @@ sample chunks on local threads or a Dask distributed cluster."""
 
 from __future__ import annotations
 
-import json
 import os
 import tempfile
 import time
@@ -114,15 +113,16 @@ class PropensityResult:
         return fig
 
 
-def _evaluate(scene: Scene, plan: str, rows: List[int], workdir: str, cache: Optional[str],
+def _evaluate(scene: Scene, plan: Dict[str, Any], rows: List[int], workdir: str, cache: Optional[str],
               cancel_event: Optional[str] = None) -> Dict[str, Any]:
-    """One chunk of design rows (a task on a thread or a Dask worker)."""
+    """One chunk of design rows (a task on a thread or a Dask worker; ``plan`` is the dict
+    ``propensity_plan`` returns, pickled to the worker)."""
     cancel = None
     if cancel_event is not None:
         from distributed import Event
 
         cancel = Event(cancel_event).is_set
-    return json.loads(_squeal.propensity_evaluate(scene, plan, rows, workdir, cache, cancel=cancel))
+    return _squeal.propensity_evaluate(scene, plan, rows, workdir, cache, cancel=cancel)
 
 
 def _dist_list(f: str, distributions: Any) -> List[Tuple[str, str]]:
@@ -204,7 +204,7 @@ def propensity(
 
     t0 = time.perf_counter()
     plan = _squeal.propensity_plan(scene, items, corr, n, replicates, seed, rereduce)
-    rows_total = len(json.loads(plan)["design"]["rows"])
+    rows_total = len(plan["design"]["rows"])
     out = os.path.abspath(os.fspath(out) if out is not None else tempfile.mkdtemp(prefix="squeal-propensity-"))
     cache = os.path.abspath(os.fspath(cache) if cache is not None else os.path.join(out, ".squeal-cache"))
     os.makedirs(out, exist_ok=True)
@@ -244,18 +244,17 @@ def propensity(
         nthreads = sum(client.nthreads().values())
     else:
         # One task: the library spreads the rows over this process's threads (rayon).
-        results.append(json.loads(_squeal.propensity_evaluate(scene, plan, list(range(rows_total)), work, cache)))
+        results.append(_squeal.propensity_evaluate(scene, plan, list(range(rows_total)), work, cache))
         nthreads = os.cpu_count() or 1
     emit("end", message=f"{rows_total} CEAs")
     samples = [s for r in results for s in r["samples"]]
     build_s = max((r["build_s"] for r in results), default=0.0)
     evaluate_s = time.perf_counter() - t0 - build_s
     first = results[0] if results else {}
-    text = _squeal.propensity_finish(
-        scene, plan, json.dumps(samples), out, first.get("n_dofs", 0), first.get("n_gaps", 0),
+    report = _squeal.propensity_finish(
+        scene, plan, samples, out, first.get("n_dofs", 0), first.get("n_gaps", 0),
         build_s, evaluate_s, time.perf_counter() - t0, nthreads,
     )
-    report = json.loads(text)
     keys = [i["key"] for i in report["inputs"]]
     df = pd.read_csv(os.path.join(out, "samples.csv"), keep_default_na=True)
     df["unstable"] = df["unstable"].map({True: True, False: False, "true": True, "false": False})

@@ -4,7 +4,6 @@ worker sees."""
 
 from __future__ import annotations
 
-import json
 import os
 import re
 import tempfile
@@ -63,10 +62,9 @@ def _run_point(
     if cancel is not None and cancel():
         return _failed_point(index, label, run_dir, "cancelled before it started")
     try:
-        text = _squeal.sweep_value(
+        return _squeal.sweep_value(
             scene, assignments, label, index, analysis, cache, run_dir, cancel=cancel,
         )
-        return json.loads(text)
     except SquealError as e:
         return _failed_point(index, label, run_dir, str(e))
 
