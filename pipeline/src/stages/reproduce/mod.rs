@@ -296,7 +296,6 @@ fn run_case(
         // The growth phase only: up to the first step below h_max/100 after the ramp (the
         // start of stick-slip, where the step collapses).
         stall_h: cap.and(h_max).map(|h| 1e-2 * h),
-        ..Default::default()
     };
     let mut r = transient::run_on_model(scene, &cdir, quiet, None, &model, wall, &opts)?.result;
     let history = r.history.take();
