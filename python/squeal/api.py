@@ -12,6 +12,16 @@ import numpy as np
 
 from . import _args, _squeal
 from ._squeal import Scene
+from .results import (
+    CeaReport,
+    CeaSweep,
+    CompareReport,
+    HistoryColumn,
+    LimitCycleReport,
+    ModesReport,
+    TransientSummary,
+    Verdict,
+)
 
 ProgressCallback = Callable[[Dict[str, Any]], None]
 PathLike = Union[str, "os.PathLike[str]"]
@@ -55,7 +65,7 @@ class ModesResult:
     """gmsh node tags (n_nodes)."""
     cells: List[Tuple[str, np.ndarray]]
     """Volume cells as meshio takes them: (meshio cell type, connectivity into ``nodes``)."""
-    report: Dict[str, Any]
+    report: ModesReport
     """``modes.json``'s content (statistics of the assembly and the Lanczos solver)."""
 
     def to_meshio(self) -> Any:
@@ -110,15 +120,15 @@ class TransientResult:
     """Times of the recorded rows, s."""
     columns: List[str]
     """Names of the history's columns (``history_map.json``; column 0 is ``t``)."""
-    column_info: List[Dict[str, Any]]
+    column_info: List[HistoryColumn]
     """What each column is (kind, grid, component, gap, DOF)."""
     history: np.ndarray
     """The recorded rows (every NOUTPT-th step), as ``history.npy``."""
     energy: np.ndarray
     energy_columns: List[str]
-    summary: Dict[str, Any]
+    summary: TransientSummary
     """``summary.json``'s body: status, steps, CPU, squeal, growth rate, statistics, …"""
-    verdict: Dict[str, Any]
+    verdict: Verdict
     """The squeal verdict (state, growth rate, dominant frequency, reasons)."""
     success: bool
     """The integration reached TFINAL (else ``summary["status"]`` says why it stopped)."""
@@ -151,9 +161,9 @@ class CeaResult:
     shapes: np.ndarray
     """Complex mode shapes on the reduced DOFs (n × n_modes)."""
     dofs: List[Dict[str, Any]]
-    report: Dict[str, Any]
+    report: CeaReport
     """``cea.json``'s content (state, contact, modes, roots outside the band, statistics)."""
-    sweep: Optional[Dict[str, Any]]
+    sweep: Optional[CeaSweep]
     """``cea.sweep.json``'s content with a friction sweep."""
     warnings: List[str]
     cache: Optional[Dict[str, Any]]
@@ -282,7 +292,7 @@ class LimitCycleResult:
     """Its RMS over the gaps and the period."""
     reached: np.ndarray
     """Boolean per mode: the branch reached the operating point with its harmonics converged."""
-    report: Dict[str, Any]
+    report: LimitCycleReport
     """``limit_cycle.json``'s content (``band_model``: kept/removed roots and the error
     estimate; ``modes``: root, Hopf point, branch, harmonics, Floquet stability)."""
     warnings: List[str]
@@ -319,7 +329,7 @@ class CompareResult:
 
     passed: bool
     """Every check within its tolerance (a tolerance left ``None`` is reported, not checked)."""
-    report: Dict[str, Any]
+    report: CompareReport
     """``compare.json``'s content: ``matrices`` (‖A−B‖_F/‖A‖_F per matrix), ``modes`` (MAC
     pairing, Δf/f), ``roots`` (CEA roots paired, Δf, ΔRe p), ``summaries`` (run folders),
     ``checks``."""

@@ -13,6 +13,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from . import _args, _squeal
 from ._squeal import Scene
+from .results import PropensityEvaluated, PropensityReport
 
 
 @dataclass
@@ -26,7 +27,7 @@ class PropensityResult:
     ``n_unstable``, ``error``; ``out`` the folder holding ``propensity.json`` and
     ``samples.csv``."""
 
-    report: Dict[str, Any]
+    report: PropensityReport
     samples: Any
     out: str
     keys: List[str] = field(default_factory=list)
@@ -114,7 +115,7 @@ class PropensityResult:
 
 
 def _evaluate(scene: Scene, plan: Dict[str, Any], rows: List[int], workdir: str, cache: Optional[str],
-              cancel_event: Optional[str] = None) -> Dict[str, Any]:
+              cancel_event: Optional[str] = None) -> PropensityEvaluated:
     """One chunk of design rows (a task on a thread or a Dask worker; ``plan`` is the dict
     ``propensity_plan`` returns, pickled to the worker)."""
     cancel = None
@@ -216,7 +217,7 @@ def propensity(
             ev.update(kw)
             progress(ev)
 
-    results: List[Dict[str, Any]] = []
+    results: List[PropensityEvaluated] = []
     emit("begin", label=f"propensity ({rows_total} CEAs)", bar=True)
     if client is not None:
         from distributed import Event, wait
