@@ -14,7 +14,7 @@
 //!
 //! Cases run `jobs` at a time (rayon). With a model cache (`--cache DIR` / `SQUEAL_CACHE`) the
 //! reduced model is built once before the cases start (they vary only parameters outside its
-//! key) and every case, in process or as a child `squeal transient`, reads it from the cache.
+//! key) and every case reads it from the cache.
 //! With `[cea_sweep]` the study also sweeps constant μ over
 //! the base scene's complex eigenvalues (`cea_sweep/`), so the report can say which mode pairs
 //! couple at which μ.
