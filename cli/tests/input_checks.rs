@@ -108,7 +108,7 @@ fn gap_table_without_header_is_an_error_not_a_lost_gap() {
 #[test]
 fn gap_table_columns_are_read_by_name() {
     let (dir, scene) = fixture("input-gap-order", &models::belt());
-    let want = build(&scene).unwrap().gaps;
+    let want = build(&scene).unwrap().gap_geometry;
     // Reversed columns, blank lines and spaces around fields.
     let rev = |l: &str| l.split(',').rev().collect::<Vec<_>>().join(" , ");
     write(
@@ -116,7 +116,7 @@ fn gap_table_columns_are_read_by_name() {
         "m.gaps.csv",
         &format!("\n{}\n\n{}\n", rev(HEADER), rev(GAP)),
     );
-    let got = build(&scene).unwrap().gaps;
+    let got = build(&scene).unwrap().gap_geometry;
     assert_eq!(got, want);
     assert_eq!(got.gaps[0].pad_node, 1);
     assert_eq!(got.gaps[0].rotor_node, 100001);
@@ -158,7 +158,7 @@ fn gap_table_columns_are_read_by_name() {
 fn json_gap_table_is_checked_too() {
     let (dir, scene) = fixture("input-gap-json", &models::belt());
     let good = build(&scene).unwrap();
-    let mut gaps = good.gaps.gaps.clone();
+    let mut gaps = good.gap_geometry.gaps.clone();
     std::fs::write(
         dir.join("m.gaps.json"),
         serde_json::to_string(&gaps).unwrap(),
@@ -168,7 +168,7 @@ fn json_gap_table_is_checked_too() {
         .unwrap()
         .replace("m.gaps.csv", "m.gaps.json");
     std::fs::write(&scene, text).unwrap();
-    assert_eq!(build(&scene).unwrap().gaps, good.gaps);
+    assert_eq!(build(&scene).unwrap().gap_geometry, good.gap_geometry);
     gaps[0].area = -2.0;
     std::fs::write(
         dir.join("m.gaps.json"),

@@ -139,8 +139,8 @@ fn mu_sweep_builds_once_and_cached_models_equal_fresh_builds() {
     assert_eq!(fresh["modes"], cached["modes"]);
     assert_eq!(fresh["steady_state"], cached["steady_state"]);
 
-    // The late parameters (rpm, P0, temperature, μ) are applied to a cached model exactly as
-    // the builder applies them.
+    // The late parameters (rpm, P0, temperature, μ) are the operating point's: a cached model
+    // and a built one have the same gap geometry, and the same gaps at the point.
     let sets: Vec<String> = [
         "friction.law.mu0=0.45",
         "rotor.rpm=17.5",
@@ -161,7 +161,9 @@ fn mu_sweep_builds_once_and_cached_models_equal_fresh_builds() {
     assert!(from_cache.k == built.k && from_cache.m == built.m);
     assert_eq!(from_cache.b.is_some(), built.b.is_some());
     assert_eq!(from_cache.p_brake, built.p_brake);
-    assert_eq!(from_cache.gaps, built.gaps);
+    assert_eq!(from_cache.gap_geometry, built.gap_geometry);
+    let op = squeal_pipeline::problem::OperatingPoint::of(&scene);
+    assert_eq!(op.gaps(&from_cache).unwrap(), op.gaps(&built).unwrap());
     assert_eq!(from_cache.gap_pairs, built.gap_pairs);
     assert_eq!(from_cache.dofs, built.dofs);
     assert_eq!(from_cache.grids, built.grids);
@@ -202,7 +204,7 @@ fn damaged_cache_entries_are_rebuilt() {
     // Rebuilt entries are good again.
     let (m, u) = cache.get_or_build(&scene, &run_dir, &quiet()).unwrap();
     assert!(u.hit && u.note.is_none(), "{u:?}");
-    assert!(m.k == first.k && m.gaps == first.gaps);
+    assert!(m.k == first.k && m.gap_geometry == first.gap_geometry);
     // No temporary or discarded folders are left behind (beside the entry, the component
     // reductions' folder `components/`, whose entries are complete ones only).
     let list = |d: PathBuf| -> Vec<String> {

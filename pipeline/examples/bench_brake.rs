@@ -32,11 +32,11 @@
 use serde_json::json;
 use squeal_fe::{assemble, AssemblyOptions, DofMap};
 use squeal_meshes::Mesh;
+use squeal_pipeline::model::mesh::fixed_dofs;
 use squeal_pipeline::output::RunDir;
 use squeal_pipeline::progress::Progress;
 use squeal_pipeline::scene::Scene;
 use squeal_pipeline::stages::mesh::mesh_component;
-use squeal_pipeline::stages::modes::fixed_dofs;
 use squeal_reduction::cb::{self, peak_rss_kib};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -307,7 +307,7 @@ fn run_pipeline(
     eprintln!(
         "model: {} reduced DOFs, {} gaps, built in {build_s:.1} s (peak {:?} KiB)",
         model.n(),
-        model.gaps.len(),
+        model.gap_geometry.len(),
         rss_build
     );
     let components: Vec<serde_json::Value> = model
@@ -344,7 +344,7 @@ fn run_pipeline(
         "loadavg_at_start": load_at_start,
         "what": "pipeline: build_from_mesh (mesh -> assembly -> Craig-Bampton of the components in parallel -> superelement assembly -> gaps), then CEA at the steady state (and a mu sweep)",
         "n_reduced_dofs": model.n(),
-        "n_gaps": model.gaps.len(),
+        "n_gaps": model.gap_geometry.len(),
         "n_recovered_grid_dofs": model.dofs.recovered.len(),
         "build_s": build_s,
         "peak_rss_kib_after_build": rss_build,

@@ -97,7 +97,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let t = Instant::now();
     let m = model::build(&scene, &dir, &Progress::quiet())?;
     let build_s = t.elapsed().as_secs_f64();
-    let (n, ng) = (m.n(), m.gaps.len());
+    let (n, ng) = (m.n(), m.gap_geometry.len());
     eprintln!("model: {n} DOFs, {ng} gaps, built in {build_s:.1} s");
     let args = CeaArgs::default();
 
@@ -268,7 +268,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut out = Vec::new();
         for &mu in &dense_at {
             let t = Instant::now();
-            let sys = sweep::matrices_at(&p.problem, &m.gaps, &p.lin, &p.spec, &sw, mu, None)?;
+            let sys =
+                sweep::matrices_at(&p.problem, &p.problem.gaps, &p.lin, &p.spec, &sw, mu, None)?;
             let r = complex_eigen(&sys, &opts)?;
             let wall_s = t.elapsed().as_secs_f64();
             let near: Vec<[f64; 2]> = r

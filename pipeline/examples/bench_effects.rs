@@ -98,13 +98,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let model = model::build(&scene, &run_dir, &Progress::quiet())?;
         let problem = system::problem(&scene, &model)?;
         let spec = scene.transient.clone().unwrap_or_default();
-        let (y0, yp0) = initial_state(&problem, &model.gaps, spec.tolint)?;
+        let (y0, yp0) = initial_state(&problem, spec.tolint)?;
         let n = model.n();
-        let ng = model.gaps.len();
+        let ng = model.gap_geometry.len();
         let grid: Vec<f64> = (0..=200).map(|k| spec.tfinal * k as f64 / 200.0).collect();
         let r = integrate(
             &problem,
-            &model.gaps,
             &spec,
             Method::Bdf {
                 rtol: spec.rtol1,
@@ -117,7 +116,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             false,
         )?;
         let (v, lam) = (&y0[..n], &yp0[n..n + ng]);
-        let gaps = &model.gaps;
+        let gaps = &problem.gaps;
         let mut f = vec![0.0; n];
         let forces_us = per_call_us(|| {
             f.fill(0.0);

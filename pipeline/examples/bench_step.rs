@@ -205,7 +205,6 @@ struct RunOut {
 /// elimination.
 fn run_once(
     prepared: &squeal_pipeline::stages::transient::Prepared,
-    model: &squeal_pipeline::stages::model::ReducedModel,
     start: &squeal_pipeline::stages::transient::StartState,
     case: &str,
     eliminate: bool,
@@ -218,7 +217,6 @@ fn run_once(
     };
     let mut stepper = Stepper::new(
         &prepared.problem,
-        &model.gaps,
         spec,
         method,
         0.0,
@@ -330,16 +328,16 @@ fn run_case(
     let prepared = prepare(&scene, &model)?;
     let spec = prepared.spec.clone();
     let problem = &prepared.problem;
-    let start = start_state(problem, &model.gaps, spec.tolint)?;
-    let (n, ng) = (model.n(), model.gaps.len());
-    let run = run_once(&prepared, &model, &start, case, true, true)?;
-    let no_blocks_run = run_once(&prepared, &model, &start, case, true, false)?;
-    let dense_run = run_once(&prepared, &model, &start, case, false, false)?;
+    let start = start_state(problem, spec.tolint)?;
+    let (n, ng) = (model.n(), model.gap_geometry.len());
+    let run = run_once(&prepared, &start, case, true, true)?;
+    let no_blocks_run = run_once(&prepared, &start, case, true, false)?;
+    let dense_run = run_once(&prepared, &start, case, false, false)?;
     let (wall_s, run_cpu_s) = (run.wall_s, run.run_cpu_s);
     let bdf = run.stats.clone();
     // Cost of each operation alone, on a fresh system at the start state (with the
     // elimination, then without).
-    let mut sys = problem.system(model.gaps.clone())?;
+    let mut sys = problem.system(problem.gaps.clone())?;
     let (eliminated_dofs, modal_groups, schur_madds) = sys.modal_elimination();
     let component_blocks = sys.component_block_sizes();
     let (y, yp) = (start.y0.clone(), start.yp0.clone());

@@ -6,7 +6,9 @@
 pub mod error;
 pub mod figures;
 pub mod history;
+pub mod model;
 pub mod output;
+pub mod problem;
 pub mod progress;
 pub mod scene;
 pub mod stages;

@@ -79,15 +79,12 @@ impl Case {
         let m = model::build(&scene, &rd, &Progress::quiet()).unwrap();
         let problem = system::problem(&scene, &m).unwrap();
         let spec = scene.transient.clone().unwrap();
-        let (y0, yp0) = initial_state(&problem, &m.gaps, spec.tolint).unwrap();
+        let (y0, yp0) = initial_state(&problem, spec.tolint).unwrap();
         let grid: Vec<f64> = (0..=samples)
             .map(|k| spec.tfinal * k as f64 / samples as f64)
             .collect();
         let dofs: Vec<usize> = dofs.map_or_else(|| (0..m.n()).collect(), <[usize]>::to_vec);
-        let run = integrate(
-            &problem, &m.gaps, &spec, method, &y0, &yp0, &grid, &dofs, true,
-        )
-        .unwrap();
+        let run = integrate(&problem, &spec, method, &y0, &yp0, &grid, &dofs, true).unwrap();
         let e = run.energy.clone().unwrap();
         let scale = [
             e.kinetic,

@@ -144,7 +144,7 @@ fn interface_basis_converges_to_exact_craig_bampton() {
             rotor_boundary,
             "every rotor gap DOF recovered"
         );
-        assert!(m.gaps.gaps.iter().all(|g| !g.rotor_rows.is_empty()));
+        assert!(m.gap_geometry.gaps.iter().all(|g| !g.rotor_rows.is_empty()));
         let (roots, lam) = cea_of(&s, &m);
         let (er, el) = (root_error(&roots0, &roots, k), rel(&lam, &lam0));
         eprintln!(
@@ -203,7 +203,10 @@ fn interface_model_round_trips_through_a_stored_model() {
     let d = tmp("stored");
     let (s, m) = build(&plate_brake(&interface(2)), &d);
     let run = RunDir::create(&d.join("reduced")).unwrap();
-    model::write_stored(&m, &run).unwrap();
+    let gaps = squeal_pipeline::problem::OperatingPoint::of(&s)
+        .gaps(&m)
+        .unwrap();
+    model::write_stored(&m, &gaps, &run).unwrap();
     let stored = r#"title = "stored plate brake, interface-reduced rotor"
 units = "consistent"
 
@@ -233,7 +236,7 @@ friction_damping = true
 "#;
     let (s2, m2) = build(stored, &d);
     assert_eq!(m2.dofs.recovered, m.dofs.recovered);
-    for (a, b) in m.gaps.gaps.iter().zip(&m2.gaps.gaps) {
+    for (a, b) in m.gap_geometry.gaps.iter().zip(&m2.gap_geometry.gaps) {
         assert_eq!(a.rotor_rows.len(), b.rotor_rows.len());
         for (x, y) in a.rotor_rows.iter().zip(&b.rotor_rows) {
             assert_eq!(x.dof, y.dof);

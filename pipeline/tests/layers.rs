@@ -1,6 +1,10 @@
-//! The transient wing's layering, checked on its source text: the modules under
-//! `src/stages/transient/` import one another one way (no import circle), and no file there is
-//! over 400 lines (STYLE.md: "Layers and observers").
+//! The crate's layering, checked on its source text (issue 21):
+//! - the modules under `src/stages/transient/` import one another one way (no import circle),
+//!   and no file there is over 400 lines (STYLE.md: "Layers and observers");
+//! - the verdict imports nothing above it;
+//! - the layers below the verbs (`scene`, `model`, `problem`, `verdict`) import no verb, a verb
+//!   of the problem's level (`modes`, `cea`, `transient`, ...) imports no other verb, and the
+//!   verbs above them (`sweep`, `reproduce`, ...) import no verb of their own level.
 //!
 //! An import is a path in code (not in comments or `#[cfg(test)]` modules) that names a
 //! module of the folder: `super::x`, `crate::stages::transient::x`, or a child module named
@@ -354,4 +358,144 @@ fn the_workspace_defines_real_once() {
         ["meshes/src/mesh.rs"],
         "type Real defined in {defs:?}"
     );
+}
+
+/// The verbs sitting on the problem layer, and those above them (issue 21, item 3).
+const VERBS: [&str; 7] = [
+    "mesh",
+    "modes",
+    "reduce",
+    "cea",
+    "transient",
+    "limit_cycle",
+    "plotit",
+];
+const ABOVE: [&str; 5] = ["sweep", "reproduce", "compare", "accuracy", "propensity"];
+/// The layers below the verbs.
+const BELOW: [&str; 4] = ["scene", "model", "problem", "verdict"];
+
+/// The absolute module path (below `crate`) a path in module `here` names, if it is one of the
+/// crate's (`crate::`, `super::`, `self::`); None for another crate's or a local name.
+fn absolute(here: &[String], path: &[String]) -> Option<Vec<String>> {
+    match path.first()?.as_str() {
+        "crate" => Some(path[1..].to_vec()),
+        "self" => Some(here.iter().chain(&path[1..]).cloned().collect()),
+        "super" => {
+            let mut base = here.to_vec();
+            let mut k = 0;
+            while path.get(k).is_some_and(|s| s == "super") {
+                base.pop()?;
+                k += 1;
+            }
+            base.extend(path[k..].iter().cloned());
+            Some(base)
+        }
+        _ => None,
+    }
+}
+
+/// The verbs (modules of `stages`) each of the crate's top modules names, by file: the module
+/// path of every `.rs` file below `src/<top>` with the verbs its code names.
+fn verbs_named(top: &str) -> Vec<(String, BTreeSet<String>)> {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut all = BTreeMap::new();
+    let dir = src.join(top);
+    let module: Module = top.split('/').map(String::from).collect();
+    if dir.is_dir() {
+        modules(&dir, &module, &mut all);
+    } else {
+        all.insert(module, src.join(format!("{top}.rs")));
+    }
+    all.iter()
+        .map(|(m, p)| {
+            let text = std::fs::read_to_string(p).unwrap();
+            let verbs = paths(&code(&text))
+                .iter()
+                .filter_map(|path| absolute(m, path))
+                .filter(|a| a.len() >= 2 && a[0] == "stages")
+                .map(|a| a[1].clone())
+                .collect();
+            (p.display().to_string(), verbs)
+        })
+        .collect()
+}
+
+#[test]
+fn no_verb_imports_a_verb_of_its_level() {
+    let mut bad = Vec::new();
+    for top in BELOW {
+        for (file, verbs) in verbs_named(top) {
+            if !verbs.is_empty() {
+                bad.push(format!("{file} (below the verbs) names {verbs:?}"));
+            }
+        }
+    }
+    for top in VERBS.iter().map(|v| format!("stages/{v}")) {
+        let me = top.trim_start_matches("stages/").to_string();
+        for (file, verbs) in verbs_named(&top) {
+            let others: Vec<&String> = verbs.iter().filter(|v| **v != me).collect();
+            if !others.is_empty() {
+                bad.push(format!("{file} (a verb) names {others:?}"));
+            }
+        }
+    }
+    for top in ABOVE.iter().map(|v| format!("stages/{v}")) {
+        let me = top.trim_start_matches("stages/").to_string();
+        for (file, verbs) in verbs_named(&top) {
+            let level: Vec<&String> = verbs
+                .iter()
+                .filter(|v| **v != me && !VERBS.contains(&v.as_str()))
+                .collect();
+            if !level.is_empty() {
+                bad.push(format!("{file} (above the verbs) names {level:?}"));
+            }
+        }
+    }
+    assert!(bad.is_empty(), "imports against the layers: {bad:#?}");
+    // Every verb module is in one level (a new one must be placed).
+    let stages = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/stages");
+    for e in std::fs::read_dir(stages).unwrap() {
+        let name = e
+            .unwrap()
+            .path()
+            .file_stem()
+            .unwrap()
+            .to_string_lossy()
+            .to_string();
+        assert!(
+            name == "mod" || VERBS.contains(&name.as_str()) || ABOVE.contains(&name.as_str()),
+            "stages/{name} is in no level"
+        );
+    }
+}
+
+/// The checker resolves `crate::`, `super::` and `self::` paths as the compiler does.
+#[test]
+fn absolute_paths_resolve_as_the_compiler_does() {
+    let here: Vec<String> = ["stages", "cea", "energy"].map(String::from).to_vec();
+    let path = |s: &str| s.split("::").map(String::from).collect::<Vec<_>>();
+    let abs = |s: &str| absolute(&here, &path(s)).map(|a| a.join("::"));
+    assert_eq!(
+        abs("super::super::transient::run").as_deref(),
+        Some("stages::transient::run")
+    );
+    assert_eq!(
+        abs("super::params::Base").as_deref(),
+        Some("stages::cea::params::Base")
+    );
+    assert_eq!(
+        abs("crate::problem::system").as_deref(),
+        Some("problem::system")
+    );
+    assert_eq!(abs("self::x").as_deref(), Some("stages::cea::energy::x"));
+    assert_eq!(abs("squeal_solver::cea"), None);
+    assert_eq!(abs("super::super::super::super::x"), None);
+    let named = verbs_named("stages/sweep");
+    assert!(
+        named.iter().any(|(_, v)| v.contains("cea")),
+        "the sweep runs the CEA: {named:?}"
+    );
+    // A file module's `super` is `stages`: the mesh verb names the model builder's mesh.
+    let named = verbs_named("stages/mesh");
+    assert_eq!(named.len(), 1, "{named:?}");
 }

@@ -397,6 +397,7 @@ fn mortar_patch_test_passes_on_distorted_interfaces_of_hex8_and_hex20() {
 
 // ------------------------------------------------------------- meshed scenes (gmsh)
 
+use squeal_pipeline::problem::system;
 use squeal_pipeline::progress::Progress;
 use squeal_pipeline::stages::cea::{self, CeaArgs};
 use squeal_pipeline::stages::model::{self, ReducedModel};
@@ -498,8 +499,8 @@ fn surface_pairing_of_coincident_meshes_equals_node_pairing() {
     let d = tmp("coincident");
     let (sa, ma) = build(&tiny_brake(2, 2, "nodes"), &d);
     let (sb, mb) = build(&tiny_brake(2, 2, "surface"), &d);
-    assert_eq!(ma.gaps.len(), mb.gaps.len());
-    for (a, b) in ma.gaps.gaps.iter().zip(&mb.gaps.gaps) {
+    assert_eq!(ma.gap_geometry.len(), mb.gap_geometry.len());
+    for (a, b) in ma.gap_geometry.gaps.iter().zip(&mb.gap_geometry.gaps) {
         assert_eq!((a.pad_node, a.rotor_node), (b.pad_node, b.rotor_node));
         let t = b.tie.as_ref().expect("tied");
         assert_eq!(t.weights.iter().filter(|&&w| w == 1.0).count(), 1);
@@ -534,7 +535,7 @@ fn finer_non_matching_rotor_converges_with_refinement() {
         let (sa, ma) = build(&tiny_brake(n, n, "nodes"), &d);
         let (sb, mb) = build(&tiny_brake(n, m, "surface"), &d);
         let inside = mb
-            .gaps
+            .gap_geometry
             .gaps
             .iter()
             .filter(|g| {
@@ -641,7 +642,8 @@ fn stored_round_trip(text: &str, name: &str, header_end: &str) {
     let d = tmp(name);
     let (s, m) = build(text, &d);
     let run = RunDir::create(&d.join("reduced")).unwrap();
-    model::write_stored(&m, &run).unwrap();
+    let gaps = system::problem(&s, &m).unwrap().gaps;
+    model::write_stored(&m, &gaps, &run).unwrap();
     let csv = std::fs::read_to_string(d.join("reduced/gaps.csv")).unwrap();
     assert!(csv.lines().next().unwrap().ends_with(header_end), "{csv}");
     let stored = r#"title = "stored tiny brake, surface paired"
@@ -672,8 +674,10 @@ at = "steady_state"
 friction_damping = true
 "#;
     let (s2, m2) = build(stored, &d);
-    assert_eq!(m.gaps.len(), m2.gaps.len());
-    for (a, b) in m.gaps.gaps.iter().zip(&m2.gaps.gaps) {
+    // The gaps at the operating point: geometry, pairing and sliding velocities.
+    let (ga, gb) = (gaps, system::problem(&s2, &m2).unwrap().gaps);
+    assert_eq!(ga.len(), gb.len());
+    for (a, b) in ga.gaps.iter().zip(&gb.gaps) {
         let (ta, tb) = (a.tie.as_ref().unwrap(), b.tie.as_ref().unwrap());
         assert_eq!(
             (ta.face, ta.xi, &ta.nodes, &ta.weights),
@@ -711,7 +715,7 @@ fn overhanging_pad_nodes_are_an_error_or_excluded_with_a_warning() {
         "pairing = \"surface\"\nunmatched = \"exclude\"",
     );
     let (_, m) = build(&text, &d);
-    assert_eq!(m.gaps.len(), 6);
+    assert_eq!(m.gap_geometry.len(), 6);
     // One warning lists the excluded nodes. The only other warnings allowed are the reduction
     // checks': this test's `n_modes = 6` truncates the pad (34.8 % error at its 18th mode),
     // which the Craig–Bampton check reports as a warning since the cheap checks landed.
@@ -780,19 +784,24 @@ fn quadratic_pads_pair_by_mortar_by_default_without_tensile_corners() {
         let run = RunDir::create(&d.join(format!("cea-{pairing}"))).unwrap();
         let r = cea::write(&c, &m, &run, &args, None, std::time::Instant::now()).unwrap();
         let pmin = r.min_contact_pressure.unwrap();
-        let sided = m.gaps.gaps.iter().filter(|g| g.pad_side.is_some()).count();
+        let sided = m
+            .gap_geometry
+            .gaps
+            .iter()
+            .filter(|g| g.pad_side.is_some())
+            .count();
         let warned = m.warnings.iter().any(|w| w.input == "contact[0].pairing");
         eprintln!(
             "hex20 pads, pairing {pairing:?}: {} gaps ({sided} with a pad side), {} tensile, \
              smallest p_n {pmin:.4}, {} modes",
-            m.gaps.len(),
+            m.gap_geometry.len(),
             r.n_tensile_gaps,
             c.modes.len()
         );
         assert!(!c.modes.is_empty());
         if pairing.is_empty() {
             assert!(m
-                .gaps
+                .gap_geometry
                 .gaps
                 .iter()
                 .all(|g| g.tie.as_ref().is_some_and(|t| t.mortar)));
@@ -917,11 +926,14 @@ fn pad_angle_sweep_reuses_the_rotor_reduction() {
     // The same model as built without any cache, bit for bit, and the same CEA.
     let fresh = model::build(&s3, &run, &q).unwrap();
     assert!(fresh.k == m3.k && fresh.m == m3.m && fresh.p_brake == m3.p_brake);
-    assert_eq!(fresh.gaps.gaps, m3.gaps.gaps);
+    assert_eq!(fresh.gap_geometry.gaps, m3.gap_geometry.gaps);
     let (ra, rb) = (roots(&s3, &fresh), roots(&s3, &m3));
     assert!(root_error(&ra, &rb, ra.len()) == 0.0);
     // The gaps moved with the pad: the pad turned, the rotor points followed on its faces.
-    assert_ne!(m0.gaps.gaps[0].coords, m3.gaps.gaps[0].coords);
+    assert_ne!(
+        m0.gap_geometry.gaps[0].coords,
+        m3.gap_geometry.gaps[0].coords
+    );
 
     // Angle 0 written out is the unrotated scene.
     let z = scene("rotate_deg = 0.0");
@@ -947,9 +959,10 @@ fn stored_tied_model_writes_every_face_node_to_the_vtu() {
     use squeal_pipeline::stages::cea::outputs::write_mode_shapes;
     use squeal_reduction::superelement::DofKind;
     let d = tmp("stored-vtu");
-    let (_, m) = build(&tiny_brake(2, 3, "surface"), &d);
+    let (s, m) = build(&tiny_brake(2, 3, "surface"), &d);
     let run = RunDir::create(&d.join("reduced")).unwrap();
-    model::write_stored(&m, &run).unwrap();
+    let gaps = system::problem(&s, &m).unwrap().gaps;
+    model::write_stored(&m, &gaps, &run).unwrap();
     let stored = r#"title = "stored tiny brake, surface paired, gaps.json"
 units = "consistent"
 
@@ -985,11 +998,11 @@ at = "steady_state"
         })
         .collect();
     let tied_others = m
-        .gaps
+        .gap_geometry
         .gaps
         .iter()
         .flat_map(|g| g.tie.as_ref().unwrap().nodes.clone())
-        .filter(|id| !m.gaps.gaps.iter().any(|g| g.rotor_node == *id))
+        .filter(|id| !m.gap_geometry.gaps.iter().any(|g| g.rotor_node == *id))
         .filter(|id| grids.contains(id))
         .count();
     assert!(
@@ -1004,7 +1017,7 @@ at = "steady_state"
     let vtu = std::fs::read_to_string(d.join("vtu/cea_modes.vtu")).unwrap();
     assert!(vtu.contains(&format!("NumberOfPoints=\"{n}\"")));
     // Face-node coordinates as the meshed model has them.
-    for g in &m2.gaps.gaps {
+    for g in &m2.gap_geometry.gaps {
         let t = g.tie.as_ref().unwrap();
         for (id, x) in t.nodes.iter().zip(&t.coords) {
             let meshed = m.grids.iter().find(|gi| gi.grid == *id).unwrap().coords;

@@ -360,9 +360,10 @@ fn tensile_gaps_before_the_end_of_the_load_ramp_do_not_void_the_verdict() {
     // The two states: the sliding equilibria under P0 alone (t < 0) and under the full load.
     let problem = transient::system::problem(&scene, &m).unwrap();
     let min_pn = |t: Real| {
-        let mut sys = problem.system(m.gaps.clone()).unwrap();
+        let mut sys = problem.system(problem.gaps.clone()).unwrap();
         let ss = steady_state(&mut sys, t, &Default::default()).unwrap();
-        m.gaps
+        problem
+            .gaps
             .gaps
             .iter()
             .zip(&ss.lambda_dot)

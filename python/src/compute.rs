@@ -157,15 +157,19 @@ pub fn reduce<'py>(
     let hook = Hook::new(crate::args::callable("squeal", "progress", progress, py)?);
     let s = &scene.inner;
     let (m, u) = run(py, &hook, |h| build(s, &workdir, cache.as_ref(), h))?;
+    // The gaps at the scene's operating point (sliding speeds, P0, temperatures, the law).
+    let gaps = squeal_pipeline::problem::OperatingPoint::of(s)
+        .gaps(&m)
+        .map_err(|e| crate::errors::to_py(&e))?;
     let d = PyDict::new(py);
     d.set_item("K", mat_to_py(py, &m.k))?;
     d.set_item("M", mat_to_py(py, &m.m))?;
     d.set_item("B", m.b.as_ref().map(|b| mat_to_py(py, b)))?;
     d.set_item("p_brake", Array1::from(m.p_brake.clone()).into_pyarray(py))?;
     d.set_item("dofs", dofmap_to_py(py, &m.dofs)?)?;
-    d.set_item("gaps", gaps_to_py(py, &m.gaps.gaps)?)?;
+    d.set_item("gaps", gaps_to_py(py, &gaps.gaps)?)?;
     d.set_item("gap_pairs", m.gap_pairs.clone())?;
-    d.set_item("friction_law", to_py(py, &m.gaps.law)?)?;
+    d.set_item("friction_law", to_py(py, &gaps.law)?)?;
     d.set_item("components", to_py(py, &m.components)?)?;
     d.set_item("warnings", warn_list(&m.warnings))?;
     d.set_item("cache", cache_use(py, &u)?)?;

@@ -587,11 +587,11 @@ fn fuzz_gap_table() {
     ));
     s.push((
         "gaps.json list".into(),
-        serde_json::to_vec_pretty(&m.gaps.gaps).unwrap(),
+        serde_json::to_vec_pretty(&m.gap_geometry.gaps).unwrap(),
     ));
     s.push((
         "gaps.json set".into(),
-        serde_json::to_vec_pretty(&m.gaps).unwrap(),
+        serde_json::to_vec_pretty(&m.gap_geometry).unwrap(),
     ));
     accepted(&s, |b| check_gap_table(&dir, b));
     fuzz("gap_table", reports(), inputs(s, 1024), 1500, bytes, |i| {
@@ -606,7 +606,7 @@ fn check_dofmap(dir: &Path, scene: &Path, bytes: &[u8]) -> Result<Outcome, Strin
     match model::build(&s, &RunDir::create(&dir.join("run")).unwrap(), &quiet()) {
         Ok(m) => {
             let n = m.n();
-            if m.dofs.len() != n || m.m.nrows() != n || m.gaps.check_dofs(n).is_err() {
+            if m.dofs.len() != n || m.m.nrows() != n || m.gap_geometry.check_dofs(n).is_err() {
                 return Err(format!("accepted a model of inconsistent size {n}"));
             }
             Ok(Outcome::Accepted)
@@ -737,7 +737,7 @@ fn check_cache(
     }
     match r {
         Ok(Some(m)) => {
-            if m.gaps.check_dofs(m.n()).is_err() || m.m.nrows() != m.n() {
+            if m.gap_geometry.check_dofs(m.n()).is_err() || m.m.nrows() != m.n() {
                 return Err("accepted an inconsistent cached model".into());
             }
             Ok(Outcome::Accepted)

@@ -14,6 +14,7 @@ mod overrides;
 pub mod reduction;
 pub mod ties;
 pub mod transient;
+pub mod values;
 
 pub use accuracy::AccuracySpec;
 pub use arrays::{ArraysRef, StoredArrays};

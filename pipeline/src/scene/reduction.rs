@@ -107,7 +107,7 @@ pub struct ModelSpec {
     pub dofmap: Option<PathBuf>,
     /// Gap table, JSON (`gaps.json` of `squeal reduce`) or CSV whose first line names the
     /// columns `pad_grid,rotor_grid,x,y,z,nx,ny,nz,area,p0,temperature` in any order (default:
-    /// none = no contact). Checks: `crate::stages::model::gap_table`.
+    /// none = no contact). Checks: `crate::model::gap_table`.
     pub gaps: Option<PathBuf>,
     /// Overrides the preload P0 stored in the gap table, for stored models; finite and >= 0
     /// (default: none = as stored).

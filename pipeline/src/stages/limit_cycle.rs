@@ -2,7 +2,7 @@
 //! (issue 22 item 4; docs/limit-cycle.md).
 //!
 //! reduced model → band-limited model at the loaded steady sliding state
-//! ([`crate::stages::transient::band`], `[transient] band_cutoff` / `band_tolerance`) → for
+//! ([`crate::problem::band`], `[transient] band_cutoff` / `band_tolerance`) → for
 //! every unstable kept root in the band: its Hopf point in the friction scale, harmonic balance
 //! with alternating frequency–time evaluation of the friction and unilateral contact forces,
 //! arclength continuation up to the operating point, the harmonics doubled until converged,
@@ -15,12 +15,12 @@
 //!   (cached) and writes.
 
 use crate::error::PipelineError;
+use crate::model::{self, ModelCache, ReducedModel};
 use crate::output::RunDir;
+use crate::problem::band::{self, BandReport};
+use crate::problem::system;
 use crate::progress::Progress;
 use crate::scene::Scene;
-use crate::stages::model::{self, ModelCache, ReducedModel};
-use crate::stages::transient::band::{self, BandReport};
-use crate::stages::transient::system;
 use serde::Serialize;
 use squeal_solver::hb::{limit_cycle, HbError, HbOptions, LimitCycle, LimitCycleStatus};
 use squeal_solver::Real;

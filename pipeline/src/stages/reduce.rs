@@ -1,9 +1,10 @@
 //! `squeal reduce`: the reduced model written as OP4 + punch DMIG + DOF map + gap table, with
 //! the Craig–Bampton checks (`checks.json`) and the lowest modes of the reduced (K, M).
 
-use super::model::{self, ComponentReport, StoredFiles};
 use crate::error::PipelineError;
+use crate::model::{self, ComponentReport, StoredFiles};
 use crate::output::RunDir;
+use crate::problem::OperatingPoint;
 use crate::progress::Progress;
 use crate::scene::{ModelSource, Scene};
 use serde::Serialize;
@@ -59,7 +60,9 @@ pub fn run(
 ) -> Result<ReduceReport, PipelineError> {
     let start = Instant::now();
     let model = model::build(scene, dir, progress)?;
-    let files = model::write_stored(&model, dir)?;
+    // The gap table carries the scene's operating values (P0, temperature, sliding speed).
+    let gaps = OperatingPoint::of(scene).gaps(&model)?;
+    let files = model::write_stored(&model, &gaps, dir)?;
     let checks: serde_json::Map<String, serde_json::Value> = model
         .checks
         .iter()
@@ -103,7 +106,7 @@ pub fn run(
         n_grid_dofs: model.n() - n_modal - n_interface,
         n_modal_dofs: n_modal,
         n_interface_dofs: n_interface,
-        n_gaps: model.gaps.len(),
+        n_gaps: model.gap_geometry.len(),
         has_damping: model.b.is_some(),
         frequencies_hz: model.frequencies_hz(N_REPORTED_MODES)?,
         components: model.components.clone(),

@@ -179,7 +179,7 @@ pub fn check_arrays(dir: &Path, c: &ArraysCase) -> Result<Outcome, String> {
                     m.n()
                 ));
             }
-            if m.gaps.gaps.iter().any(|g| {
+            if m.gap_geometry.gaps.iter().any(|g| {
                 let n = g.normal.iter().map(|x| x * x).sum::<f64>().sqrt();
                 !(n.is_finite() && (n - 1.0).abs() < 1e-6 && g.area > 0.0 && g.p0 >= 0.0)
             }) {

@@ -7,17 +7,16 @@
 //! bookkeeping, and only when asked for.
 
 use crate::error::PipelineError;
+pub use crate::problem::options::galpha_options;
+use crate::problem::start::start_state;
+use crate::problem::system::Problem;
 use crate::progress::Progress;
 use crate::scene::TransientSpec;
 use crate::stages::transient::driver::{drive, DriveOptions};
-pub use crate::stages::transient::options::galpha_options;
 use crate::stages::transient::sink::{Sink, StepView};
-use crate::stages::transient::start_state;
 pub use crate::stages::transient::stepper::Method;
 use crate::stages::transient::stepper::{IntegratorStats, Stepper};
-use crate::stages::transient::system::Problem;
 use serde::Serialize;
-use squeal_contact::GapSet;
 use squeal_solver::bdf::Status;
 use squeal_solver::bsql::EnergyBalance;
 
@@ -56,10 +55,9 @@ pub struct RunOutcome {
 /// Steady sliding state before the load and consistent y'(0), as `squeal transient` starts.
 pub fn initial_state(
     problem: &Problem,
-    gaps: &GapSet,
     tolint: Real,
 ) -> Result<(Vec<Real>, Vec<Real>), PipelineError> {
-    let s = start_state(problem, gaps, tolint)?;
+    let s = start_state(problem, tolint)?;
     Ok((s.y0, s.yp0))
 }
 
@@ -125,7 +123,6 @@ impl Sink for DriftMonitor<'_> {
 #[allow(clippy::too_many_arguments)]
 pub fn integrate(
     problem: &Problem,
-    gaps: &GapSet,
     spec: &TransientSpec,
     method: Method,
     y0: &[Real],
@@ -136,7 +133,7 @@ pub fn integrate(
 ) -> Result<RunOutcome, PipelineError> {
     let n = problem.m.nrows();
     let tf = grid.last().copied().unwrap_or(0.0);
-    let mut stepper = Stepper::new(problem, gaps, spec, method, 0.0, y0, yp0, tf)?;
+    let mut stepper = Stepper::new(problem, spec, method, 0.0, y0, yp0, tf)?;
     let mut sampler = GridSampler {
         grid,
         dofs,

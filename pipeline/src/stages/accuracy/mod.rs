@@ -21,10 +21,11 @@ pub use crate::scene::AccuracySpec;
 pub use drive::{initial_state, integrate, Method, RunOutcome};
 
 use crate::error::PipelineError;
+use crate::model;
 use crate::output::RunDir;
+use crate::problem::system;
 use crate::progress::Progress;
 use crate::scene::Scene;
-use crate::stages::{model, transient::system};
 use compare::RunErrors;
 use serde::Serialize;
 
@@ -131,7 +132,7 @@ pub fn run(
         }
         acc.dofs.clone()
     };
-    let (y0, yp0) = initial_state(&problem, &model.gaps, spec.tolint)?;
+    let (y0, yp0) = initial_state(&problem, spec.tolint)?;
     let grid: Vec<Real> = (0..acc.samples)
         .map(|k| spec.tfinal * k as Real / (acc.samples - 1) as Real)
         .collect();
@@ -140,17 +141,7 @@ pub fn run(
         let mut reps = 0;
         let mut total = 0.0;
         loop {
-            let r = integrate(
-                &problem,
-                &model.gaps,
-                &spec,
-                m,
-                &y0,
-                &yp0,
-                &grid,
-                &dofs,
-                false,
-            )?;
+            let r = integrate(&problem, &spec, m, &y0, &yp0, &grid, &dofs, false)?;
             reps += 1;
             total += r.cpu_s;
             if total >= acc.min_cpu_s || reps >= 20 {
@@ -238,7 +229,7 @@ pub fn run(
         verb: "accuracy",
         version: crate::VERSION,
         n_dofs: n,
-        n_gaps: model.gaps.len(),
+        n_gaps: model.gap_geometry.len(),
         tfinal: spec.tfinal,
         samples: acc.samples,
         response_dof: dofs.get(col).copied().unwrap_or(0),

@@ -12,8 +12,8 @@
 use super::shapes::{array_stem, ComponentShapes};
 use crate::error::PipelineError;
 use crate::figures::{write_figure, Figure, Series, SeriesStyle};
+use crate::model::ReducedModel;
 use crate::output::RunDir;
-use crate::stages::model::ReducedModel;
 use squeal_meshes::vtu::{self, PointArray};
 use std::fmt::Write as _;
 

@@ -25,11 +25,11 @@
 //! least-squares solution of `(Gᵀ − D) ν = −(p²M + pC + K) φ` (one QR for all roots), and the
 //! remaining residual is reported (`eigen_residual`) beside the identity's closure.
 
-use super::tangents::Linearisation;
 use crate::error::PipelineError;
+use crate::model::ReducedModel;
+use crate::problem::system::Problem;
+use crate::problem::tangents::Linearisation;
 use crate::scene::Scene;
-use crate::stages::model::ReducedModel;
-use crate::stages::transient::system::Problem;
 use faer::linalg::solvers::SolveLstsq;
 use faer::Mat;
 use serde::Serialize;
@@ -295,7 +295,7 @@ fn parts(
             });
         }
     }
-    let blocks = model
+    let blocks = problem
         .gaps
         .gap_blocks(&lin.v, &lin.lambda_dot)
         .map_err(|source| PipelineError::Contact {
@@ -328,7 +328,7 @@ fn parts(
 /// The contact pair of each gap (one pair when the gap counts do not add up: a stored
 /// model's gap table).
 fn pair_index(model: &ReducedModel) -> Vec<usize> {
-    let ng = model.gaps.len();
+    let ng = model.gap_geometry.len();
     if model.gap_pairs.iter().sum::<usize>() != ng {
         return vec![0; ng];
     }
@@ -341,7 +341,7 @@ fn pair_index(model: &ReducedModel) -> Vec<usize> {
 }
 
 fn pair_labels(scene: &Scene, model: &ReducedModel) -> Vec<PairLabel> {
-    let ng = model.gaps.len();
+    let ng = model.gap_geometry.len();
     if model.gap_pairs.iter().sum::<usize>() != ng || model.gap_pairs.is_empty() {
         return vec![PairLabel {
             name: scene.contact.first().map_or_else(

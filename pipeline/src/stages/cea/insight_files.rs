@@ -9,8 +9,8 @@ use super::outputs::data_array;
 use super::sweep::{event_tracks, SweepReport, TrackOut};
 use crate::error::PipelineError;
 use crate::figures::{grouped_bars, write_figure, Figure, Series, SeriesStyle};
+use crate::model::ReducedModel;
 use crate::output::RunDir;
-use crate::stages::model::ReducedModel;
 use squeal_solver::cea::ModeEvent;
 use std::fmt::Write as _;
 
@@ -81,7 +81,7 @@ pub fn write_feed_in_vtu(
     energy: &EnergyOut,
     modes: &[usize],
 ) -> Result<Option<String>, PipelineError> {
-    let gaps = &model.gaps.gaps;
+    let gaps = &model.gap_geometry.gaps;
     let roots: Vec<&RootEnergy> = modes.iter().filter_map(|&k| root_of(energy, k)).collect();
     if gaps.is_empty() || roots.is_empty() {
         return Ok(None);

@@ -27,16 +27,16 @@ pub mod sensitivity;
 pub mod shapes;
 pub mod steady;
 pub mod sweep;
-pub mod tangents;
+pub use crate::problem::tangents;
 
 use crate::error::PipelineError;
+use crate::model;
 use crate::output::RunDir;
+use crate::problem::{linear, system};
 use crate::progress::Progress;
 use crate::scene::{CeaSpec, Scene};
-use crate::stages::model;
-use crate::stages::transient::system;
 use serde::Serialize;
-use squeal_solver::cea::{complex_eigen, CeaOptions, CeaStats, Mode};
+use squeal_solver::cea::{CeaStats, Mode};
 use std::time::Instant;
 use tangents::{ContactSummary, StateSource};
 
@@ -190,10 +190,6 @@ pub struct CeaReport {
     pub warnings: Vec<crate::warning::Warning>,
 }
 
-fn cea_err(what: &str) -> impl FnOnce(squeal_solver::cea::CeaError) -> PipelineError + '_ {
-    move |source| PipelineError::cea(what.to_string(), source)
-}
-
 const SHAPES_NOTE: &str = "cea_modes.vtu: mode shapes at the grid points of the reduced model \
 (contact and interface grids); cea_modes_<component>.vtu: the shapes recovered with each \
 component's Craig-Bampton transformation on its full mesh (models built from meshes only); \
@@ -201,18 +197,7 @@ cea_modes.pvd: those shapes animated over the phase, Re(u e^(i theta)) for theta
 (ParaView: open the .pvd, Warp By Vector on a mode array, play); mode_shape_rotor.png: the \
 most unstable mode's out-of-plane displacement on the rotor friction face";
 
-/// The solver options with the validity band as the projection's band of interest
-/// (`projection.frequency_max_hz`) when the scene gives neither it nor a basis cutoff: `auto`
-/// then projects models above `projection.auto_single_min_dofs` reduced DOFs on the real modes
-/// up to `cutoff_factor` × the band, and refines the in-band unstable roots exactly.
-pub fn banded(solver: &CeaOptions, band_hz: Option<Real>) -> CeaOptions {
-    let mut o = solver.clone();
-    let pr = &mut o.projection;
-    if pr.frequency_max_hz.is_none() && pr.basis_cutoff_hz.is_none() {
-        pr.frequency_max_hz = band_hz;
-    }
-    o
-}
+pub use crate::problem::linear::banded;
 
 /// Runs `squeal cea`: builds the reduced model (through `args.cache` when given) and
 /// [`run_on_model`].
@@ -308,35 +293,18 @@ pub fn compute(
     // Ctrl-C reaches inside the eigen-solves, the sweep's points and refinements.
     spec.solver.interrupt = progress.solver_interrupt();
     let problem = system::problem(scene, model)?;
-    let gaps = &model.gaps;
+    let gaps = &problem.gaps;
     let (n, ng) = (model.n(), gaps.len());
-    let step = progress.step("linearising about the sliding state");
-    let lin = tangents::linearise(scene, &spec, &problem, gaps)?;
-    step.done("tangents at the state");
-    let contact = tangents::contact_summary(gaps, &lin)?;
-    let sys = tangents::cea_matrices(&problem, &lin, spec.friction_damping)?;
-    progress.check("cea")?;
-    // The validity band: what the model was reduced for, or `max_frequency_hz` if lower.
-    // Roots above it are listed apart and never count as squeal.
-    let band_hz = match (scene.band_hz(), spec.max_frequency_hz) {
-        (Some(a), Some(b)) => Some(a.min(b)),
-        (a, b) => a.or(b),
-    };
-    let solver = banded(&spec.solver, band_hz);
-    let step = progress.step(format!("complex eigenvalues ({n} DOFs, {ng} constraints)"));
-    let res = complex_eigen(&sys, &solver).map_err(cea_err("complex eigenvalues"))?;
-    step.done(format!(
-        "{} modes, {} unstable{}",
-        res.stats.n_modes,
-        res.stats.n_unstable,
-        res.stats.refine.as_ref().map_or(String::new(), |r| format!(
-            " ({} refined exactly, max |dp| {:.3e} /s)",
-            r.n_refined, r.max_abs_change
-        ))
-    ));
-    let fmax = band_hz.unwrap_or(Real::INFINITY);
-    let (kept, above): (Vec<Mode>, Vec<Mode>) =
-        res.modes.into_iter().partition(|m| m.frequency_hz <= fmax);
+    let linear::Roots {
+        lin,
+        contact,
+        sys,
+        band_hz,
+        solver,
+        kept,
+        above,
+        stats,
+    } = linear::roots(scene, &spec, &problem, model, progress)?;
     let mut above_unstable: Vec<RootOut> = above
         .iter()
         .filter(|m| m.unstable)
@@ -349,7 +317,7 @@ pub fn compute(
     above_unstable.sort_by(|a, b| b.real_part.total_cmp(&a.real_part));
     let outside_band = OutsideBand {
         band_hz,
-        computed_up_to_hz: res.stats.basis_max_frequency_hz,
+        computed_up_to_hz: stats.basis_max_frequency_hz,
         count: above.len(),
         n_unstable: above_unstable.len(),
         max_frequency_hz: above.iter().map(|m| m.frequency_hz).reduce(Real::max),
@@ -431,7 +399,7 @@ pub fn compute(
         modes: modes_out,
         unstable,
         outside_band,
-        stats: res.stats,
+        stats,
         energy,
         sensitivity: sens,
     };
@@ -499,7 +467,7 @@ pub fn write(
     cache_use: Option<model::CacheUse>,
     wall: Instant,
 ) -> Result<CeaReport, PipelineError> {
-    let (n, ng) = (model.n(), model.gaps.len());
+    let (n, ng) = (model.n(), model.gap_geometry.len());
     let (modes, unstable) = (&c.out.modes, &c.out.unstable);
     let mut files = Vec::new();
     files.push(dir.write_json("cea.json", &c.out)?.display().to_string());

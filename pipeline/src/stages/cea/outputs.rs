@@ -1,12 +1,12 @@
 //! Files of `squeal cea`: mode shapes as VTU, tangent matrices as OP4 and punch, figures.
 
 use super::sweep::{SweepReport, TrackOut};
-use super::tangents::Linearisation;
 use crate::error::PipelineError;
 use crate::figures::{root_locus, stability_map, write_figure};
+use crate::model::ReducedModel;
 use crate::output::RunDir;
-use crate::stages::model::ReducedModel;
-use crate::stages::transient::system::Problem;
+use crate::problem::system::Problem;
+use crate::problem::tangents::Linearisation;
 use faer::Mat;
 use squeal_reduction::matrix::{MatrixForm, NamedMatrix};
 use squeal_reduction::punch::{self, DmigMatrix, PunchWriteOptions};
@@ -39,7 +39,7 @@ fn grid_dofs(model: &ReducedModel) -> GridDofs {
     }
     // A tied gap's rotor nodes where the gap table stores their coordinates (surface and
     // mortar pairing), before the fallback that puts a node at its gap's point.
-    for g in &model.gaps.gaps {
+    for g in &model.gap_geometry.gaps {
         if let Some(t) = &g.tie {
             for (&n, &x) in t.nodes.iter().zip(&t.coords) {
                 if x.iter().all(|v| v.is_finite()) {
@@ -48,7 +48,7 @@ fn grid_dofs(model: &ReducedModel) -> GridDofs {
             }
         }
     }
-    for g in &model.gaps.gaps {
+    for g in &model.gap_geometry.gaps {
         coords.entry(g.pad_node).or_insert(g.coords);
         coords.entry(g.rotor_node).or_insert(g.coords);
     }
@@ -176,7 +176,7 @@ fn punch_dofs(model: &ReducedModel) -> (Vec<PunchDof>, Vec<PunchDof>) {
             }
         })
         .collect();
-    let gaps = (0..model.gaps.len())
+    let gaps = (0..model.gap_geometry.len())
         .map(|g| (2 * base + 1 + g as u64, 0))
         .collect();
     (rows, gaps)

@@ -19,11 +19,13 @@
 //! unless the modal cut-off selects other modes; docs/insight.md measures it.
 
 use super::energy::{from_reductions, scatter_check};
-use super::tangents::{at_steady_state, cea_matrices, tangents, Linearisation, StateSource};
 use crate::error::PipelineError;
+use crate::model::ReducedModel;
+use crate::problem::system::{damping_matrix, Problem};
+use crate::problem::tangents::{
+    at_steady_state, cea_matrices, tangents, Linearisation, StateSource,
+};
 use crate::scene::{CeaSpec, Scene};
-use crate::stages::model::ReducedModel;
-use crate::stages::transient::system::{damping_matrix, Problem};
 use faer::Mat;
 use serde::Serialize;
 use squeal_contact::{FrictionLaw, GapSet};
@@ -89,7 +91,11 @@ pub struct Parameter {
 /// (when it turns), each compliant pair's k_n, and per component (meshed models with their
 /// Craig–Bampton blocks) the Young's and density scales and, with `damping.w4 > 0`, GE.
 /// Gaps with a friction law of their own (a pair's `friction`) are not varied: `notes` says.
-pub fn parameters(scene: &Scene, model: &ReducedModel) -> (Vec<Parameter>, Vec<String>) {
+pub fn parameters(
+    scene: &Scene,
+    model: &ReducedModel,
+    gaps: &GapSet,
+) -> (Vec<Parameter>, Vec<String>) {
     let mut out = Vec::new();
     let mut notes = Vec::new();
     let p =
@@ -104,7 +110,7 @@ pub fn parameters(scene: &Scene, model: &ReducedModel) -> (Vec<Parameter>, Vec<S
         };
     let mu_max = squeal_contact::friction::MU_MAX;
     let inf = Real::INFINITY;
-    for (field, value, typical, lo, hi) in law_fields(&model.gaps.law, model) {
+    for (field, value, typical, lo, hi) in law_fields(&gaps.law, gaps) {
         out.push(p(
             format!("friction.law.{field}"),
             ParamKind::FrictionLaw {
@@ -118,7 +124,7 @@ pub fn parameters(scene: &Scene, model: &ReducedModel) -> (Vec<Parameter>, Vec<S
             true,
         ));
     }
-    if model.gaps.gaps.iter().any(|g| g.friction.is_some()) {
+    if gaps.gaps.iter().any(|g| g.friction.is_some()) {
         notes.push(
             "gaps with a friction law of their own (a pair's `friction`) keep it: only the \
              scene's `[friction]` law is varied"
@@ -149,7 +155,7 @@ pub fn parameters(scene: &Scene, model: &ReducedModel) -> (Vec<Parameter>, Vec<S
             true,
         ));
     }
-    if model.gap_pairs.iter().sum::<usize>() == model.gaps.len() {
+    if model.gap_pairs.iter().sum::<usize>() == gaps.len() {
         for (i, c) in scene.contact.iter().enumerate() {
             if let Some(kn) = c.normal_stiffness {
                 out.push(p(
@@ -231,17 +237,15 @@ pub fn parameters(scene: &Scene, model: &ReducedModel) -> (Vec<Parameter>, Vec<S
 /// a lower bound `Some(0)` marks a friction coefficient (upper bound MU_MAX).
 type LawField = (&'static str, Real, Real, Option<Real>, Option<Real>);
 
-fn law_fields(law: &FrictionLaw, model: &ReducedModel) -> Vec<LawField> {
+fn law_fields(law: &FrictionLaw, gaps: &GapSet) -> Vec<LawField> {
     // Typical pressure and slip speed for the zero-valued sensitivities' scales.
-    let v_typ = model
-        .gaps
+    let v_typ = gaps
         .gaps
         .iter()
         .map(|g| g.v_slide.iter().map(|x| x * x).sum::<Real>().sqrt())
         .fold(0.0, Real::max)
         .max(1.0);
-    let p_typ = model
-        .gaps
+    let p_typ = gaps
         .gaps
         .iter()
         .map(|g| g.p0.abs())
@@ -400,36 +404,25 @@ pub fn matrices_at(
 ) -> Result<(CeaMatrices, bool), PipelineError> {
     let (scene, model, pb) = (base.scene, base.model, base.problem);
     let delta = value - param.value;
-    let mut gaps = model.gaps.clone();
-    let mut problem = Problem {
-        m: pb.m.clone(),
-        b: pb.b.clone(),
-        k: pb.k.clone(),
-        g: pb.g.clone(),
-        load: pb.load.clone(),
-        bsql: pb.bsql.clone(),
-        compliance: pb.compliance.clone(),
-        smooth_width: pb.smooth_width.clone(),
-    };
+    // An operating value varies the operating point; the gaps and the load are made anew.
+    let mut op = pb.op.clone();
     match &param.kind {
         ParamKind::FrictionLaw { field } => {
-            let law = law_with(&gaps.law, field, value);
-            gaps = gaps.with_friction(law, model.gaps.vtol).map_err(|source| {
-                PipelineError::Contact {
-                    what: format!("friction law with {} = {value}", param.name),
-                    source,
-                }
-            })?;
+            op.friction.law = law_with(&op.friction.law, field, value)
         }
-        ParamKind::BrakePressure => {
-            problem.load.p_brake = model.p_brake.iter().map(|p| value * p).collect();
-        }
-        ParamKind::RotorSpeed => {
-            let f = value / param.value;
-            for g in &mut gaps.gaps {
-                g.v_slide.iter_mut().for_each(|v| *v *= f);
-            }
-        }
+        ParamKind::BrakePressure => op.pmax = value,
+        ParamKind::RotorSpeed => op.rotor.rpm = value,
+        _ => {}
+    }
+    let mut problem = pb.at(model, op).map_err(|e| match e {
+        PipelineError::Contact { source, .. } => PipelineError::Contact {
+            what: format!("friction law with {} = {value}", param.name),
+            source,
+        },
+        e => e,
+    })?;
+    match &param.kind {
+        ParamKind::FrictionLaw { .. } | ParamKind::BrakePressure | ParamKind::RotorSpeed => {}
         ParamKind::NormalStiffness { pair } => {
             let start: usize = model.gap_pairs[..*pair].iter().sum();
             let f = param.value / value; // c = 1/(k_n A)
@@ -482,10 +475,10 @@ pub fn matrices_at(
                 b: b_el,
                 p_brake: Vec::new(),
                 dofs: model.dofs.clone(),
-                gaps: GapSet {
+                gap_geometry: GapSet {
                     gaps: Vec::new(),
                     law: FrictionLaw::default(),
-                    vtol: model.gaps.vtol,
+                    vtol: GapSet::DEFAULT_VTOL,
                 },
                 gap_pairs: Vec::new(),
                 grids: Vec::new(),
@@ -509,15 +502,20 @@ pub fn matrices_at(
         // 1e-13 (a light load: 4.6e-13 on the study brake at 1 psi), to the scene's tolerance.
         opts.tol = opts.tol.min(1e-13);
         opts.max_iters = opts.max_iters.max(100);
-        match at_steady_state(&problem, &gaps, &opts) {
+        match at_steady_state(&problem, &problem.gaps, &opts) {
             Ok(lin) => lin,
             Err(_) => {
                 loosened = true;
-                at_steady_state(&problem, &gaps, &base.spec.steady)?
+                at_steady_state(&problem, &problem.gaps, &base.spec.steady)?
             }
         }
     } else {
-        let (d, c_f) = tangents(&gaps, problem.m.nrows(), &base.lin.v, &base.lin.lambda_dot)?;
+        let (d, c_f) = tangents(
+            &problem.gaps,
+            problem.m.nrows(),
+            &base.lin.v,
+            &base.lin.lambda_dot,
+        )?;
         Linearisation {
             d,
             c_f,

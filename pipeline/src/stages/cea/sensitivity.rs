@@ -158,7 +158,7 @@ pub fn sensitivities(
     unstable: &[usize],
 ) -> Result<SensitivityOut, PipelineError> {
     let t0 = Instant::now();
-    let (mut params, mut notes) = parameters(base.scene, base.model);
+    let (mut params, mut notes) = parameters(base.scene, base.model, &base.problem.gaps);
     let which = chosen(modes, unstable);
     let mut triplets = Vec::with_capacity(which.len());
     for &i in &which {

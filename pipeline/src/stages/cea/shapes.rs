@@ -7,8 +7,8 @@
 //! DOFs). The transformation is real, so Re(T u) = T Re(u) and Im(T u) = T Im(u).
 
 use crate::error::PipelineError;
+use crate::model::ReducedModel;
 use crate::output::RunDir;
-use crate::stages::model::ReducedModel;
 use squeal_meshes::vtu::{self, PointArray};
 use squeal_solver::cea::Mode;
 

@@ -1,8 +1,10 @@
 //! The steady sliding states of a friction sweep, with K factorised once for the whole sweep.
 
-use super::tangents::{at_steady_state, full_load_time, tangents, Linearisation, StateSource};
 use crate::error::PipelineError;
-use crate::stages::transient::system::Problem;
+use crate::problem::system::Problem;
+use crate::problem::tangents::{
+    at_steady_state, full_load_time, tangents, Linearisation, StateSource,
+};
 use faer::linalg::solvers::{PartialPivLu, Solve};
 use faer::{Col, Mat};
 use squeal_contact::GapSet;
@@ -323,6 +325,8 @@ mod tests {
             bsql: BsqlOptions::default(),
             compliance: Vec::new(),
             smooth_width: Vec::new(),
+            gaps: gaps.clone(),
+            op: Default::default(),
         };
         (problem, gaps)
     }

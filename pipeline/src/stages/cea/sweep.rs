@@ -1,10 +1,10 @@
 //! Friction sweep: the CEA at each μ of the sweep, tracked by the solver's MAC tracking.
 
 use super::steady::SweepSteady;
-use super::tangents::{at_steady_state, cea_matrices, tangents, Linearisation};
 use crate::error::PipelineError;
+use crate::problem::system::Problem;
+use crate::problem::tangents::{at_steady_state, cea_matrices, tangents, Linearisation};
 use crate::scene::{CeaSpec, CeaSweepSpec, SweepVary};
-use crate::stages::transient::system::Problem;
 use serde::{Deserialize, Serialize};
 use squeal_contact::{FrictionLaw, GapSet};
 use squeal_solver::cea::{sweep, CeaMatrices, CeaMethod, ModeEvent, Sweep, SweepStats};
@@ -59,7 +59,7 @@ pub fn matrices_at(
         })?;
     let steady = matches!(
         base.source,
-        super::tangents::StateSource::SteadyState { .. }
+        crate::problem::tangents::StateSource::SteadyState { .. }
     );
     let lin = if sw.resolve_state && steady {
         match steady_cache {
@@ -205,7 +205,7 @@ pub fn run_sweep(
     let opts = sw.sweep_options(&spec.solver);
     let steady = matches!(
         base.source,
-        super::tangents::StateSource::SteadyState { .. }
+        crate::problem::tangents::StateSource::SteadyState { .. }
     );
     let t = std::time::Instant::now();
     let mut cache = (sw.resolve_state && steady).then(|| SweepSteady::new(problem));

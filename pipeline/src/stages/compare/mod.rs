@@ -24,10 +24,11 @@ mod report;
 pub use report::{markdown, write};
 
 use crate::error::PipelineError;
+use crate::model;
 use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::{ModelSource, Scene};
-use crate::stages::{cea, model};
+use crate::stages::cea;
 use modal::{MatrixDiff, ModePair};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -421,7 +422,7 @@ fn compare_models(
             "not run: stored matrices carry no friction, rotor or load settings (give --scene)"
                 .into(),
         );
-    } else if ma.gaps.is_empty() || mb.gaps.is_empty() {
+    } else if ma.gap_geometry.is_empty() || mb.gap_geometry.is_empty() {
         report.cea_note = Some("not run: a model without gaps".into());
     } else {
         let roots =

@@ -8,7 +8,7 @@
 //! $$\mathrm{MAC}(a, b) = \frac{|φ_a^T M φ_b|^2}{(φ_a^T M φ_a)(φ_b^T M φ_b)}.$$
 
 use crate::error::PipelineError;
-use crate::stages::model::ReducedModel;
+use crate::model::ReducedModel;
 use faer::Mat;
 use serde::Serialize;
 use squeal_reduction::superelement::{DofKind, ReducedDof};

@@ -5,17 +5,14 @@
 
 use super::{value_text, Plan};
 use crate::error::PipelineError;
+use crate::model::{self, ReducedModel};
 use crate::output::RunDir;
+use crate::problem::{linear, system};
 use crate::progress::Progress;
-use crate::scene::{CeaSpec, ModelSource, Scene};
-use crate::stages::cea::{banded, tangents};
-use crate::stages::model::{self, ReducedModel};
-use crate::stages::sweep::values;
-use crate::stages::transient::system;
+use crate::scene::values;
+use crate::scene::{CeaSpec, Scene};
 use crate::uq::{band_of, third_octave_bands, Band, Outcome};
 use serde::{Deserialize, Serialize};
-use squeal_contact::GapSet;
-use std::collections::HashMap;
 use std::path::PathBuf;
 
 use squeal_solver::Real;
@@ -65,16 +62,6 @@ pub struct Evaluator {
     info: EvalInfo,
 }
 
-/// The validity band of a scene: what the model was reduced for, or `cea.max_frequency_hz` if
-/// lower (as `squeal cea` decides it).
-fn band_of_scene(scene: &Scene) -> Option<Real> {
-    let spec = scene.cea.clone().unwrap_or_default();
-    match (scene.band_hz(), spec.max_frequency_hz) {
-        (Some(a), Some(b)) => Some(a.min(b)),
-        (a, b) => a.or(b),
-    }
-}
-
 /// The scene as every row starts from: a `[cea]` table (the defaults when it has none),
 /// without its friction sweep.
 fn base_scene(scene: &Scene) -> Scene {
@@ -91,7 +78,8 @@ fn base_scene(scene: &Scene) -> Scene {
 /// The settings every row of `plan` shares on `scene` (band, one-third-octave bands), with the
 /// model's size (0 when rebuilt per sample).
 pub fn info_of(scene: &Scene, plan: &Plan, n_dofs: usize, n_gaps: usize) -> EvalInfo {
-    let band_hz = band_of_scene(&base_scene(scene));
+    let base = base_scene(scene);
+    let band_hz = linear::band_of(&base, base.cea.as_ref().unwrap_or(&CeaSpec::default()));
     EvalInfo {
         model: if plan.rereduce { "rereduced" } else { "reused" },
         n_dofs,
@@ -117,7 +105,7 @@ impl Evaluator {
         } else {
             let (mut m, _) = model::build_cached(&base, dir, progress, cache)?;
             m.recovery.clear();
-            let (n, g) = (m.n(), m.gaps.len());
+            let (n, g) = (m.n(), m.gap_geometry.len());
             (Some(m), None, n, g)
         };
         Ok(Evaluator {
@@ -176,10 +164,8 @@ impl Evaluator {
             .collect();
         let scene = values::scene_for_all(&self.base, &assignments)?;
         match (&self.model, &self.scratch) {
-            (Some(m), _) => {
-                let m = relate(m, &scene)?;
-                self.cea(&scene, &m, progress)
-            }
+            // The sample's operating point is the scene's: applied when its problem is made.
+            (Some(m), _) => self.cea(&scene, m, progress),
             (None, Some(scratch)) => {
                 let path = scratch.join(format!("{row:06}"));
                 let dir = RunDir::create(&path)?;
@@ -204,18 +190,8 @@ impl Evaluator {
         spec.solver.interrupt = progress.solver_interrupt();
         spec.solver.compute_shapes = false;
         let problem = system::problem(scene, m)?;
-        let lin = tangents::linearise(scene, &spec, &problem, &m.gaps)?;
-        let sys = tangents::cea_matrices(&problem, &lin, spec.friction_damping)?;
-        let band_hz = band_of_scene(scene);
-        let solver = banded(&spec.solver, band_hz);
-        let res = squeal_solver::cea::complex_eigen(&sys, &solver)
-            .map_err(|e| PipelineError::cea("complex eigenvalues".into(), e))?;
-        let fmax = band_hz.unwrap_or(Real::INFINITY);
-        let kept: Vec<_> = res
-            .modes
-            .iter()
-            .filter(|m| m.frequency_hz <= fmax)
-            .collect();
+        let r = linear::roots(scene, &spec, &problem, m, &progress.silenced())?;
+        let (kept, fmax) = (&r.kept, r.band_hz.unwrap_or(Real::INFINITY));
         let top = kept
             .iter()
             .max_by(|a, b| a.real_part.total_cmp(&b.real_part))
@@ -242,65 +218,4 @@ impl Evaluator {
             n_unstable,
         ))
     }
-}
-
-/// The study's model with the late values of `scene` (the values the model cache leaves out
-/// of its key): sliding velocities from `[rotor]`, contact P0 and temperatures, the friction
-/// law and VTOL — as the cache's `finish` (meshed models) and the stored-model reader apply
-/// them. M, K, B, the loads and the gap geometry are the model's.
-pub fn relate(base: &ReducedModel, scene: &Scene) -> Result<ReducedModel, PipelineError> {
-    let mut m = base.clone();
-    let rotor = scene.rotor.clone().unwrap_or_default();
-    let w = rotor.rpm * 2.0 * std::f64::consts::PI / 60.0;
-    let omega = rotor.axis.map(|a| w * a);
-    let mut gaps = std::mem::take(&mut m.gaps.gaps);
-    for g in &mut gaps {
-        let r = [0, 1, 2].map(|i| g.coords[i] - rotor.origin[i]);
-        // [Paper eq. (2)]: v_slide = ω × r.
-        g.v_slide = [
-            omega[1] * r[2] - omega[2] * r[1],
-            omega[2] * r[0] - omega[0] * r[2],
-            omega[0] * r[1] - omega[1] * r[0],
-        ];
-    }
-    match m.source {
-        ModelSource::Mesh => {
-            if m.gap_pairs.len() != scene.contact.len()
-                || m.gap_pairs.iter().sum::<usize>() != gaps.len()
-            {
-                return Err(PipelineError::Model(format!(
-                    "the model has {} contact pairs, the scene {}",
-                    m.gap_pairs.len(),
-                    scene.contact.len()
-                )));
-            }
-            let mut start = 0;
-            for (pair, &count) in scene.contact.iter().zip(&m.gap_pairs) {
-                let temps: HashMap<u64, Real> = pair.grid_temperatures.iter().copied().collect();
-                for g in &mut gaps[start..start + count] {
-                    g.p0 = pair.p0;
-                    g.temperature = temps.get(&g.pad_node).copied().unwrap_or(pair.temperature);
-                }
-                start += count;
-            }
-        }
-        _ => {
-            for g in &mut gaps {
-                if let Some(p0) = scene.model.p0 {
-                    g.p0 = p0;
-                }
-                if let Some(t) = scene.model.temperature {
-                    g.temperature = t;
-                }
-            }
-        }
-    }
-    let friction = scene.friction.clone().unwrap_or_default();
-    m.gaps = GapSet::new(gaps, friction.law, friction.vtol).map_err(|source| {
-        PipelineError::Contact {
-            what: "friction".into(),
-            source,
-        }
-    })?;
-    Ok(m)
 }

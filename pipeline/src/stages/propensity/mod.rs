@@ -9,7 +9,7 @@
 //! `samples.csv`, `summary.json`.
 //!
 //! **The reduced model is built once** when no input changes it (the model cache's key,
-//! [`crate::stages::model::cache`], decides: μ and friction-law parameters, `loads.pmax`,
+//! [`crate::model::cache`], decides: μ and friction-law parameters, `loads.pmax`,
 //! contact `p0`, `rotor.rpm`, contact normal stiffness, damping are late values applied per
 //! sample to the one model). An input that changes the reduced model (a component's material
 //! or geometry) is refused, naming the key, unless `--rereduce` asks to rebuild the model for
@@ -23,11 +23,11 @@ pub mod evaluate;
 pub mod report;
 
 use crate::error::PipelineError;
+use crate::model::{self, cache::key::ModelKey};
 use crate::output::RunDir;
 use crate::progress::Progress;
+use crate::scene::values;
 use crate::scene::Scene;
-use crate::stages::model::{self, cache::key::ModelKey};
-use crate::stages::sweep::values;
 use crate::uq::{Copula, Design, Distribution};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};

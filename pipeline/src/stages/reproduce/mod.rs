@@ -23,10 +23,10 @@ pub mod report;
 pub mod study;
 
 use crate::error::PipelineError;
+use crate::model::ModelCache;
 use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::Scene;
-use crate::stages::model::ModelCache;
 use crate::stages::{cea, transient};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -284,7 +284,7 @@ fn run_case(
     let wall = Instant::now();
     let cdir = RunDir::create(&dir.path(&format!("case{}", c.case)))?;
     cdir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
-    let (model, _) = crate::stages::model::build_cached(scene, &cdir, quiet, cache)?;
+    let (model, _) = crate::model::build_cached(scene, &cdir, quiet, cache)?;
     let h_max = scene
         .transient
         .as_ref()

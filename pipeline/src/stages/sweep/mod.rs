@@ -1,7 +1,7 @@
 //! `squeal sweep`: design iterations over one scene parameter.
 //!
 //! For every value v of `--param KEY`: the scene with `--set …` and `KEY=v` → the reduced model
-//! through the model cache ([`crate::stages::model::ModelCache`]: built only when the value
+//! through the model cache ([`crate::model::ModelCache`]: built only when the value
 //! changes what meshing, FE and reduction see; μ, rpm, P0, PMAX, damping G/W3 and solver
 //! options reuse the cached model) → CEA and/or the transient in `<out>/<NN>_<v>/{cea,transient}/`
 //! → one row of `sweep.json` / `sweep.md` and a point of `sweep_indicators.{png,svg}` (the
@@ -12,13 +12,13 @@
 //! (`n_failed`, `failed`): `squeal sweep` then exits with [`EXIT_VALUES_FAILED`].
 
 pub mod outputs;
-pub mod values;
+pub use crate::scene::values;
 
 use crate::error::PipelineError;
+use crate::model::{self, ModelCache};
 use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::Scene;
-use crate::stages::model::{self, ModelCache};
 use crate::stages::{cea, transient};
 use serde::Serialize;
 use std::path::{Path, PathBuf};

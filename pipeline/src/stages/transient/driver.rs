@@ -13,8 +13,8 @@
 
 use super::sink::{Checkpoint, ChunkView, EndView, RestartPoint, Saved, Sink, StepView};
 use super::stepper::{IntegratorStats, Stepper};
-use super::system::solver_err;
 use crate::error::PipelineError;
+use crate::problem::system::solver_err;
 use crate::progress::Progress;
 use serde::{Deserialize, Serialize};
 use squeal_solver::bdf::Status;

@@ -1,9 +1,9 @@
 //! Which effects a transient run computes (only what the scene names), and which scene values
 //! had no effect, as enums: `summary.json` lists them by name, the CLI prints their text.
 
-use super::system::Problem;
+use crate::model::ReducedModel;
+use crate::problem::system::Problem;
 use crate::scene::{Integrator, Scene};
-use crate::stages::model::ReducedModel;
 use serde::Serialize;
 use squeal_contact::FrictionLaw;
 use squeal_solver::Real;
@@ -142,7 +142,7 @@ impl std::fmt::Display for Ignored {
 pub fn effects(scene: &Scene, model: &ReducedModel, p: &Problem) -> (Vec<Effect>, Vec<Ignored>) {
     let mut on = Vec::new();
     let mut ignored = Vec::new();
-    let gaps = &model.gaps;
+    let gaps = &p.gaps;
     let law = &gaps.law;
     if !gaps.is_empty() {
         on.push(Effect::Contact { gaps: gaps.len() });
@@ -198,7 +198,7 @@ pub fn effects(scene: &Scene, model: &ReducedModel, p: &Problem) -> (Vec<Effect>
     if p.bsql.include_friction_damping {
         on.push(Effect::FrictionDampingInJacobian);
     }
-    let can_open = super::system::separation_mask(scene, model);
+    let can_open = crate::problem::system::separation_mask(scene, model);
     let separating = can_open.iter().filter(|&&c| c).count();
     if separating > 0 {
         on.push(Effect::Separation { gaps: separating });

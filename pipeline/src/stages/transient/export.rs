@@ -1,12 +1,11 @@
 //! `--export-dae DIR`: exactly what the solver integrates, as numpy-readable files.
 
-use super::system::Problem;
 use crate::error::PipelineError;
 use crate::history::npy::write_npy;
 use crate::output::RunDir;
+use crate::problem::system::Problem;
 use faer::Mat;
 use serde::Serialize;
-use squeal_contact::GapSet;
 use squeal_solver::bdf::{BdfOptions, InitialConditionOptions};
 use squeal_solver::bsql::SteadyOptions;
 
@@ -69,7 +68,6 @@ F_f(lambda', 0), G u = 0), then consistent y'(0) to TOLINT.
 pub fn export(
     dir: &RunDir,
     p: &Problem,
-    gaps: &GapSet,
     bdf: &BdfOptions,
     ic: &InitialConditionOptions,
     steady: &SteadyOptions,
@@ -92,7 +90,7 @@ pub fn export(
     };
     write_npy(&dir.path("p_pre.npy"), &pre, 1)?;
     write_npy(&dir.path("p_brake.npy"), &brake, 1)?;
-    dir.write_json("gaps.json", gaps)?;
+    dir.write_json("gaps.json", &p.gaps)?;
     dir.write_json(
         "solver_options.json",
         &SolverOptionsFile {

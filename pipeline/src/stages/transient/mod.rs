@@ -28,15 +28,12 @@
 //!   integrals, counters and contact monitor, and its result covers the whole run — the
 //!   uninterrupted run's, bit for bit.
 
-pub mod band;
 pub mod collect;
 pub mod driver;
 pub mod effects;
 pub mod export;
 pub mod files;
-pub mod options;
 pub mod prepare;
-pub mod recover;
 pub mod restart;
 pub mod result;
 pub mod resume;
@@ -44,9 +41,11 @@ pub mod run;
 pub mod sink;
 pub mod start;
 pub mod stepper;
-pub mod system;
 
 pub mod write;
+
+/// The problem layer's modules under their former paths (the library's API).
+pub use crate::problem::{band, options, recover, system};
 
 pub use crate::verdict::guard::status_text;
 pub use crate::verdict::{self, guard, limit_cycle, roots, validity};
@@ -60,9 +59,9 @@ pub use system::separation_mask;
 pub use write::{run, run_cached, run_on_model};
 
 use crate::error::PipelineError;
+use crate::model;
 use crate::progress::Progress;
 use crate::scene::Scene;
-use crate::stages::model;
 
 /// The transient of `scene` on `model`, in memory (no file is written): the library's and the
 /// Python package's entry point.

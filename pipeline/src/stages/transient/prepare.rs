@@ -2,10 +2,10 @@
 //! restart it continues, all checked before anything integrates.
 
 use super::resume::Resume;
-use super::system::{self, Problem};
 use crate::error::PipelineError;
+use crate::model;
+use crate::problem::system::{self, Problem};
 use crate::scene::{Integrator, Scene, TransientSpec};
-use crate::stages::model;
 use serde::Serialize;
 use squeal_solver::Real;
 
@@ -106,7 +106,7 @@ pub fn prepare<'a>(
     let resume = match &spec.restart {
         Some(p) => {
             let path = scene.resolve(p);
-            let r = Resume::load(&path, &model_hash, model.n(), model.gaps.len())?;
+            let r = Resume::load(&path, &model_hash, model.n(), model.gap_geometry.len())?;
             // The restart's last step may end past TFINAL (the run then ends at TFINAL by
             // interpolation, as the uninterrupted run did); TFINAL before that step cannot be
             // reached.

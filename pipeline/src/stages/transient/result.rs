@@ -18,19 +18,7 @@ use squeal_solver::galpha::GalphaStats;
 use squeal_solver::Real;
 use std::path::PathBuf;
 
-/// The CEA a transient ran at its steady state for its verdict.
-#[derive(Debug, Clone, Serialize)]
-pub struct VerdictCeaResult {
-    /// Unstable roots in the band, most unstable first: (frequency Hz, Re p 1/s).
-    pub unstable_in_band: Vec<(Real, Real)>,
-    /// Unstable roots above the band (never squeal: outside what the model was reduced for).
-    pub unstable_outside_band: usize,
-    /// Every root in the band (frequency Hz, Re p 1/s), for the transient/CEA table.
-    #[serde(skip)]
-    pub modes_in_band: Vec<(Real, Real)>,
-    /// Why it failed, if it did (the verdict then goes without it).
-    pub error: Option<String>,
-}
+pub use crate::problem::linear::VerdictCeaResult;
 
 /// What a caller asks of a run besides the scene.
 #[derive(Debug, Clone, Default)]
@@ -97,7 +85,7 @@ pub struct TransientResult {
     /// The band-limited model the run integrated (`transient.band_limited`): the cut-off, what
     /// was kept and removed (count, the largest removed unstable root), the error estimate.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub band_limited: Option<super::band::BandReport>,
+    pub band_limited: Option<crate::problem::band::BandReport>,
     /// What the contact did: tensile gap-steps, the first separation, the smallest p_n.
     pub contact: ContactValidity,
     /// Separation events (`[[contact]] separation = true`): openings, closings, impact

@@ -8,7 +8,6 @@
 //!   roots of a CEA at the steady state when the scene asks for one;
 //! - result: the [`TransientResult`].
 
-use super::band::{self, BandReport};
 use super::collect::contact::ContactMonitor;
 use super::collect::face::FaceMonitor;
 use super::collect::orders::OrderTally;
@@ -21,8 +20,10 @@ use super::result::{TransientOptions, TransientResult, VerdictCeaResult};
 use super::sink::Sink;
 use super::start::{start_state, Origin, SteadySummary};
 use super::stepper::{IntegratorStats, Method, Stepper};
-use super::system::{event_mask, separation_mask};
 use crate::error::PipelineError;
+use crate::problem::band::{self, BandReport};
+use crate::problem::linear::verdict_roots;
+use crate::problem::system::{event_mask, separation_mask};
 use crate::progress::Progress;
 use crate::verdict::roots::PencilOptions;
 use crate::verdict::{decide, CeaRoots, Decision, Record, Settings};
@@ -97,7 +98,7 @@ impl Prepared<'_> {
             .output
             .verdict_cea
             .runs(self.model.n())
-            .then(|| self.verdict_cea(progress));
+            .then(|| verdict_roots(self.scene, self.model, &progress.silenced()));
         let roots = cea
             .as_ref()
             .filter(|c| c.error.is_none())
@@ -142,7 +143,7 @@ impl Prepared<'_> {
         if spec.band_limited {
             let b = band::build(self.scene, model, &self.problem)?;
             progress.info(b.report.line());
-            let (st, residual) = Stepper::band(&self.problem, &model.gaps, spec, b.system)?;
+            let (st, residual) = Stepper::band(&self.problem, spec, b.system)?;
             let origin = Origin {
                 t_start: st.t(),
                 steady_state: Some(SteadySummary {
@@ -166,14 +167,8 @@ impl Prepared<'_> {
         let (mut stepper, origin) = match &self.resume {
             Some(r) => {
                 let stats = r.parts.as_ref().map(|p| p.driver.bsql_stats.clone());
-                let st = Stepper::from_restart(
-                    &self.problem,
-                    &model.gaps,
-                    spec,
-                    r.file.clone(),
-                    stats,
-                    &r.path,
-                )?;
+                let st =
+                    Stepper::from_restart(&self.problem, spec, r.file.clone(), stats, &r.path)?;
                 let origin = Origin {
                     t_start: resumed.map_or(st.t(), |c| c.origin.t_start),
                     steady_state: resumed.and_then(|c| c.origin.steady_state.clone()),
@@ -182,18 +177,10 @@ impl Prepared<'_> {
                 (st, origin)
             }
             None => {
-                let s = start_state(&self.problem, &model.gaps, spec.tolint)?;
+                let s = start_state(&self.problem, spec.tolint)?;
                 let method = Method::of_spec(spec);
-                let st = Stepper::new(
-                    &self.problem,
-                    &model.gaps,
-                    spec,
-                    method,
-                    0.0,
-                    &s.y0,
-                    &s.yp0,
-                    spec.tfinal,
-                )?;
+                let st =
+                    Stepper::new(&self.problem, spec, method, 0.0, &s.y0, &s.yp0, spec.tfinal)?;
                 let origin = Origin {
                     t_start: st.t(),
                     steady_state: Some(s.steady),
@@ -213,7 +200,7 @@ impl Prepared<'_> {
                         .into(),
                 });
             }
-            stepper.enable_separation(&model.gaps, can_open, spec.event_restart)?;
+            stepper.enable_separation(&self.problem.gaps, can_open, spec.event_restart)?;
         }
         if spec.tfinal <= origin.t_start {
             return Err(PipelineError::Scene {
@@ -233,14 +220,25 @@ impl Prepared<'_> {
         let resume = self.resume.as_ref();
         let resumed = resume.and_then(|r| r.checkpoint());
         let prior = resume.and_then(|r| r.history());
-        let memory = Recorder::open_resumed(scene, model, None, opts.keep_history, prior)?;
+        let memory = Recorder::open_resumed(
+            scene,
+            model,
+            &self.problem.gaps,
+            None,
+            opts.keep_history,
+            prior,
+        )?;
         let mut response = Response::new(scene, model, memory.columns())?;
         if let Some(r) = resume.and_then(|r| r.response()) {
             response.resume(r)?;
         }
         let t_load = self.problem.load.t_load;
-        let contact =
-            ContactMonitor::resumed(&model.gaps, model.n(), t_load, resumed.map(|c| &c.contact));
+        let contact = ContactMonitor::resumed(
+            &self.problem.gaps,
+            model.n(),
+            t_load,
+            resumed.map(|c| &c.contact),
+        );
         let t_start = origin.t_start;
         let orders = OrderTally::new(t_start, t_load.max(t_start), resumed.map(|c| &c.orders));
         Ok(Own {
@@ -248,7 +246,7 @@ impl Prepared<'_> {
             contact,
             origin,
             orders,
-            face: FaceMonitor::new(&model.gaps),
+            face: FaceMonitor::new(&self.problem.gaps),
             memory,
             separation: separation_mask(scene, model).iter().any(|&c| c),
             keep_history: opts.keep_history,
@@ -324,7 +322,7 @@ impl Prepared<'_> {
             t_start: own.origin.t_start,
             t_end: outcome.t_end,
             n_dofs: model.n(),
-            n_gaps: model.gaps.len(),
+            n_gaps: model.gap_geometry.len(),
             history_rows: history.as_ref().map_or(0, |h| h.rows()),
             active_effects,
             ignored,
@@ -345,46 +343,6 @@ impl Prepared<'_> {
                 .chain(self.resume.as_ref().and_then(|r| r.warning.clone()))
                 .collect(),
             history,
-        }
-    }
-
-    /// The CEA at the steady state under the full brake load (the state the response after
-    /// the ramp vibrates about), for the verdict; a failure is recorded, not fatal.
-    fn verdict_cea(&self, progress: &Progress) -> VerdictCeaResult {
-        let mut cs = self.scene.clone();
-        let mut spec = cs.cea.clone().unwrap_or_default();
-        spec.sweep = None;
-        // The verdict needs the roots only.
-        spec.sensitivity = false;
-        cs.cea = Some(spec);
-        match crate::stages::cea::compute(
-            &cs,
-            self.model,
-            &progress.silenced(),
-            &Default::default(),
-        ) {
-            // The CEA's modes are those in its validity band; the rest it counts apart.
-            Ok(c) => VerdictCeaResult {
-                unstable_in_band: c
-                    .unstable()
-                    .iter()
-                    .map(|(_, m)| (m.frequency_hz, m.real_part))
-                    .collect(),
-                unstable_outside_band: c.out.outside_band.n_unstable,
-                modes_in_band: c
-                    .out
-                    .modes
-                    .iter()
-                    .map(|m| (m.frequency_hz, m.real_part))
-                    .collect(),
-                error: None,
-            },
-            Err(e) => VerdictCeaResult {
-                unstable_in_band: Vec::new(),
-                unstable_outside_band: 0,
-                modes_in_band: Vec::new(),
-                error: Some(e.to_string()),
-            },
         }
     }
 }

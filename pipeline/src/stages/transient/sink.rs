@@ -8,13 +8,10 @@
 //! once; a sink reads its part back with [`Saved::part`], ignoring the keys of others.
 
 use crate::error::PipelineError;
-use serde::de::DeserializeOwned;
-use serde::{Deserialize, Serialize};
-use serde_json::{Map, Value};
+pub use crate::problem::restart::{Checkpoint, Saved};
 use squeal_solver::bdf::{BdfState, Status};
 use squeal_solver::bsql::{EnergyBalance, PowerTerms};
 use squeal_solver::Real;
-use std::path::Path;
 
 /// One accepted step (or the initial point, `step` = the steps before the run) as sinks see it.
 ///
@@ -106,128 +103,5 @@ pub trait Sink {
     /// A restart point, after every sink saved its part (the restart writer writes it).
     fn restart_point(&mut self, _p: &RestartPoint<'_>) -> Result<(), PipelineError> {
         Ok(())
-    }
-}
-
-/// What a run carries over a restart besides the integrator's state: the parts of its sinks,
-/// each under its own keys (`restart.json`'s `run`).
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(transparent)]
-pub struct Checkpoint(Map<String, Value>);
-
-impl Checkpoint {
-    /// Saves the fields of `part` (a struct) at the top level (`section` None) or in the
-    /// object `section`. A key another sink saved is an error (two owners of one key).
-    pub fn save<T: Serialize>(
-        &mut self,
-        section: Option<&str>,
-        part: &T,
-    ) -> Result<(), PipelineError> {
-        let err = |message: String| PipelineError::Model(format!("restart checkpoint: {message}"));
-        let Value::Object(fields) = serde_json::to_value(part).map_err(|e| err(e.to_string()))?
-        else {
-            return Err(err("a part must be an object".into()));
-        };
-        let target = match section {
-            None => &mut self.0,
-            Some(s) => match self.0.entry(s).or_insert_with(|| Value::Object(Map::new())) {
-                Value::Object(m) => m,
-                _ => return Err(err(format!("`{s}` is not a section"))),
-            },
-        };
-        for (k, v) in fields {
-            if target.contains_key(&k) {
-                return Err(err(format!("`{k}` is saved twice")));
-            }
-            target.insert(k, v);
-        }
-        Ok(())
-    }
-
-    /// The keys saved (at the top level).
-    pub fn keys(&self) -> impl Iterator<Item = &String> {
-        self.0.keys()
-    }
-}
-
-/// A checkpoint read back from a restart file, with what its parts are checked against.
-pub struct Saved<'a> {
-    pub checkpoint: &'a Checkpoint,
-    /// The restart file (named in errors).
-    pub path: &'a Path,
-    /// Time of the integrator's state.
-    pub t: Real,
-    /// Accepted steps of the state.
-    pub steps: u64,
-    /// Reduced DOFs n.
-    pub n: usize,
-}
-
-impl Saved<'_> {
-    /// A sink's part: the fields of `T` at the top level (`section` None) or in `section`
-    /// (the keys of other sinks ignored). A missing section reads as an empty one.
-    pub fn part<T: DeserializeOwned>(&self, section: Option<&str>) -> Result<T, PipelineError> {
-        let empty = Value::Object(Map::new());
-        let value = match section {
-            None => Value::Object(self.checkpoint.0.clone()),
-            Some(s) => self.checkpoint.0.get(s).unwrap_or(&empty).clone(),
-        };
-        let field = section.map_or("run".to_string(), |s| format!("run.{s}"));
-        serde_json::from_value(value).map_err(|e| PipelineError::Input {
-            path: self.path.to_path_buf(),
-            message: format!("field `{field}`: {e}"),
-        })
-    }
-
-    /// An error naming the restart file and the checkpoint's `field` (`run.<field>`).
-    pub fn bad(&self, field: &str, message: String) -> PipelineError {
-        PipelineError::Input {
-            path: self.path.to_path_buf(),
-            message: format!("field `run.{field}`: {message}"),
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[derive(Debug, PartialEq, Serialize, Deserialize)]
-    struct A {
-        a: u32,
-    }
-    #[derive(Debug, PartialEq, Serialize, Deserialize)]
-    struct B {
-        b: Option<f64>,
-    }
-
-    /// Two parts share a section; each reads back its own; a key saved twice is refused.
-    #[test]
-    fn parts_share_sections_and_keys_have_one_owner() {
-        let mut c = Checkpoint::default();
-        c.save(None, &A { a: 3 }).unwrap();
-        c.save(Some("records"), &A { a: 4 }).unwrap();
-        c.save(Some("records"), &B { b: Some(0.1) }).unwrap();
-        assert!(c.save(Some("records"), &A { a: 5 }).is_err());
-        assert!(c.save(None, &A { a: 5 }).is_err());
-        let text = serde_json::to_string(&c).unwrap();
-        assert_eq!(text, r#"{"a":3,"records":{"a":4,"b":0.1}}"#);
-        let back: Checkpoint = serde_json::from_str(&text).unwrap();
-        let s = Saved {
-            checkpoint: &back,
-            path: Path::new("r.json"),
-            t: 0.0,
-            steps: 0,
-            n: 1,
-        };
-        assert_eq!(s.part::<A>(None).unwrap(), A { a: 3 });
-        assert_eq!(s.part::<A>(Some("records")).unwrap(), A { a: 4 });
-        assert_eq!(s.part::<B>(Some("records")).unwrap(), B { b: Some(0.1) });
-        assert_eq!(s.part::<B>(Some("other")).unwrap(), B { b: None });
-        let e = s.part::<A>(Some("other")).unwrap_err().to_string();
-        assert!(
-            e.contains("r.json") && e.contains("field `run.other`"),
-            "{e}"
-        );
     }
 }

@@ -2,11 +2,11 @@
 //! the driver steps and asks for its state and counters. It knows nothing of sinks or
 //! checkpoints.
 
-use super::options::{bdf_options, galpha_options};
-use super::recover::{BandStart, FullView};
 use super::restart::RestartFile;
-use super::system::{solver_err, GapFriction, Problem};
 use crate::error::PipelineError;
+use crate::problem::options::{bdf_options, galpha_options};
+use crate::problem::recover::{BandStart, FullView};
+use crate::problem::system::{solver_err, GapFriction, Problem};
 use crate::scene::{Integrator, TransientSpec};
 use serde::Serialize;
 use squeal_contact::GapSet;
@@ -135,7 +135,6 @@ impl Stepper {
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         problem: &Problem,
-        gaps: &GapSet,
         spec: &TransientSpec,
         method: Method,
         t0: Real,
@@ -147,7 +146,7 @@ impl Stepper {
         let ng = problem.g.nrows();
         match method {
             Method::Bdf { rtol, max_order } => {
-                let sys = problem.system(gaps.clone())?;
+                let sys = problem.system(problem.gaps.clone())?;
                 let bdf = Bdf::new(bdf_options(spec, &sys, rtol, max_order), t0, y0, yp0)
                     .map_err(solver_err("integrator"))?;
                 Ok(Stepper::Bdf {
@@ -157,14 +156,16 @@ impl Stepper {
                 })
             }
             Method::GeneralizedAlpha { h, rtol, rho_inf } => {
-                let obs = problem.system(gaps.clone())?;
+                let obs = problem.system(problem.gaps.clone())?;
                 let mut sys = GalphaSystem::new(
                     problem.m.clone(),
                     problem.b.clone(),
                     problem.k.clone(),
                     problem.g.clone(),
                     problem.load.clone(),
-                    GapFriction { set: gaps.clone() },
+                    GapFriction {
+                        set: problem.gaps.clone(),
+                    },
                 )
                 .map_err(solver_err("building the generalized-alpha system"))?;
                 let opts = galpha_options(spec, n, ng, h, rtol, rho_inf, tfinal);
@@ -179,11 +180,10 @@ impl Stepper {
     /// its initial values too.
     pub fn band(
         problem: &Problem,
-        gaps: &GapSet,
         spec: &TransientSpec,
         sys: BandSystem<GapFriction>,
     ) -> Result<(Self, Real), PipelineError> {
-        let b = BandStart::new(problem, gaps, spec, sys)?;
+        let b = BandStart::new(problem, spec, sys)?;
         let (bdf, sys, obs, full) = (b.bdf, b.sys, b.obs, b.full);
         Ok((
             Stepper::Band {
@@ -202,13 +202,12 @@ impl Stepper {
     /// after the iteration matrix is re-formed at the saved point.
     pub fn from_restart(
         problem: &Problem,
-        gaps: &GapSet,
         spec: &TransientSpec,
         restart: RestartFile,
         stats: Option<BsqlStats>,
         path: &Path,
     ) -> Result<Self, PipelineError> {
-        let mut sys = problem.system(gaps.clone())?;
+        let mut sys = problem.system(problem.gaps.clone())?;
         let mut bdf = restart.bdf(path, bdf_options(spec, &sys, spec.rtol1, spec.maxord))?;
         if let Some(stats) = stats {
             // The matrix the run last formed, re-formed now, then the run's counters: the

@@ -7,15 +7,15 @@ use super::collect::response::response_dofs;
 use super::export;
 use super::files::history::Recorder;
 use super::files::response::ResponseFile;
-use super::options::{bdf_options, start_options};
 use super::prepare::prepare;
 use super::restart::RestartSink;
 use super::result::{TransientOptions, TransientReport};
 use crate::error::PipelineError;
+use crate::model;
 use crate::output::RunDir;
+use crate::problem::options::{bdf_options, start_options};
 use crate::progress::Progress;
 use crate::scene::{Integrator, Scene};
-use crate::stages::model;
 use std::path::Path;
 use std::time::Instant;
 
@@ -98,22 +98,29 @@ fn run_model(
                 message: "generalized_alpha has no DAE export; use bdf".into(),
             });
         }
-        let sys = prepared.problem.system(model.gaps.clone())?;
+        let sys = prepared.problem.system(prepared.problem.gaps.clone())?;
         let bdf_opts = bdf_options(spec, &sys, spec.rtol1, spec.maxord);
         let edir = RunDir::create(d)?;
         let (steady, ic) = start_options(spec.tolint);
         let p = &prepared.problem;
-        export::export(&edir, p, &model.gaps, &bdf_opts, &ic, &steady, spec.tfinal)?;
+        export::export(&edir, p, &bdf_opts, &ic, &steady, spec.tfinal)?;
         progress.info(format!("exported the DAE to {}", d.display()));
     }
     let resume = prepared.resume.as_ref();
     let prior = resume.and_then(|r| r.history());
-    let mut files = Recorder::open_resumed(scene, model, Some(dir), false, prior)?;
+    let mut files = Recorder::open_resumed(
+        scene,
+        model,
+        &prepared.problem.gaps,
+        Some(dir),
+        false,
+        prior,
+    )?;
     let mut restart = RestartSink {
         path: dir.path("restart.json"),
         model_hash: prepared.model_hash.clone(),
         n: model.n(),
-        ng: model.gaps.len(),
+        ng: model.gap_geometry.len(),
         max_order: spec.maxord,
         every: spec.nrstrt,
     };

@@ -5,8 +5,8 @@
 use super::super::sink::{Sink, StepView};
 use crate::error::PipelineError;
 use crate::history::{Column, RecordKind};
+use crate::model::ReducedModel;
 use crate::scene::Scene;
-use crate::stages::model::ReducedModel;
 use crate::verdict::Series;
 use squeal_reduction::superelement::DofKey;
 use squeal_solver::Real;

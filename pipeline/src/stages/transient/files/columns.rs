@@ -2,8 +2,8 @@
 
 use crate::error::PipelineError;
 use crate::history::{Column, RecordKind};
+use crate::model::ReducedModel;
 use crate::scene::Scene;
-use crate::stages::model::ReducedModel;
 use squeal_contact::GapSet;
 use squeal_reduction::superelement::DofKey;
 use squeal_solver::Real;
@@ -20,7 +20,7 @@ pub fn columns(scene: &Scene, model: &ReducedModel) -> Result<Vec<Column>, Pipel
     let index = model.grid_index();
     let mut grids = scene.output.grids.clone();
     if grids.is_empty() {
-        let g = &model.gaps.gaps;
+        let g = &model.gap_geometry.gaps;
         if !g.is_empty() {
             for i in [0, g.len() / 2, g.len() - 1] {
                 if !grids.contains(&g[i].pad_node) {
@@ -82,7 +82,7 @@ pub fn columns(scene: &Scene, model: &ReducedModel) -> Result<Vec<Column>, Pipel
             ),
         });
     }
-    let ng = model.gaps.len();
+    let ng = model.gap_geometry.len();
     let gaps: Vec<usize> = scene
         .output
         .gaps

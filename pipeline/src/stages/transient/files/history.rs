@@ -8,9 +8,9 @@ use super::history_part::{continue_lines, HistoryPart};
 use crate::error::PipelineError;
 use crate::history::npy::NpyAppender;
 use crate::history::{Column, HistoryMap};
+use crate::model::ReducedModel;
 use crate::output::RunDir;
 use crate::scene::Scene;
-use crate::stages::model::ReducedModel;
 use serde::Serialize;
 use squeal_contact::GapSet;
 use squeal_solver::Real;
@@ -78,16 +78,17 @@ pub struct Recorder {
 }
 
 impl Recorder {
-    /// The recorder of `scene`'s `[output]` on `model`: files in `dir` (when given; writes
+    /// The recorder of `scene`'s `[output]` on `model` with its `gaps` (at the operating point): files in `dir` (when given; writes
     /// `history_map.json` and opens `history.npy` and `energy.csv`), rows in memory when
     /// `keep`. Errors name the grids or gaps the scene asks for that do not exist.
     pub fn open(
         scene: &Scene,
         model: &ReducedModel,
+        gaps: &GapSet,
         dir: Option<&RunDir>,
         keep: bool,
     ) -> Result<Self, PipelineError> {
-        Self::open_resumed(scene, model, dir, keep, None)
+        Self::open_resumed(scene, model, gaps, dir, keep, None)
     }
 
     /// [`Recorder::open`] continuing the records of a resumed run: the files get the rows
@@ -96,6 +97,7 @@ impl Recorder {
     pub fn open_resumed(
         scene: &Scene,
         model: &ReducedModel,
+        gaps: &GapSet,
         dir: Option<&RunDir>,
         keep: bool,
         resumed: Option<Prior<'_>>,
@@ -180,7 +182,7 @@ impl Recorder {
             row: Vec::with_capacity(cols.len()),
             memory,
             cols,
-            gaps: model.gaps.clone(),
+            gaps: gaps.clone(),
             n: model.n(),
             noutpt,
             history,

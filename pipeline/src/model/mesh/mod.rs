@@ -1,4 +1,4 @@
-//! Mesh stage: a component's geometry → gmsh → [`Mesh`], or the user's own `.msh`, Nastran
+//! A component's mesh: its geometry → gmsh → [`Mesh`], or the user's own `.msh`, Nastran
 //! bulk data or Abaqus input.
 
 use crate::error::PipelineError;
@@ -6,9 +6,12 @@ use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::{ComponentSpec, GeometrySpec, Scene};
 use serde::Serialize;
-use squeal_meshes::{bdf, geo, gmsh, inp, msh, vtu, Mesh, ReadReport};
+use squeal_meshes::{bdf, geo, gmsh, inp, msh, Mesh, ReadReport};
 
+pub mod fixed;
 pub mod groups;
+
+pub use fixed::{check_not_all_fixed, fixed_dofs};
 
 /// What meshing one component produced.
 #[derive(Debug, Clone, Serialize)]
@@ -213,35 +216,4 @@ fn check_set_numbers(
         });
     }
     Ok(())
-}
-
-/// `squeal mesh`: meshes every component and writes `<name>.vtu` beside each `.msh`.
-pub fn run(
-    scene: &Scene,
-    dir: &RunDir,
-    progress: &Progress,
-) -> Result<Vec<MeshReport>, PipelineError> {
-    let mut reports = Vec::new();
-    for c in &scene.components {
-        let (mesh, report) = mesh_component(scene, c, dir, progress)?;
-        let mesh_dir = dir.subdir("mesh")?;
-        vtu::write_vtu(&mesh_dir.join(format!("{}.vtu", c.name)), &mesh, &[], &[])
-            .map_err(|source| PipelineError::mesh(&c.name, source))?;
-        progress.info(format!(
-            "{}: {} nodes, {} cells",
-            report.component, report.n_nodes, report.n_cells
-        ));
-        reports.push(report);
-    }
-    dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
-    dir.write_json(
-        "summary.json",
-        &serde_json::json!({
-            "verb": "mesh",
-            "version": crate::VERSION,
-            "components": reports,
-            "warnings": reports.iter().flat_map(|r| r.warnings()).collect::<Vec<_>>(),
-        }),
-    )?;
-    Ok(reports)
 }

@@ -2,9 +2,9 @@
 //! D = ∂F_f/∂λ̇ and C_f = ∂F_f/∂v. [Paper eq. (18)]
 
 use crate::error::PipelineError;
+use crate::problem::restart::RestartFile;
+use crate::problem::system::{GapFriction, Problem};
 use crate::scene::{CeaSpec, CeaState, Scene};
-use crate::stages::transient::restart::RestartFile;
-use crate::stages::transient::system::{GapFriction, Problem};
 use faer::Mat;
 use serde::Serialize;
 use squeal_contact::GapSet;
@@ -119,8 +119,8 @@ pub fn at_restart(
     scene: &Scene,
     path: &std::path::Path,
     problem: &Problem,
-    gaps: &GapSet,
 ) -> Result<Linearisation, PipelineError> {
+    let gaps = &problem.gaps;
     let (n, ng) = (problem.m.nrows(), gaps.len());
     let path = scene.resolve(path);
     let r = RestartFile::read(&path, &problem.model_hash(), n, ng)?;
@@ -162,11 +162,10 @@ pub fn linearise(
     scene: &Scene,
     spec: &CeaSpec,
     problem: &Problem,
-    gaps: &GapSet,
 ) -> Result<Linearisation, PipelineError> {
     match &spec.at {
-        CeaState::SteadyState => at_steady_state(problem, gaps, &spec.steady),
-        CeaState::Restart(p) => at_restart(scene, p, problem, gaps),
+        CeaState::SteadyState => at_steady_state(problem, &problem.gaps, &spec.steady),
+        CeaState::Restart(p) => at_restart(scene, p, problem),
     }
 }
 

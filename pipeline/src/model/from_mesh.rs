@@ -11,12 +11,12 @@ use super::grids::{merge, Grids};
 use super::ties::Mpc;
 use super::{symmetrise, ComponentRecovery, ComponentReport, ReducedModel};
 use crate::error::PipelineError;
+use crate::model::mesh::fixed_dofs;
+use crate::model::mesh::mesh_component;
 use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::ContactBoundary;
 use crate::scene::{ModelSource, Pairing, Scene};
-use crate::stages::mesh::mesh_component;
-use crate::stages::modes::fixed_dofs;
 use crate::warning::Warning;
 use faer::Mat;
 use rayon::prelude::*;
@@ -132,7 +132,8 @@ pub(super) fn rotor_faces(
     Ok(out)
 }
 
-/// Gaps of every `[[contact]]` pair (coincident nodes or surface pairing), DOFs unassigned,
+/// The gap geometry of every `[[contact]]` pair (coincident nodes or surface pairing; no
+/// operating value, [`crate::problem::OperatingPoint`]), DOFs unassigned,
 /// the number of gaps of each pair, and the warnings (pad nodes excluded).
 fn match_pairs(
     scene: &Scene,
@@ -183,9 +184,10 @@ fn match_pairs(
             tolerance: pair.tolerance,
             rotor_axis_origin: rotor.origin,
             rotor_axis: rotor.axis,
-            rpm: rotor.rpm,
-            p0: pair.p0,
-            temperature: pair.temperature,
+            // The gap geometry only: the operating point gives speeds, P0 and temperatures.
+            rpm: 0.0,
+            p0: 0.0,
+            temperature: 0.0,
         };
         // No pairing named: mortar on quadratic pad faces, nodes otherwise (docs/pairing.md).
         let pad_block = meshes[cp].faces.get(&pair.pad_faces);
@@ -231,7 +233,7 @@ fn match_pairs(
                 tolerance: 0.0,
             });
         }
-        let mut set = match pairing {
+        let set = match pairing {
             Pairing::Nodes => {
                 let rset = rmesh.node_sets.get(&pair.rotor_faces).ok_or_else(no_set)?;
                 let rotor_nodes: Vec<ContactNode> = rset
@@ -348,30 +350,17 @@ fn match_pairs(
                 out.gaps
             }
         };
-        let temps: HashMap<u64, Real> = pair.grid_temperatures.iter().copied().collect();
-        for g in &mut set.gaps {
-            if let Some(&t) = temps.get(&g.pad_node) {
-                g.temperature = t;
-            }
-        }
         counts.push(set.len());
         match &mut all {
             None => all = Some(set),
             Some(a) => a.append(set),
         }
     }
-    let friction = scene.friction.clone().unwrap_or_default();
     let set = all.unwrap_or(GapSet {
         gaps: Vec::new(),
         law: FrictionLaw::default(),
-        vtol: friction.vtol,
+        vtol: GapSet::DEFAULT_VTOL,
     });
-    let set = set
-        .with_friction(friction.law, friction.vtol)
-        .map_err(|source| PipelineError::Contact {
-            what: "friction".into(),
-            source,
-        })?;
     Ok((set, counts, warnings))
 }
 
@@ -415,7 +404,7 @@ pub fn build_from_mesh_cached(
     let mut global_fixed: BTreeSet<(u64, usize)> = BTreeSet::new();
     for (c, spec) in scene.components.iter().enumerate() {
         let fixed = fixed_dofs(spec, &meshes[c])?;
-        crate::stages::modes::check_not_all_fixed(scene, spec, &meshes[c], &fixed, &mesh_files[c])?;
+        crate::model::mesh::check_not_all_fixed(scene, spec, &meshes[c], &fixed, &mesh_files[c])?;
         for (node, k) in fixed {
             global_fixed.insert((grids.grid_of[c][node], k));
         }
@@ -719,7 +708,7 @@ pub fn build_from_mesh_cached(
         b: b.as_ref().map(symmetrise),
         p_brake,
         dofs,
-        gaps,
+        gap_geometry: gaps,
         gap_pairs,
         grids: grids.grids.clone(),
         checks,

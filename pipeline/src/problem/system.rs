@@ -1,8 +1,9 @@
 //! The BSQL system from the reduced model: M, B, K, G, P(t), friction adapter.
 
+use super::operating::OperatingPoint;
 use crate::error::PipelineError;
+use crate::model::ReducedModel;
 use crate::scene::{ContactPair, Scene};
-use crate::stages::model::ReducedModel;
 use faer::Mat;
 use squeal_contact::GapSet;
 use squeal_solver::bsql::{BsqlOptions, BsqlSystem, FrictionForces, LoadHistory};
@@ -31,12 +32,12 @@ pub fn event_mask(scene: &Scene, model: &ReducedModel) -> Vec<bool> {
 }
 
 fn pair_mask(scene: &Scene, model: &ReducedModel, on: impl Fn(&ContactPair) -> bool) -> Vec<bool> {
-    let mut mask = Vec::with_capacity(model.gaps.len());
+    let mut mask = Vec::with_capacity(model.gap_geometry.len());
     for (pair, &count) in model.gap_pairs.iter().enumerate() {
         let on = scene.contact.get(pair).is_some_and(&on);
         mask.extend(std::iter::repeat_n(on, count));
     }
-    mask.resize(model.gaps.len(), false);
+    mask.resize(model.gap_geometry.len(), false);
     mask
 }
 
@@ -80,7 +81,7 @@ impl FrictionForces for GapFriction {
     }
 }
 
-/// The matrices and loads the solver integrates.
+/// The matrices, loads and gaps the solver integrates.
 pub struct Problem {
     pub m: Mat<Real>,
     pub b: Mat<Real>,
@@ -95,6 +96,10 @@ pub struct Problem {
     /// separation_smoothing`; 0: none), empty when no pair has one; the law's opening force
     /// per gap is P_0 A.
     pub smooth_width: Vec<Real>,
+    /// The gaps at the operating point (the model's gap geometry with `op` applied).
+    pub gaps: GapSet,
+    /// The operating point the problem was made at.
+    pub op: OperatingPoint,
 }
 
 /// B = B_element (stored/reduced) + (G/W3)·K + M Φ diag(2ζω) Φᵀ M.
@@ -140,23 +145,33 @@ pub fn damping_matrix(scene: &Scene, model: &ReducedModel) -> Result<Mat<Real>, 
     Ok(b)
 }
 
-/// Assembles the problem from the model and the scene's loads, damping and options.
+/// Assembles the problem from the model at the scene's operating point, with its damping and
+/// options.
 pub fn problem(scene: &Scene, model: &ReducedModel) -> Result<Problem, PipelineError> {
+    problem_at(scene, model, OperatingPoint::of(scene))
+}
+
+/// The problem of `scene` on `model` at the operating point `op` (the scene's own, or one a
+/// sweep varies): the gaps at `op`, the brake load scaled by its PMAX over its ramp.
+pub fn problem_at(
+    scene: &Scene,
+    model: &ReducedModel,
+    op: OperatingPoint,
+) -> Result<Problem, PipelineError> {
     let n = model.n();
-    let g = model
-        .gaps
+    let gaps = op.gaps(model)?;
+    let g = gaps
         .constraint_matrix(n)
         .map_err(|source| PipelineError::Contact {
             what: "constraint matrix G".into(),
             source,
         })?;
-    let loads = scene.loads.clone().unwrap_or_default();
     let t = scene.transient.clone().unwrap_or_default();
     let load = LoadHistory {
         p_pre: Vec::new(),
-        p_brake: model.p_brake.iter().map(|p| loads.pmax * p).collect(),
-        t_load: loads.tload,
-        step: loads.tload == 0.0,
+        p_brake: model.p_brake.iter().map(|p| op.pmax * p).collect(),
+        t_load: op.tload,
+        step: op.tload == 0.0,
     };
     let compliance = compliance(scene, model)?;
     let smooth_width = smooth_widths(scene, model, &compliance);
@@ -172,6 +187,8 @@ pub fn problem(scene: &Scene, model: &ReducedModel) -> Result<Problem, PipelineE
         },
         compliance,
         smooth_width,
+        gaps,
+        op,
     })
 }
 
@@ -186,16 +203,16 @@ fn smooth_widths(scene: &Scene, model: &ReducedModel, compliance: &[Real]) -> Ve
     {
         return Vec::new();
     }
-    let mut w = Vec::with_capacity(model.gaps.len());
+    let mut w = Vec::with_capacity(model.gap_geometry.len());
     for (pair, &count) in model.gap_pairs.iter().enumerate() {
         let p = scene.contact.get(pair).and_then(|c| c.separation_smoothing);
         for k in w.len()..w.len() + count {
             // ε = p_ε/k_n = p_ε c A.
-            let area = model.gaps.gaps[k].area;
+            let area = model.gap_geometry.gaps[k].area;
             w.push(p.map_or(0.0, |p| p * compliance[k] * area));
         }
     }
-    w.resize(model.gaps.len(), 0.0);
+    w.resize(model.gap_geometry.len(), 0.0);
     w
 }
 
@@ -210,20 +227,20 @@ pub fn compliance(scene: &Scene, model: &ReducedModel) -> Result<Vec<Real>, Pipe
     else {
         return Ok(Vec::new());
     };
-    if model.gap_pairs.iter().sum::<usize>() != model.gaps.len() {
+    if model.gap_pairs.iter().sum::<usize>() != model.gap_geometry.len() {
         return Err(PipelineError::Scene {
             field: format!("contact[{first}].normal_stiffness"),
             message: format!(
                 "the model's {} gaps are not grouped by `[[contact]]` pair (a stored model's \
                  gap table): normal compliance needs a model built from meshes",
-                model.gaps.len()
+                model.gap_geometry.len()
             ),
         });
     }
-    let mut c = Vec::with_capacity(model.gaps.len());
+    let mut c = Vec::with_capacity(model.gap_geometry.len());
     for (pair, &count) in model.gap_pairs.iter().enumerate() {
         let kn = scene.contact.get(pair).and_then(|p| p.normal_stiffness);
-        for g in &model.gaps.gaps[c.len()..c.len() + count] {
+        for g in &model.gap_geometry.gaps[c.len()..c.len() + count] {
             c.push(match kn {
                 Some(kn) if g.area > 0.0 => 1.0 / (kn * g.area),
                 Some(kn) => {
@@ -244,6 +261,28 @@ pub fn compliance(scene: &Scene, model: &ReducedModel) -> Result<Vec<Real>, Pipe
 }
 
 impl Problem {
+    /// The same problem at another operating point: the matrices kept, the gaps and the brake
+    /// load made anew at `op`.
+    pub fn at(&self, model: &ReducedModel, op: OperatingPoint) -> Result<Problem, PipelineError> {
+        Ok(Problem {
+            m: self.m.clone(),
+            b: self.b.clone(),
+            k: self.k.clone(),
+            g: self.g.clone(),
+            load: LoadHistory {
+                p_pre: self.load.p_pre.clone(),
+                p_brake: model.p_brake.iter().map(|p| op.pmax * p).collect(),
+                t_load: op.tload,
+                step: op.tload == 0.0,
+            },
+            bsql: self.bsql.clone(),
+            compliance: self.compliance.clone(),
+            smooth_width: self.smooth_width.clone(),
+            gaps: op.gaps(model)?,
+            op,
+        })
+    }
+
     /// The solver's system (matrices copied).
     pub fn system(&self, gaps: GapSet) -> Result<BsqlSystem<GapFriction>, PipelineError> {
         // The force an open gap carries: its preload's, P_0 A (p_n = 0).

@@ -5,7 +5,6 @@ use super::options::bdf_options;
 use super::system::{solver_err, GapFriction, Problem};
 use crate::error::PipelineError;
 use crate::scene::TransientSpec;
-use squeal_contact::GapSet;
 use squeal_solver::bdf::{Bdf, BdfOptions, DaeSystem, Status};
 use squeal_solver::bsql::BsqlSystem;
 use squeal_solver::condense::BandSystem;
@@ -27,7 +26,6 @@ impl BandStart {
     /// The start of a run of `sys` for the scene's `[transient]` `spec`.
     pub fn new(
         problem: &Problem,
-        gaps: &GapSet,
         spec: &TransientSpec,
         mut sys: BandSystem<GapFriction>,
     ) -> Result<Self, PipelineError> {
@@ -38,7 +36,7 @@ impl BandStart {
         sys.residual(0.0, &y0, &yp0, &mut res)
             .map_err(solver_err("band-limited model: initial residual"))?;
         let residual = res.iter().fold(0.0, |m: Real, r| m.max(r.abs()));
-        let obs = problem.system(gaps.clone())?;
+        let obs = problem.system(problem.gaps.clone())?;
         let opts = BdfOptions {
             tolerances: sys.tolerances(spec.rtol1, spec.atol1, spec.rtol2, spec.atol2),
             ..bdf_options(spec, &obs, spec.rtol1, spec.maxord)

@@ -146,7 +146,7 @@ impl ModelCache {
                         "model: cache hit {} ({} DOFs, {} gaps, read in {seconds:.2} s)",
                         key.hex,
                         model.n(),
-                        model.gaps.len()
+                        model.gap_geometry.len()
                     ));
                     return Ok((
                         model,

@@ -17,9 +17,9 @@
 
 use super::system::{GapFriction, Problem};
 use crate::error::PipelineError;
+use crate::model::ReducedModel;
+use crate::problem::tangents;
 use crate::scene::Scene;
-use crate::stages::cea::tangents;
-use crate::stages::model::ReducedModel;
 use faer::Mat;
 use serde::Serialize;
 use squeal_contact::GapSet;
@@ -167,7 +167,7 @@ pub fn build(
                   (reduction.frequency_of_interest_hz, or model.band_hz for stored matrices)"
             .into(),
     })?;
-    let (n, ng) = (model.n(), model.gaps.len());
+    let (n, ng) = (model.n(), model.gap_geometry.len());
     let sep = super::system::separation_mask(scene, model);
     for (i, c) in scene.contact.iter().enumerate() {
         if c.separation && c.separation_smoothing.is_some() {
@@ -197,10 +197,10 @@ pub fn build(
         tol: spec.tolint,
         ..Default::default()
     };
-    let lin = tangents::at_steady_state(problem, &model.gaps, &steady)?;
+    let lin = tangents::at_steady_state(problem, &problem.gaps, &steady)?;
     let sys = tangents::cea_matrices(problem, &lin, true)?;
     let t_ref = tangents::full_load_time(problem);
-    let gaps = &model.gaps;
+    let gaps = &problem.gaps;
     let t1 = direction_rows(gaps, n, |g| tangents_of(gaps.gaps[g].normal).0, false);
     let t2 = direction_rows(gaps, n, |g| tangents_of(gaps.gaps[g].normal).1, false);
     let nrot = direction_rows(gaps, n, |g| gaps.gaps[g].normal, true);

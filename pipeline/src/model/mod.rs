@@ -8,6 +8,7 @@ mod from_mesh;
 pub mod gap_table;
 pub mod grids;
 pub mod inputs;
+pub mod mesh;
 mod stored;
 pub mod ties;
 
@@ -115,8 +116,11 @@ pub struct ReducedModel {
     pub p_brake: Vec<Real>,
     /// Row/column i of the matrices is `dofs.dofs[i]`.
     pub dofs: ReducedDofMap,
-    /// Gap elements with DOF indices into the reduced vector.
-    pub gaps: GapSet,
+    /// The gap elements' geometry with DOF indices into the reduced vector: points, normals,
+    /// areas, pairings (and a stored gap table's own P0 and temperature). No operating value:
+    /// sliding velocities are zero and the law is the default; the scene's operating point
+    /// makes the gaps a problem runs with ([`crate::problem::OperatingPoint::gaps`]).
+    pub gap_geometry: GapSet,
     /// Number of gaps of each `[[contact]]` pair, in scene order (the gaps of pair i follow
     /// those of pair i − 1); a stored model's gap table is one pair (`[n_gaps]`, read with
     /// the scene's only `[[contact]]` table, if any).
@@ -172,7 +176,7 @@ impl ReducedModel {
             })
             .collect();
         let mut missing = Vec::new();
-        for g in &self.gaps.gaps {
+        for g in &self.gap_geometry.gaps {
             // A pad node must have grid DOFs; a rotor node may be recovered instead.
             let pad = g.pad_nodes().into_iter().map(|n| (n, false));
             for (node, may_recover) in pad.chain(g.rotor_nodes().into_iter().map(|n| (n, true))) {
@@ -194,10 +198,10 @@ impl ReducedModel {
                 "gap grids with no DOF in the reduced model: {missing:?}"
             )));
         }
-        self.gaps
+        self.gap_geometry
             .assign_dofs(|grid| [1u8, 2, 3].map(|comp| index.get(&DofKey { grid, comp }).copied()));
         if !recovered.is_empty() {
-            for g in &mut self.gaps.gaps {
+            for g in &mut self.gap_geometry.gaps {
                 g.rotor_rows = recovery_rows(g, &index, &recovered);
             }
         }
@@ -210,22 +214,22 @@ impl ReducedModel {
     /// "singular Newton". ‖G_g‖ < 1e-6 |n| is an error naming the gap and its normal.
     fn check_gap_rows(&self) -> Result<(), PipelineError> {
         let n = self.n();
-        let trip = self
-            .gaps
-            .constraint_triplets(n)
-            .map_err(|source| PipelineError::Contact {
-                what: "gap constraint rows".into(),
-                source,
-            })?;
+        let trip =
+            self.gap_geometry
+                .constraint_triplets(n)
+                .map_err(|source| PipelineError::Contact {
+                    what: "gap constraint rows".into(),
+                    source,
+                })?;
         let mut rows: HashMap<(usize, usize), Real> = HashMap::new();
         for (i, j, x) in trip {
             *rows.entry((i, j)).or_default() += x;
         }
-        let mut norm2 = vec![0.0; self.gaps.len()];
+        let mut norm2 = vec![0.0; self.gap_geometry.len()];
         for ((i, _), x) in rows {
             norm2[i] += x * x;
         }
-        for (i, g) in self.gaps.gaps.iter().enumerate() {
+        for (i, g) in self.gap_geometry.gaps.iter().enumerate() {
             let nn = g.normal.iter().map(|x| x * x).sum::<Real>().sqrt();
             if norm2[i].sqrt() < 1e-6 * nn || nn == 0.0 {
                 let has = |dofs: [Option<usize>; 3]| -> String {

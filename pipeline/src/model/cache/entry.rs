@@ -8,19 +8,19 @@
 //!
 //! An entry is written into a temporary folder beside it and renamed into place, so a reader
 //! sees a whole entry or none; [`read_entry`] checks every file against `entry.json` before
-//! use. [`finish`] applies the scene's late parameters (sliding velocities, P0, temperatures,
-//! friction law and VTOL) to what was read.
+//! use. [`finish`] reassigns the gap DOFs of what was read (the scene's late parameters —
+//! sliding velocities, P0, temperatures, friction law and VTOL — are the operating point's).
 
 use super::key::{hash128, ModelKey, CACHE_FORMAT};
 use crate::error::PipelineError;
+use crate::model::grids::GridInfo;
+use crate::model::stored::stored_matrices;
+use crate::model::ReducedModel;
+use crate::model::{gap_table, inputs};
 use crate::scene::{ModelSource, Scene};
-use crate::stages::model::grids::GridInfo;
-use crate::stages::model::stored::stored_matrices;
-use crate::stages::model::ReducedModel;
-use crate::stages::model::{gap_table, inputs};
 use faer::Mat;
 use serde::{Deserialize, Serialize};
-use squeal_contact::{FrictionLaw, Gap, GapSet, MatchOptions};
+use squeal_contact::{FrictionLaw, Gap, GapSet};
 use squeal_reduction::matrix::NamedMatrix;
 use squeal_reduction::op4::{self, Op4WriteOptions};
 use squeal_reduction::superelement::ReducedDofMap;
@@ -107,7 +107,7 @@ pub(super) fn write_entry(
     let files: [(&str, Vec<u8>); 4] = [
         (OP4, op4_bytes),
         (DOFMAP, json_bytes(&model.dofs, DOFMAP)?),
-        (GAPS, json_bytes(&model.gaps.gaps, GAPS)?),
+        (GAPS, json_bytes(&model.gap_geometry.gaps, GAPS)?),
         (GRIDS, json_bytes(&model.grids, GRIDS)?),
     ];
     let mut sums = BTreeMap::new();
@@ -128,7 +128,7 @@ pub(super) fn write_entry(
         key: key.hex.clone(),
         key_document: serde_json::from_str(&key.document).unwrap_or_default(),
         n_dofs: model.n(),
-        n_gaps: model.gaps.len(),
+        n_gaps: model.gap_geometry.len(),
         gaps_per_pair: model.gap_pairs.clone(),
         build_s,
         files: sums,
@@ -252,10 +252,10 @@ pub(super) fn read_entry(dir: &Path, key: &ModelKey) -> Result<Cached, String> {
     })
 }
 
-/// The reduced model of `scene` from a cached entry: the scene's rotor gives every gap its
-/// sliding velocity ω × (x − origin) (as [`squeal_contact::match_gaps`] computes it), each
-/// contact pair its P0 and temperatures, `[friction]` the law and VTOL; DOFs are reassigned.
-/// No Craig–Bampton checks and no per-component recovery data (cached models have neither).
+/// The reduced model of `scene` from a cached entry: its gap geometry with the DOFs
+/// reassigned (the scene's operating point is applied when the problem is made,
+/// [`crate::problem::OperatingPoint`]). No Craig–Bampton checks and no per-component recovery
+/// data (cached models have neither).
 pub(super) fn finish(scene: &Scene, c: Cached) -> Result<ReducedModel, PipelineError> {
     if c.gaps_per_pair.len() != scene.contact.len() {
         return Err(PipelineError::Model(format!(
@@ -264,52 +264,23 @@ pub(super) fn finish(scene: &Scene, c: Cached) -> Result<ReducedModel, PipelineE
             scene.contact.len()
         )));
     }
-    let rotor = scene.rotor.clone().unwrap_or_default();
-    let omega = MatchOptions {
-        rotor_axis_origin: rotor.origin,
-        rotor_axis: rotor.axis,
-        rpm: rotor.rpm,
-        ..MatchOptions::default()
-    }
-    .omega();
     let mut gaps = c.gaps;
-    let mut start = 0;
-    for (pair, &count) in scene.contact.iter().zip(&c.gaps_per_pair) {
-        let temps: HashMap<u64, Real> = pair.grid_temperatures.iter().copied().collect();
-        for g in &mut gaps[start..start + count] {
-            let (x, o) = (g.coords, rotor.origin);
-            let r = [x[0] - o[0], x[1] - o[1], x[2] - o[2]];
-            // [Paper eq. (2)]: v_slide = ω × r, as match_gaps writes it.
-            g.v_slide = [
-                omega[1] * r[2] - omega[2] * r[1],
-                omega[2] * r[0] - omega[0] * r[2],
-                omega[0] * r[1] - omega[1] * r[0],
-            ];
-            g.p0 = pair.p0;
-            g.temperature = temps.get(&g.pad_node).copied().unwrap_or(pair.temperature);
-            g.pad_dofs = [None; 3];
-            g.rotor_dofs = [None; 3];
-        }
-        start += count;
+    for g in &mut gaps {
+        g.pad_dofs = [None; 3];
+        g.rotor_dofs = [None; 3];
     }
-    let friction = scene.friction.clone().unwrap_or_default();
-    let gaps = GapSet {
+    let gap_geometry = GapSet {
         gaps,
         law: FrictionLaw::default(),
-        vtol: friction.vtol,
-    }
-    .with_friction(friction.law, friction.vtol)
-    .map_err(|source| PipelineError::Contact {
-        what: "friction".into(),
-        source,
-    })?;
+        vtol: GapSet::DEFAULT_VTOL,
+    };
     let mut model = ReducedModel {
         k: c.k,
         m: c.m,
         b: c.b,
         p_brake: c.p_brake,
         dofs: c.dofs,
-        gaps,
+        gap_geometry,
         gap_pairs: c.gaps_per_pair,
         grids: c.grids,
         checks: Vec::new(),

@@ -80,9 +80,13 @@ pub(super) fn stored_matrices(model: &ReducedModel) -> Vec<NamedMatrix> {
     mats
 }
 
-/// Writes `reduced.op4`, `reduced.pch`, `dofmap.json`, `gaps.json` and `gaps.csv` into the
-/// run folder.
-pub fn write_stored(model: &ReducedModel, dir: &RunDir) -> Result<StoredFiles, PipelineError> {
+/// Writes `reduced.op4`, `reduced.pch`, `dofmap.json`, and the model's `gaps` at the
+/// scene's operating point as `gaps.json` and `gaps.csv`, into the run folder.
+pub fn write_stored(
+    model: &ReducedModel,
+    gaps: &GapSet,
+    dir: &RunDir,
+) -> Result<StoredFiles, PipelineError> {
     let mats = stored_matrices(model);
     let refs: Vec<&NamedMatrix> = mats.iter().collect();
     let op4_bytes = op4::write_bytes(&refs, &Op4WriteOptions::default())
@@ -110,10 +114,10 @@ pub fn write_stored(model: &ReducedModel, dir: &RunDir) -> Result<StoredFiles, P
         .map_err(red_err("writing reduced.pch".into()))?;
     let pch_path = dir.write_bytes("reduced.pch", text.as_bytes())?;
     let map_path = dir.write_json("dofmap.json", &model.dofs)?;
-    let gaps_path = dir.write_json("gaps.json", &model.gaps)?;
+    let gaps_path = dir.write_json("gaps.json", gaps)?;
     let csv_path = dir.write_bytes(
         "gaps.csv",
-        super::gap_table::gaps_csv(&model.gaps.gaps).as_bytes(),
+        super::gap_table::gaps_csv(&gaps.gaps).as_bytes(),
     )?;
     Ok(StoredFiles {
         gaps_csv: csv_path.display().to_string(),
@@ -259,50 +263,31 @@ pub fn load_stored(scene: &Scene) -> Result<ReducedModel, PipelineError> {
     )
 }
 
-/// The scene's late values on a stored model: sliding velocities from `[rotor]`, P0 and
-/// temperature overrides, the friction law; gap DOFs from the map (`paths`: the gap table and
-/// the DOF map, named by errors).
+/// A stored model: its gap geometry (with the table's own P0 and temperature; the scene's
+/// operating point is applied when the problem is made, [`crate::problem::OperatingPoint`]),
+/// gap DOFs from the map (`paths`: the gap table and the DOF map, named by errors).
 fn finish(
     scene: &Scene,
     (k, m, b, p_brake): (Mat<Real>, Mat<Real>, Option<Mat<Real>>, Vec<Real>),
     dofs: ReducedDofMap,
-    mut gaps: Vec<squeal_contact::Gap>,
+    gaps: Vec<squeal_contact::Gap>,
     warnings: Vec<crate::warning::Warning>,
     (gaps_path, dpath): (&Path, &Path),
 ) -> Result<ReducedModel, PipelineError> {
     let spec = &scene.model;
     let gap_pairs = stored_pairs(scene, gaps.len())?;
-    let rotor = scene.rotor.clone().unwrap_or_default();
-    let w = rotor.rpm * 2.0 * std::f64::consts::PI / 60.0;
-    let omega = rotor.axis.map(|a| w * a);
-    for g in &mut gaps {
-        let r = [0, 1, 2].map(|i| g.coords[i] - rotor.origin[i]);
-        g.v_slide = [
-            omega[1] * r[2] - omega[2] * r[1],
-            omega[2] * r[0] - omega[0] * r[2],
-            omega[0] * r[1] - omega[1] * r[0],
-        ];
-        if let Some(p0) = spec.p0 {
-            g.p0 = p0;
-        }
-        if let Some(t) = spec.temperature {
-            g.temperature = t;
-        }
-    }
-    let friction = scene.friction.clone().unwrap_or_default();
-    let gaps = GapSet::new(gaps, friction.law, friction.vtol).map_err(|source| {
-        PipelineError::Contact {
-            what: "friction".into(),
-            source,
-        }
-    })?;
+    let gap_geometry = GapSet {
+        gaps,
+        law: squeal_contact::FrictionLaw::default(),
+        vtol: GapSet::DEFAULT_VTOL,
+    };
     let mut model = ReducedModel {
         k,
         m,
         b,
         p_brake,
         dofs,
-        gaps,
+        gap_geometry,
         gap_pairs,
         grids: Vec::new(),
         checks: Vec::new(),
