@@ -6,6 +6,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 import numpy as np
 
 from .results import (
+    CacheUse,
     CeaReport,
     CeaSweep,
     CompareReport,
@@ -86,11 +87,6 @@ class Scene:
     @property
     def components(self) -> List[str]: ...
     def __eq__(self, other: object) -> bool: ...
-
-class CacheUse(TypedDict):
-    hit: bool
-    key: str
-    note: Optional[str]
 
 class ModesOut(TypedDict):
     frequencies_hz: np.ndarray

@@ -13,6 +13,7 @@ import numpy as np
 from . import _args, _squeal
 from ._squeal import Scene
 from .results import (
+    CacheUse,
     CeaReport,
     CeaSweep,
     CompareReport,
@@ -101,7 +102,7 @@ class ReducedModel:
     friction_law: Any
     components: List[Dict[str, Any]]
     warnings: List[str]
-    cache: Optional[Dict[str, Any]]
+    cache: Optional[CacheUse]
     """Cache use (``hit``, ``key``, ``note``) when a cache was given."""
 
     def to_scene(self, toml: Union[str, Dict[str, Any], None] = None, base_dir: PathLike = ".") -> Scene:
@@ -133,7 +134,7 @@ class TransientResult:
     success: bool
     """The integration reached TFINAL (else ``summary["status"]`` says why it stopped)."""
     warnings: List[str]
-    cache: Optional[Dict[str, Any]]
+    cache: Optional[CacheUse]
 
     def column(self, name: str) -> np.ndarray:
         """One column of the history by name."""
@@ -166,7 +167,7 @@ class CeaResult:
     sweep: Optional[CeaSweep]
     """``cea.sweep.json``'s content with a friction sweep."""
     warnings: List[str]
-    cache: Optional[Dict[str, Any]]
+    cache: Optional[CacheUse]
 
     @property
     def real_parts(self) -> np.ndarray:

@@ -13,7 +13,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from . import _args, _squeal
 from ._squeal import Scene
-from .results import PropensityEvaluated, PropensityReport
+from .results import PropensityEvaluated, PropensityReport, SobolIndices
 
 
 @dataclass
@@ -55,7 +55,11 @@ class PropensityResult:
         (``S1, S1_lo, S1_hi, ST, ST_lo, ST_hi``); None when the study has none."""
         import pandas as pd
 
-        s = self.report.get(f"sobol_{output}")
+        by_output: Dict[str, Optional[SobolIndices]] = {
+            "max_real_part": self.report["sobol_max_real_part"],
+            "unstable": self.report["sobol_unstable"],
+        }
+        s = by_output.get(output)
         if s is None:
             return None
         return pd.DataFrame(
@@ -251,9 +255,9 @@ def propensity(
     samples = [s for r in results for s in r["samples"]]
     build_s = max((r["build_s"] for r in results), default=0.0)
     evaluate_s = time.perf_counter() - t0 - build_s
-    first = results[0] if results else {}
+    n_dofs, n_gaps = (results[0]["n_dofs"], results[0]["n_gaps"]) if results else (0, 0)
     report = _squeal.propensity_finish(
-        scene, plan, samples, out, first.get("n_dofs", 0), first.get("n_gaps", 0),
+        scene, plan, samples, out, n_dofs, n_gaps,
         build_s, evaluate_s, time.perf_counter() - t0, nthreads,
     )
     keys = [i["key"] for i in report["inputs"]]

@@ -12,6 +12,15 @@ not typed field by field are ``Dict[str, Any]``; their files' documentation list
 
 from typing import Any, Dict, List, Optional, TypedDict, Union
 
+class CacheUse(TypedDict):
+    """How the reduced model came through the model cache: ``hit``, ``key`` and ``note`` of
+    ``model::CacheUse``."""
+
+    hit: bool
+    key: str
+    note: Optional[str]
+
+
 # ---- the transient (`squeal transient`'s summary.json, squeal_pipeline::stages::transient)
 
 

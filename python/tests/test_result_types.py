@@ -105,8 +105,9 @@ def test_transient_summary_verdict_and_columns():
     assert hint(squeal.TransientResult, "verdict") is R.Verdict
 
 
-def test_cea_report_modes_and_sweep():
-    c = squeal.cea(squeal.Scene.from_file(TINY), mu=(0.1, 0.9, 5))
+def test_cea_report_modes_and_sweep(tmp_path):
+    c = squeal.cea(squeal.Scene.from_file(TINY), mu=(0.1, 0.9, 5), cache=tmp_path / "cache")
+    check(c.cache, R.CacheUse)
     seen = check(c.report, R.CeaReport)
     assert {"CeaMode", "CeaSteadyState", "CeaStateSource", "CeaContact", "CeaOutsideBand",
             "CeaStats"} <= seen, seen
@@ -115,6 +116,7 @@ def test_cea_report_modes_and_sweep():
     assert "CeaCoupling" in seen or not c.sweep["couplings"]
     assert hint(squeal.CeaResult, "report") is R.CeaReport
     assert hint(squeal.CeaResult, "sweep") == typing.Optional[R.CeaSweep]
+    assert hint(squeal.CeaResult, "cache") == typing.Optional[R.CacheUse]
 
 
 def test_modes_report():
