@@ -15,6 +15,7 @@ from .results import (
     ModesReport,
     PropensityEvaluated,
     PropensityReport,
+    SweepPoint,
     TransientSummary,
     Verdict,
 )
@@ -185,8 +186,7 @@ def sweep_value(
     run_dir: _Path,
     progress: _Progress = None,
     cancel: Optional[Callable[[], bool]] = None,
-) -> Dict[str, Any]:
-    """A ``sweep.json`` point (``sweep::SweepPoint``) with ``failed``."""
+) -> SweepPoint: ...
 def model_key(scene: Scene) -> Optional[str]: ...
 def propensity_plan(
     scene: Scene,

@@ -669,6 +669,70 @@ class PropensityEvaluated(TypedDict):
     evaluate_s: float
 
 
+# ---- one design-sweep value (a `sweep.json` point, stages::sweep)
+
+
+class _VerdictStateBase(TypedDict):
+    state: str
+
+
+class VerdictState(_VerdictStateBase, total=False):
+    """``squeal``, ``no_squeal``, or ``unresolved`` with its ``reasons``."""
+
+    reasons: List[Unresolved]
+
+
+class _SweepCeaBase(TypedDict):
+    max_frequency_hz: Optional[float]
+    n_unstable: int
+    max_real_part: Optional[float]
+    max_real_part_frequency_hz: Optional[float]
+    min_damping_ratio: Optional[float]
+    unstable_modes: List[CeaMode]
+
+
+class SweepCea(_SweepCeaBase, total=False):
+    """A value's CEA indicators (``sweep::CeaIndicators``)."""
+
+    lowest_critical_mu: float
+
+
+class SweepTransient(TypedDict):
+    """A value's transient indicators (``sweep::TransientIndicators``)."""
+
+    status: TransientStatus
+    squeal: bool
+    verdict: VerdictState
+    growth_rate_per_s: Optional[float]
+    dominant_frequency_hz: Optional[float]
+    steps: int
+    cpu_s: float
+    t_end: float
+
+
+class _SweepPointBase(TypedDict):
+    index: int
+    value: Any
+    label: str
+    run_dir: str
+    cache_hit: Optional[bool]
+    cache_key: Optional[str]
+    build_s: float
+    analysis_s: float
+    cea: Optional[SweepCea]
+    transient: Optional[SweepTransient]
+    error: Optional[str]
+    failed: bool
+    """An error, or a transient stopped before TFINAL (``SweepPoint::failed``)."""
+
+
+class SweepPoint(_SweepPointBase, total=False):
+    """What ``_squeal.sweep_value`` returns: a ``sweep.json`` point (``sweep::SweepPoint``)."""
+
+    cache_note: str
+    warnings: List[InputWarning]
+
+
 # ---- compare (`squeal compare`'s compare.json, stages::compare)
 
 

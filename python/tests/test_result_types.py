@@ -164,6 +164,19 @@ def test_propensity_report_and_the_plan_as_dicts(tmp_path):
     assert e.value.field == "plan"
 
 
+def test_sweep_point(tmp_path):
+    from squeal import _squeal
+    from squeal.sweep import _failed_point
+
+    p = _squeal.sweep_value(squeal.Scene.from_file(TINY), [("friction.law.mu0", 0.5)], "0.5", 0,
+                            "both", str(tmp_path / "cache"), str(tmp_path / "v0"))
+    seen = check(p, R.SweepPoint)
+    assert {"SweepCea", "SweepTransient", "VerdictState", "TransientStatus"} <= seen, seen
+    assert p["error"] is None and p["value"] == 0.5
+    # The point the package records for a value that raised has the same keys.
+    check(_failed_point(1, "x", str(tmp_path / "v1"), "an error"), R.SweepPoint)
+
+
 def test_compare_report_is_its_file_with_infinity_as_none(cli, tmp_path):
     # Two CEA run folders of different models (the tiny brake, its pad 5 % stiffer): their
     # `model_hash` strings differ, a difference with no relative measure, so the summary check's
