@@ -148,7 +148,9 @@ enum Verb {
         #[command(flatten)]
         run: RunArgs,
         /// An uncertain input: dotted scene key = uniform(a, b), normal(mean, sd),
-        /// lognormal(mu, sigma) or truncnormal(mean, sd, lo, hi) (repeatable).
+        /// lognormal(mu, sigma) or truncnormal(mean, sd, lo, hi) (repeatable). Also
+        /// components.NAME.young_scale / density_scale: a component's moduli or densities
+        /// scaled on the one reduced model.
         #[arg(long = "dist", value_name = "KEY=DIST", required = true)]
         dist: Vec<String>,
         /// Correlation of two inputs' normal scores (Gaussian copula): KEY_A:KEY_B=RHO (repeatable).

@@ -268,8 +268,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut out = Vec::new();
         for &mu in &dense_at {
             let t = Instant::now();
-            let sys =
-                sweep::matrices_at(&p.problem, &p.problem.gaps, &p.lin, &p.spec, &sw, mu, None)?;
+            let sys = sweep::matrices_at(&p.problem, &p.lin, &p.spec, &sw, mu, None)?;
             let r = complex_eigen(&sys, &opts)?;
             let wall_s = t.elapsed().as_secs_f64();
             let near: Vec<[f64; 2]> = r

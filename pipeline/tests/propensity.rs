@@ -2,8 +2,9 @@
 //! mode-coupling model with μ ~ U(a, b), P(unstable) = (b − μc)/(b − a) exactly (μc = 1/3,
 //! Hoffmann, Fischer, Bieser & Gaul 2002); an input that cannot move the roots has Sobol
 //! indices 0 and μ has S_1 = S_T = 1 (a function of one input: Sobol 1993); the late values
-//! applied to the reused model equal a fresh build's; an input that changes the reduced model
-//! is refused naming the key.
+//! applied to the reused model equal a fresh build's; a component's modulus on the reduced
+//! model equals a re-reduction; an input that changes the reduced model is refused naming the
+//! key.
 
 mod common;
 use squeal_pipeline::problem::system;
@@ -189,9 +190,11 @@ fn bad_inputs_name_the_flag_and_the_value() {
         ),
         (vec![("friction.law.mu0", "uniform(0.5, 0.3)")], 64, "a < b"),
         (
-            vec![("components.1.material.young", "uniform(4e3, 6e3)")],
+            // Poisson's ratio changes the Craig-Bampton basis (a modulus alone scales on the
+            // reduced model: `component_modulus_on_the_reduced_model_tracks_re_reduction`).
+            vec![("components.1.material.poisson", "uniform(0.25, 0.35)")],
             64,
-            "`components.1.material.young` changes the reduced model",
+            "`components.1.material.poisson` changes the reduced model",
         ),
         (
             vec![
@@ -209,8 +212,123 @@ fn bad_inputs_name_the_flag_and_the_value() {
         assert!(e.contains(frag), "{frag}: {e}");
     }
     // With --rereduce the component key is accepted and marked.
-    let mut a = args(&[("components.1.material.young", "uniform(4e3, 6e3)")], 16);
+    let mut a = args(
+        &[("components.1.material.poisson", "uniform(0.25, 0.35)")],
+        16,
+    );
     a.rereduce = true;
     let p = propensity::plan(&scene, &a).unwrap();
     assert!(p.rereduce && !p.inputs[0].reuses_model);
+}
+
+/// A component's Young's modulus varied on the one reduced model (the reduced-matrix
+/// derivative, Craig–Bampton basis held fixed) against re-reducing the model at that modulus
+/// (`--rereduce`): the tiny brake's pad (one material, E₀ = 5e3) at 0.7, 1 and 1.3 E₀.
+///
+/// Reference: scaling every modulus of a component by s scales K_c by s, which leaves its
+/// Craig–Bampton basis unchanged (the constraint modes −K_ii⁻¹K_ib are invariant, the
+/// fixed-interface modes of (s K_ii, M_ii) are those of (K_ii, M_ii) with ω² scaled by s), so
+/// T_cᵀ(s K_c)T_c is the re-reduced matrix and the two agree to round-off at every s, as long
+/// as the re-reduction keeps the same number of modes (here a fixed count). A one-material
+/// component's `material.young` key is the same scale; a scale key combined with a re-reduced
+/// input, and a missing component, are refused naming the key.
+#[test]
+fn component_modulus_on_the_reduced_model_tracks_re_reduction() {
+    let d = tmp("component");
+    let tiny = root().join("examples/transient/tiny-brake.toml");
+    let scene = Scene::load(&tiny, &[]).unwrap();
+    let eval = |dists: &[(&str, &str)], rereduce: bool, values: &[f64]| {
+        let mut a = args(dists, 64);
+        a.rereduce = rereduce;
+        let plan = propensity::plan(&scene, &a).unwrap();
+        assert_eq!(plan.rereduce, rereduce);
+        let dir = RunDir::create(&d.join(format!("run-{rereduce}"))).unwrap();
+        let ev = propensity::Evaluator::new(&scene, &plan, &dir, &Progress::quiet(), None).unwrap();
+        values
+            .iter()
+            .map(|&v| {
+                let s = ev.evaluate(0, &[v], &Progress::quiet()).unwrap();
+                assert!(s.error.is_none(), "{:?}", s.error);
+                (
+                    s.outcome.unwrap().max_real_part,
+                    s.max_real_part_frequency_hz.unwrap(),
+                )
+            })
+            .collect::<Vec<_>>()
+    };
+    let e0 = 5.0e3;
+    let scales = [0.7, 1.0, 1.3];
+    let on_model = eval(
+        &[("components.pad.young_scale", "uniform(0.7, 1.3)")],
+        false,
+        &scales,
+    );
+    let material = eval(
+        &[("components.1.material.young", "uniform(3.5e3, 6.5e3)")],
+        false,
+        &scales.map(|s| s * e0),
+    );
+    let rebuilt = eval(
+        &[("components.1.material.young", "uniform(3.5e3, 6.5e3)")],
+        true,
+        &scales.map(|s| s * e0),
+    );
+    for (k, s) in scales.iter().enumerate() {
+        let ((ra, fa), (rb, fb), (rc, fc)) = (on_model[k], material[k], rebuilt[k]);
+        eprintln!(
+            "E = {s} E0: reduced derivative Re {ra:.6e} /s at {fa:.4} Hz; material key \
+             {rb:.6e}; re-reduced {rc:.6e} /s at {fc:.4} Hz (|dRe| {:.3e}, df/f {:.3e})",
+            (ra - rc).abs(),
+            (fa - fc).abs() / fc
+        );
+        assert!((ra - rb).abs() <= 1e-9 * ra.abs().max(1.0) && (fa - fb).abs() <= 1e-9 * fa);
+        let scale = ra.abs().max(rc.abs()).max(1e-3 * fc);
+        assert!((ra - rc).abs() <= 1e-9 * scale, "{s}: {ra} vs {rc}");
+        assert!((fa - fc).abs() <= 1e-10 * fc, "{s}: {fa} vs {fc}");
+    }
+    let refused = |dists: &[(&str, &str)], rereduce: bool| {
+        let mut a = args(dists, 64);
+        a.rereduce = rereduce;
+        propensity::plan(&scene, &a).unwrap_err().to_string()
+    };
+    let e = refused(
+        &[("components.caliper.young_scale", "uniform(0.7, 1.3)")],
+        false,
+    );
+    assert!(
+        e.contains("components.caliper.young_scale") && e.contains("no component"),
+        "{e}"
+    );
+    let e = refused(
+        &[
+            ("components.pad.young_scale", "uniform(0.7, 1.3)"),
+            ("components.0.material.young", "uniform(0.9e4, 1.1e4)"),
+        ],
+        true,
+    );
+    assert!(
+        e.contains("components.pad.young_scale") && e.contains("--rereduce"),
+        "{e}"
+    );
+}
+
+/// A material key of a component with materials of its own volumes (the cad brake's pads:
+/// steel backplate + lining) is not a scale of the component: refused, naming the volumes and
+/// the keys that work; the component's scale key is accepted.
+#[test]
+fn a_material_key_of_a_several_material_component_is_refused() {
+    let cad = Scene::load(&root().join("examples/cad-brake/brake.toml"), &[]).unwrap();
+    let e = propensity::component_input(&cad, "components.1.material.young").unwrap_err();
+    assert!(
+        e.contains("lining") && e.contains("young_scale") && e.contains("--rereduce"),
+        "{e}"
+    );
+    let name = cad.components[1].name.clone();
+    let c = propensity::component_input(&cad, &format!("components.{name}.young_scale"))
+        .unwrap()
+        .unwrap();
+    assert_eq!((c.component.as_str(), c.base), (name.as_str(), 1.0));
+    assert!(propensity::component_input(&cad, "friction.law.mu0")
+        .unwrap()
+        .is_none());
 }

@@ -105,7 +105,7 @@ def test_bad_inputs_name_the_flag():
     with pytest.raises(squeal.SquealError, match="a < b"):
         squeal.propensity(scene, {"friction.law.mu0": "uniform(0.5, 0.3)"}, 64)
     with pytest.raises(squeal.SquealError, match="changes the reduced model"):
-        squeal.propensity(scene, {"components.1.material.young": "uniform(4e3, 6e3)"}, 64)
+        squeal.propensity(scene, {"components.1.material.poisson": "uniform(0.25, 0.35)"}, 64)
     with pytest.raises(squeal.SquealError, match="--samples"):
         squeal.propensity(scene, {"friction.law.mu0": "uniform(0.3, 0.5)", "contact.0.p0": "uniform(0.5, 1.5)"}, 20)
     with pytest.raises(TypeError, match="distributions"):

@@ -2,6 +2,9 @@
 //! friction law and VTOL, the rotor's speed (the sliding velocity of every gap), each contact
 //! pair's preload P0 and temperatures, and the brake load's PMAX and ramp.
 //!
+//! A pair may have a law of its own and no steady sliding (`[[contact]] friction`,
+//! `sliding = "none"`: pad ears on abutments, a piston on a backplate).
+//!
 //! A [`ReducedModel`] holds what its cache key hashes (K, M, B, the DOF map, the gap geometry);
 //! the operating point is applied once, when the problem is made ([`super::system::problem`]).
 //! Every variation of an operating value (a friction sweep, a sensitivity's difference, a
@@ -10,8 +13,8 @@
 
 use crate::error::PipelineError;
 use crate::model::ReducedModel;
-use crate::scene::{FrictionSpec, LoadsSpec, ModelSource, RotorSpec, Scene};
-use squeal_contact::{FrictionLaw, GapSet};
+use crate::scene::{FrictionSpec, LoadsSpec, ModelSource, RotorSpec, Scene, Sliding};
+use squeal_contact::{FrictionLaw, Gap, GapSet};
 use squeal_solver::Real;
 use std::collections::HashMap;
 
@@ -24,6 +27,37 @@ pub struct PairPoint {
     pub temperature: Real,
     /// Temperature per pad grid id.
     pub grid_temperatures: Vec<(u64, Real)>,
+    /// The pair's own friction law (None: the scene's).
+    pub friction: Option<FrictionLaw>,
+    /// Whether its rotor side slides at the rotor's speed.
+    pub sliding: Sliding,
+}
+
+impl PairPoint {
+    /// Sets this pair's values on its gaps (`stored`: a stored gap table, whose P0 and
+    /// temperature are the table's unless the scene's `model.p0` / `temperature` override).
+    fn apply(&self, gaps: &mut [Gap], stored: Option<(Option<Real>, Option<Real>)>) {
+        let temps: HashMap<u64, Real> = self.grid_temperatures.iter().copied().collect();
+        for g in gaps {
+            match stored {
+                None => {
+                    g.p0 = self.p0;
+                    g.temperature = temps.get(&g.pad_node).copied().unwrap_or(self.temperature);
+                }
+                Some((p0, t)) => {
+                    g.p0 = p0.unwrap_or(g.p0);
+                    g.temperature = t.unwrap_or(g.temperature);
+                }
+            }
+            if self.sliding == Sliding::None {
+                g.v_slide = [0.0; 3];
+            }
+            if self.friction.is_some() {
+                // A stored table's own per-gap law stays unless the pair names one.
+                g.friction = self.friction.clone();
+            }
+        }
+    }
 }
 
 /// The operating values of a scene (see the module's documentation).
@@ -75,6 +109,8 @@ impl OperatingPoint {
                     p0: c.p0,
                     temperature: c.temperature,
                     grid_temperatures: c.grid_temperatures.clone(),
+                    friction: c.friction.clone(),
+                    sliding: c.sliding,
                 })
                 .collect(),
             stored_p0: scene.model.p0,
@@ -111,6 +147,7 @@ impl OperatingPoint {
                 omega[0] * r[1] - omega[1] * r[0],
             ];
         }
+        let stored = (self.stored_p0, self.stored_temperature);
         match model.source {
             ModelSource::Mesh => {
                 if self.pairs.len() != model.gap_pairs.len() {
@@ -122,25 +159,20 @@ impl OperatingPoint {
                 }
                 let mut start = 0;
                 for (pair, &count) in self.pairs.iter().zip(&model.gap_pairs) {
-                    let temps: HashMap<u64, Real> =
-                        pair.grid_temperatures.iter().copied().collect();
-                    for g in &mut gaps[start..start + count] {
-                        g.p0 = pair.p0;
-                        g.temperature = temps.get(&g.pad_node).copied().unwrap_or(pair.temperature);
-                    }
+                    pair.apply(&mut gaps[start..start + count], None);
                     start += count;
                 }
             }
-            ModelSource::Op4 | ModelSource::Punch | ModelSource::Arrays => {
-                for g in &mut gaps {
-                    if let Some(p0) = self.stored_p0 {
-                        g.p0 = p0;
-                    }
-                    if let Some(t) = self.stored_temperature {
-                        g.temperature = t;
+            // A stored gap table is one pair: the scene's only `[[contact]]` table, if any.
+            ModelSource::Op4 | ModelSource::Punch | ModelSource::Arrays => match &self.pairs[..] {
+                [pair] => pair.apply(&mut gaps, Some(stored)),
+                _ => {
+                    for g in &mut gaps {
+                        g.p0 = stored.0.unwrap_or(g.p0);
+                        g.temperature = stored.1.unwrap_or(g.temperature);
                     }
                 }
-            }
+            },
         }
         GapSet::new(gaps, self.friction.law.clone(), self.friction.vtol).map_err(|source| {
             PipelineError::Contact {

@@ -1,7 +1,9 @@
-//! The scene's `[transient]` table as the integrators' options.
+//! The scene's `[transient]` table as the integrators' options: the step bound, the start's,
+//! BDF's and generalized-α's — used by the run, the restart and the DAE export.
 
 use super::system::GapFriction;
 use crate::scene::TransientSpec;
+use serde::Serialize;
 use squeal_solver::bdf::{BdfOptions, InitialConditionOptions, TolerancePartition, Tolerances};
 use squeal_solver::bsql::{BsqlSystem, SteadyOptions};
 use squeal_solver::galpha::GalphaOptions;
@@ -78,5 +80,38 @@ pub fn galpha_options(
         max_steps: spec.max_steps,
         include_friction_damping: true,
         ..GalphaOptions::default()
+    }
+}
+
+/// The step bound a run used.
+#[derive(Debug, Clone, Serialize)]
+pub struct StepBound {
+    /// The bound applied (None: unbounded).
+    pub h_max: Option<Real>,
+    /// The scene's own `h_max`.
+    pub scene_h_max: Option<Real>,
+    /// The model's band and the band bound 1/(N·f_band) (None: no band or bound off).
+    pub band_hz: Option<Real>,
+    pub band_h_max: Option<Real>,
+    /// N, steps per period at the top of the band.
+    pub band_samples_per_period: Real,
+}
+
+/// The step bound of `spec` on a model of band `band_hz`: the smaller of the scene's `h_max`
+/// and 1/(N·f_band) (unless `band_step_bound = false`).
+pub fn step_bound(spec: &TransientSpec, band_hz: Option<Real>) -> StepBound {
+    let band_h_max = band_hz
+        .filter(|_| spec.band_step_bound)
+        .map(|f| 1.0 / (spec.band_samples_per_period * f));
+    let h_max = match (spec.h_max, band_h_max) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    };
+    StepBound {
+        h_max,
+        scene_h_max: spec.h_max,
+        band_hz,
+        band_h_max,
+        band_samples_per_period: spec.band_samples_per_period,
     }
 }

@@ -1,5 +1,5 @@
 //! The band-limited run's start and the full model's variables recovered from its state
-//! (`transient.band_limited`): what [`super::stepper::Stepper::Band`] holds besides the BDF.
+//! (`transient.band_limited`): what `stages::transient::stepper::Stepper::Band` holds besides the BDF.
 
 use super::options::bdf_options;
 use super::system::{solver_err, GapFriction, Problem};

@@ -105,6 +105,33 @@ pub struct ContactPair {
     /// docs/separation-integration.md (default: absent, events).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub separation_smoothing: Option<Real>,
+    /// This pair's own friction law μ(p, |V_t|, T), e.g. pad ears on the bracket's abutments
+    /// (default: absent, the scene's `[friction]` law; VTOL stays the scene's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<FrictionLaw>,
+    /// How the `rotor` side of the pair moves past the `pad` side in the steady state:
+    /// `"rotor"` at the `[rotor]` speed, ω × (x − origin) (a friction face on the rotor), or
+    /// `"none"` (two bodies that do not rotate: pad ears on abutments, a piston or caliper
+    /// fingers on a backplate: friction acts on the vibration's slip only) (default: "rotor").
+    #[serde(default, skip_serializing_if = "Sliding::is_rotor")]
+    pub sliding: Sliding,
+}
+
+/// The steady sliding of a contact pair (`[[contact]] sliding`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Sliding {
+    /// The rotor side moves at the rotor's speed. [Paper eq. (2)]
+    #[default]
+    Rotor,
+    /// No steady sliding: the gaps' sliding velocity is zero.
+    None,
+}
+
+impl Sliding {
+    fn is_rotor(&self) -> bool {
+        *self == Sliding::Rotor
+    }
 }
 
 fn default_tolerance() -> Real {
@@ -221,6 +248,10 @@ impl ContactPair {
         }
         if self.pad == self.rotor {
             return Err(bad("rotor", format!("`{}` is also the pad", self.rotor)));
+        }
+        if let Some(law) = &self.friction {
+            law.validate()
+                .map_err(|e| bad("friction", format!("{law:?}: {e}")))?;
         }
         Ok(())
     }

@@ -19,7 +19,7 @@ pub mod values;
 pub use accuracy::AccuracySpec;
 pub use arrays::{ArraysRef, StoredArrays};
 pub use cea::{CeaSpec, CeaState, CeaSweepSpec, SweepVary};
-pub use contact::{ContactPair, FrictionSpec, Pairing, RotorSpec};
+pub use contact::{ContactPair, FrictionSpec, Pairing, RotorSpec, Sliding};
 pub use material::MaterialSpec;
 pub use overrides::apply_override;
 pub use reduction::{ModelSource, ModelSpec, ReductionSpec};

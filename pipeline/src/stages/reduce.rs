@@ -2,12 +2,13 @@
 //! the Craig–Bampton checks (`checks.json`) and the lowest modes of the reduced (K, M).
 
 use crate::error::PipelineError;
-use crate::model::{self, ComponentReport, StoredFiles};
+use crate::model::{self, ComponentReport, ReducedModel, StoredFiles};
 use crate::output::RunDir;
 use crate::problem::OperatingPoint;
 use crate::progress::Progress;
 use crate::scene::{ModelSource, Scene};
 use serde::Serialize;
+use squeal_contact::GapSet;
 use std::time::Instant;
 
 /// Number of reduced-model modes reported.
@@ -52,17 +53,47 @@ impl ReduceReport {
     }
 }
 
-/// Builds (or reads) the reduced model and writes it with its checks.
+/// What `squeal reduce` computed, in memory: the reduced model and its gaps at the scene's
+/// operating point (what the gap table carries: P0, temperature, sliding speed).
+pub struct ReduceComputed {
+    pub model: ReducedModel,
+    pub gaps: GapSet,
+}
+
+/// Builds (or reads) the reduced model of `scene` (gmsh's files, when it meshes, go into
+/// `work`).
+pub fn compute(
+    scene: &Scene,
+    work: &RunDir,
+    progress: &Progress,
+) -> Result<ReduceComputed, PipelineError> {
+    let model = model::build(scene, work, progress)?;
+    let gaps = OperatingPoint::of(scene).gaps(&model)?;
+    Ok(ReduceComputed { model, gaps })
+}
+
+/// `squeal reduce`: [`compute`], then [`write`].
 pub fn run(
     scene: &Scene,
     dir: &RunDir,
     progress: &Progress,
 ) -> Result<ReduceReport, PipelineError> {
     let start = Instant::now();
-    let model = model::build(scene, dir, progress)?;
-    // The gap table carries the scene's operating values (P0, temperature, sliding speed).
-    let gaps = OperatingPoint::of(scene).gaps(&model)?;
-    let files = model::write_stored(&model, &gaps, dir)?;
+    let c = compute(scene, dir, progress)?;
+    write(scene, &c, dir, progress, start)
+}
+
+/// Writes the reduced model as stored files with its checks (`checks.json`, `grids.json`) and
+/// `summary.json` (`start`: when the run began).
+pub fn write(
+    scene: &Scene,
+    c: &ReduceComputed,
+    dir: &RunDir,
+    progress: &Progress,
+    start: Instant,
+) -> Result<ReduceReport, PipelineError> {
+    let model = &c.model;
+    let files = model::write_stored(model, &c.gaps, dir)?;
     let checks: serde_json::Map<String, serde_json::Value> = model
         .checks
         .iter()

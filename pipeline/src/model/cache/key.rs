@@ -20,8 +20,8 @@
 //!   crates' sources and the build profile, `pipeline/build.rs`), so a squeal built from
 //!   changed sources never reads an entry an older builder wrote.
 //!
-//! **Not in the key** (applied to a cached model by [`super::entry::finish`], or read later by
-//! the stages): `[friction]` (law, VTOL), `[rotor]` (rpm, axis, origin → sliding velocities),
+//! **Not in the key** (the operating point, [`crate::problem::OperatingPoint`], applied when the
+//! problem is made, or read later by the stages): `[friction]` (law, VTOL), `[rotor]` (rpm, axis, origin → sliding velocities),
 //! contact `p0`, `temperature`, `grid_temperatures`, `loads.pmax`/`tload`, `damping.g`/`w3`/
 //! `modal_ratio`, `[transient]`, `[cea]`, `[output]`, `[modes]`, `title`.
 //!

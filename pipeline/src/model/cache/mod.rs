@@ -2,8 +2,9 @@
 //! and always on in `squeal sweep`).
 //!
 //! Meshing, assembly and Craig–Bampton reduction depend only on part of the scene ([`key`]);
-//! friction, rotor speed, preload, loads' scale, damping G/W3/ζ and the solver options are
-//! applied afterwards ([`entry::finish`]). A scene whose key has an entry is therefore read from
+//! friction, rotor speed, preload, loads' scale (the operating point,
+//! [`crate::problem::OperatingPoint`]), damping G/W3/ζ and the solver options are applied
+//! when the problem is made. A scene whose key has an entry is therefore read from
 //! disk (OP4 + JSON, bit-exact) instead of rebuilt: a sweep over μ builds once.
 //!
 //! Entries are written atomically (a temporary folder renamed into place); an entry that
@@ -114,7 +115,7 @@ impl ModelCache {
     }
 
     /// The scene's reduced model: read from the entry of its key when there is a valid one,
-    /// else built with [`build_from_mesh`] (without the Craig–Bampton checks, which change no
+    /// else built with [`super::build_from_mesh`] (without the Craig–Bampton checks, which change no
     /// matrix) and stored. Either way the model has no per-component recovery data, so results
     /// do not depend on whether the cache hit.
     pub fn get_or_build(

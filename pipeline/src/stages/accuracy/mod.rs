@@ -108,17 +108,29 @@ fn row(role: &'static str, r: &RunOutcome, errors: RunErrors, repeats: usize) ->
     }
 }
 
-/// Runs the study and writes its outputs into `dir`.
+/// Runs the study and writes its outputs into `dir`: [`compute`], then [`write`].
 pub fn run(
     scene: &Scene,
     dir: &RunDir,
     progress: &Progress,
 ) -> Result<AccuracyReport, PipelineError> {
+    dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
+    let report = compute(scene, dir, progress)?;
+    write(&report, dir, progress)?;
+    Ok(report)
+}
+
+/// The study in memory: the reference, the ladder of integrators and their errors (gmsh's
+/// files, when the model is meshed, go into `work`).
+pub fn compute(
+    scene: &Scene,
+    work: &RunDir,
+    progress: &Progress,
+) -> Result<AccuracyReport, PipelineError> {
     let wall = std::time::Instant::now();
     let spec = scene.transient.clone().unwrap_or_default();
     let acc = scene.accuracy.clone().unwrap_or_default();
-    dir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
-    let model = model::build(scene, dir, progress)?;
+    let model = model::build(scene, work, progress)?;
     let problem = system::problem(scene, &model)?;
     let n = model.n();
     let dofs: Vec<usize> = if acc.dofs.is_empty() {
@@ -202,8 +214,32 @@ pub fn run(
         let e = compare::compare(&r, &reference, col, t_after);
         runs.push(row("ladder", &r, e, reps));
     }
-    dir.write_json("accuracy.json", &runs)?;
-    dir.write_bytes("accuracy.md", markdown(&runs).as_bytes())?;
+    let report = AccuracyReport {
+        verb: "accuracy",
+        version: crate::VERSION,
+        n_dofs: n,
+        n_gaps: model.gap_geometry.len(),
+        tfinal: spec.tfinal,
+        samples: acc.samples,
+        response_dof: dofs.get(col).copied().unwrap_or(0),
+        dofs,
+        reference_growth_rate: g_ref,
+        reference_frequency_hz: f_ref,
+        runs,
+        wall_s: wall.elapsed().as_secs_f64(),
+    };
+    Ok(report)
+}
+
+/// Writes `accuracy.json`, `accuracy.md`, the work–precision figure and `summary.json`.
+pub fn write(
+    report: &AccuracyReport,
+    dir: &RunDir,
+    progress: &Progress,
+) -> Result<(), PipelineError> {
+    let runs = &report.runs;
+    dir.write_json("accuracy.json", runs)?;
+    dir.write_bytes("accuracy.md", markdown(runs).as_bytes())?;
     let mut series: Vec<(String, Vec<(Real, Real)>)> = Vec::new();
     for r in runs.iter().filter(|r| r.role == "ladder") {
         let label = match r.max_order {
@@ -225,22 +261,8 @@ pub fn run(
             progress.info(format!("work–precision figure not written: {e}"));
         }
     }
-    let report = AccuracyReport {
-        verb: "accuracy",
-        version: crate::VERSION,
-        n_dofs: n,
-        n_gaps: model.gap_geometry.len(),
-        tfinal: spec.tfinal,
-        samples: acc.samples,
-        response_dof: dofs.get(col).copied().unwrap_or(0),
-        dofs,
-        reference_growth_rate: g_ref,
-        reference_frequency_hz: f_ref,
-        runs,
-        wall_s: wall.elapsed().as_secs_f64(),
-    };
-    dir.write_json("summary.json", &report)?;
-    Ok(report)
+    dir.write_json("summary.json", report)?;
+    Ok(())
 }
 
 /// The runs as a Markdown table.

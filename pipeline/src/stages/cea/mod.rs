@@ -418,7 +418,7 @@ pub fn compute(
             },
             ..spec.clone()
         };
-        let (_, rep) = sweep::run_sweep(&problem, gaps, &lin, &swept, sw, &values, band_hz)?;
+        let (_, rep) = sweep::run_sweep(&problem, &lin, &swept, sw, &values, band_hz)?;
         step.done(format!(
             "{} tracks, lowest critical mu {:?}",
             rep.tracks.len(),

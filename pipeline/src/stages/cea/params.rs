@@ -55,7 +55,7 @@ pub enum ParamKind {
 }
 
 /// Which [`ComponentProperty`] a reduced-matrix derivative is of.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ComponentProperty {
     /// θ = scale s of every Young's modulus of the component (E = s E₀).

@@ -6,7 +6,7 @@ use crate::problem::system::Problem;
 use crate::problem::tangents::{at_steady_state, cea_matrices, tangents, Linearisation};
 use crate::scene::{CeaSpec, CeaSweepSpec, SweepVary};
 use serde::{Deserialize, Serialize};
-use squeal_contact::{FrictionLaw, GapSet};
+use squeal_contact::FrictionLaw;
 use squeal_solver::cea::{sweep, CeaMatrices, CeaMethod, ModeEvent, Sweep, SweepStats};
 
 use squeal_solver::Real;
@@ -42,13 +42,14 @@ pub fn law_at(base: &FrictionLaw, vary: SweepVary, value: Real) -> FrictionLaw {
 /// factorised once for the sweep, else by the dense Newton), the tangents evaluated there.
 pub fn matrices_at(
     problem: &Problem,
-    gaps: &GapSet,
     base: &Linearisation,
     spec: &CeaSpec,
     sw: &CeaSweepSpec,
     value: Real,
     steady_cache: Option<&mut SweepSteady>,
 ) -> Result<CeaMatrices, PipelineError> {
+    // The operating point's law varied: the problem's gaps with the law at `value`.
+    let gaps = &problem.gaps;
     let law = law_at(&gaps.law, sw.vary, value);
     let g = gaps
         .clone()
@@ -195,7 +196,6 @@ pub fn event_frequency(e: &ModeEvent) -> Real {
 /// `lowest_critical_mu_in_band`).
 pub fn run_sweep(
     problem: &Problem,
-    gaps: &GapSet,
     base: &Linearisation,
     spec: &CeaSpec,
     sw: &CeaSweepSpec,
@@ -211,7 +211,7 @@ pub fn run_sweep(
     let mut cache = (sw.resolve_state && steady).then(|| SweepSteady::new(problem));
     let time_setup_s = t.elapsed().as_secs_f64();
     let s = sweep(
-        |mu| matrices_at(problem, gaps, base, spec, sw, mu, cache.as_mut()),
+        |mu| matrices_at(problem, base, spec, sw, mu, cache.as_mut()),
         values,
         &opts,
     )
@@ -304,7 +304,7 @@ pub fn run_sweep(
         .unzip();
     let report = SweepReport {
         vary: sw.vary,
-        base_law: gaps.law.clone(),
+        base_law: problem.gaps.law.clone(),
         mu: values.to_vec(),
         max_frequency_hz: spec.max_frequency_hz,
         lowest_critical_mu: couplings.first().map(|c| c.mu_critical),

@@ -3,7 +3,7 @@
 //! `--rereduce`) → a lean CEA (steady state, tangents, complex eigenvalues; no energy balance,
 //! no shapes) → the largest Re λ and the unstable roots' one-third-octave bands.
 
-use super::{value_text, Plan};
+use super::{value_text, ComponentInput, Plan};
 use crate::error::PipelineError;
 use crate::model::{self, ReducedModel};
 use crate::output::RunDir;
@@ -11,7 +11,9 @@ use crate::problem::{linear, system};
 use crate::progress::Progress;
 use crate::scene::values;
 use crate::scene::{CeaSpec, Scene};
+use crate::stages::cea::params::component_matrix_derivative;
 use crate::uq::{band_of, third_octave_bands, Band, Outcome};
+use faer::Mat;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -60,6 +62,56 @@ pub struct Evaluator {
     /// Where per-sample builds put their files (`--rereduce`).
     scratch: Option<PathBuf>,
     info: EvalInfo,
+    /// Per input varied on the reduced model (a component property): its key's index, the
+    /// value at scale 1, the derivative of K, M and the element damping.
+    derivatives: Vec<(usize, Real, Derivative)>,
+}
+
+/// ∂K, ∂M and ∂B_element of a component property on the reduced model.
+struct Derivative {
+    k: Option<Mat<Real>>,
+    m: Option<Mat<Real>>,
+    b: Option<Mat<Real>>,
+}
+
+impl Derivative {
+    /// The derivative of `c` on `model` (which still has its recovery data); errors name the
+    /// input's key.
+    fn of(
+        scene: &Scene,
+        model: &ReducedModel,
+        key: &str,
+        c: &ComponentInput,
+    ) -> Result<Self, PipelineError> {
+        let d =
+            component_matrix_derivative(scene, model, &c.component, c.property).map_err(|e| {
+                PipelineError::Option {
+                    option: format!("--dist {key}"),
+                    message: format!("the reduced-matrix derivative: {e}"),
+                }
+            })?;
+        // B's element part only: the overall G/W3 K and the modal part follow K and M when
+        // the problem's damping matrix is made.
+        let elem = model
+            .components
+            .iter()
+            .find(|x| x.name == c.component)
+            .map_or(0.0, |x| x.element_damping_factor);
+        let b = match (&d.k, elem != 0.0) {
+            (Some(k), true) => Some(Mat::from_fn(k.nrows(), k.ncols(), |i, j| elem * k[(i, j)])),
+            _ => None,
+        };
+        Ok(Derivative { k: d.k, m: d.m, b })
+    }
+}
+
+/// `a + f x`, in place.
+fn add_scaled(a: &mut Mat<Real>, f: Real, x: &Mat<Real>) {
+    for j in 0..a.ncols() {
+        for i in 0..a.nrows() {
+            a[(i, j)] += f * x[(i, j)];
+        }
+    }
 }
 
 /// The scene as every row starts from: a `[cea]` table (the defaults when it has none),
@@ -100,10 +152,22 @@ impl Evaluator {
         cache: Option<&model::ModelCache>,
     ) -> Result<Evaluator, PipelineError> {
         let base = base_scene(scene);
+        let mut derivatives = Vec::new();
         let (model, scratch, n_dofs, n_gaps) = if plan.rereduce {
             (None, Some(dir.path("rereduce")), 0, 0)
         } else {
-            let (mut m, _) = model::build_cached(&base, dir, progress, cache)?;
+            // The component inputs' derivatives need each component's blocks: a cache hit has
+            // none, so the model is built when there is one.
+            let needs_blocks = plan.inputs.iter().any(|i| i.component.is_some());
+            let mut m = match needs_blocks {
+                true => model::build(&base, dir, progress)?,
+                false => model::build_cached(&base, dir, progress, cache)?.0,
+            };
+            for (i, input) in plan.inputs.iter().enumerate() {
+                if let Some(c) = &input.component {
+                    derivatives.push((i, c.base, Derivative::of(&base, &m, &input.key, c)?));
+                }
+            }
             m.recovery.clear();
             let (n, g) = (m.n(), m.gap_geometry.len());
             (Some(m), None, n, g)
@@ -114,6 +178,7 @@ impl Evaluator {
             scratch,
             info: info_of(scene, plan, n_dofs, n_gaps),
             base,
+            derivatives,
         })
     }
 
@@ -156,14 +221,35 @@ impl Evaluator {
         values: &[Real],
         progress: &Progress,
     ) -> Result<(Outcome, Option<Real>, usize), PipelineError> {
+        // The scene's keys set on the scene; a component property on the reduced model.
+        let on_model = |i: usize| self.derivatives.iter().any(|d| d.0 == i);
         let assignments: Vec<(String, String)> = self
             .keys
             .iter()
             .zip(values)
-            .map(|(k, v)| (k.clone(), value_text(*v)))
+            .enumerate()
+            .filter(|(i, _)| !on_model(*i))
+            .map(|(_, (k, v))| (k.clone(), value_text(*v)))
             .collect();
         let scene = values::scene_for_all(&self.base, &assignments)?;
         match (&self.model, &self.scratch) {
+            (Some(m), _) if !self.derivatives.is_empty() => {
+                let mut m = m.clone();
+                for (i, base, d) in &self.derivatives {
+                    let delta = values[*i] / base - 1.0;
+                    if let Some(x) = &d.k {
+                        add_scaled(&mut m.k, delta, x);
+                    }
+                    if let Some(x) = &d.m {
+                        add_scaled(&mut m.m, delta, x);
+                    }
+                    if let Some(x) = &d.b {
+                        let b = m.b.get_or_insert_with(|| Mat::zeros(x.nrows(), x.ncols()));
+                        add_scaled(b, delta, x);
+                    }
+                }
+                self.cea(&scene, &m, progress)
+            }
             // The sample's operating point is the scene's: applied when its problem is made.
             (Some(m), _) => self.cea(&scene, m, progress),
             (None, Some(scratch)) => {

@@ -13,7 +13,11 @@
 //! contact `p0`, `rotor.rpm`, contact normal stiffness, damping are late values applied per
 //! sample to the one model). An input that changes the reduced model (a component's material
 //! or geometry) is refused, naming the key, unless `--rereduce` asks to rebuild the model for
-//! every sample (slow: a meshing, an assembly and a Craig–Bampton reduction per sample).
+//! every sample (slow: a meshing, an assembly and a Craig–Bampton reduction per sample). A
+//! component's Young's moduli or densities (`components.<name>.young_scale`, or
+//! `components.<i>.material.young` of a one-material component) are varied on the one model
+//! through the reduced-matrix derivative, the Craig–Bampton basis held fixed
+//! ([`ComponentInput`]).
 //!
 //! Compute ([`plan`], [`Evaluator::evaluate`], [`report::estimate`]) and write ([`write`]) are
 //! apart; the Python package evaluates chunks of rows on threads or Dask workers with the same
@@ -28,6 +32,7 @@ use crate::output::RunDir;
 use crate::progress::Progress;
 use crate::scene::values;
 use crate::scene::Scene;
+use crate::stages::cea::params::ComponentProperty;
 use crate::uq::{Copula, Design, Distribution};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -78,6 +83,83 @@ pub struct Input {
     pub mean: Real,
     /// False: the key changes the reduced model (rebuilt per sample, `--rereduce`).
     pub reuses_model: bool,
+    /// A component property varied through the reduced-matrix derivative (the
+    /// Craig–Bampton basis held fixed) instead of a re-reduction.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub component: Option<ComponentInput>,
+}
+
+/// A component's Young's moduli or densities, scaled on the reduced model: K(s) = K + (s − 1)
+/// ∂K/∂s with ∂K/∂s = T_cᵀ K_c T_c (`cea::params::component_matrix_derivative`; M and the
+/// element damping alike). Exact for the fixed basis; the basis's own change is left out
+/// (measured against re-reduction in docs/insight.md).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ComponentInput {
+    pub component: String,
+    pub property: ComponentProperty,
+    /// The key's value at scale 1 (1 for a `*_scale` key, E₀ or ρ₀ for a material key).
+    pub base: Real,
+}
+
+/// The component property a key names, if it is one a propensity study varies on the reduced
+/// model: `components.<name>.young_scale` / `density_scale` (every material of the component
+/// scaled), or `components.<i|name>.material.young` / `.density` of a component with that one
+/// isotropic material. None: another key. A component or material that does not fit is an
+/// error naming the key.
+pub fn component_input(scene: &Scene, key: &str) -> Result<Option<ComponentInput>, String> {
+    let parts: Vec<&str> = key.split('.').collect();
+    if parts.first() != Some(&"components") || parts.len() < 3 {
+        return Ok(None);
+    }
+    let find = |id: &str| {
+        id.parse::<usize>()
+            .ok()
+            .and_then(|i| scene.components.get(i))
+            .or_else(|| scene.components.iter().find(|c| c.name == id))
+            .ok_or_else(|| {
+                let names: Vec<&str> = scene.components.iter().map(|c| c.name.as_str()).collect();
+                format!("no component `{id}` (the scene has {names:?})")
+            })
+    };
+    let (c, property, base) = match parts[2..] {
+        ["young_scale"] => (find(parts[1])?, ComponentProperty::YoungScale, 1.0),
+        ["density_scale"] => (find(parts[1])?, ComponentProperty::DensityScale, 1.0),
+        ["material", prop @ ("young" | "density")] => {
+            let c = find(parts[1])?;
+            let single = |what: &str| {
+                format!(
+                    "component `{}` {what}: vary `components.{}.{prop}_scale` (every material \
+                     of it scaled on the reduced model) or pass --rereduce",
+                    c.name, c.name
+                )
+            };
+            if !c.materials.is_empty() {
+                let names: Vec<&String> = c.materials.keys().collect();
+                return Err(single(&format!(
+                    "has materials of its own volumes ({names:?})"
+                )));
+            }
+            let m = c
+                .material
+                .as_ref()
+                .ok_or_else(|| single("has no `material` table"))?;
+            match prop {
+                "young" => (
+                    c,
+                    ComponentProperty::YoungScale,
+                    m.young
+                        .ok_or_else(|| single("has an anisotropic material (no `young`)"))?,
+                ),
+                _ => (c, ComponentProperty::DensityScale, m.density),
+            }
+        }
+        _ => return Ok(None),
+    };
+    Ok(Some(ComponentInput {
+        component: c.name.clone(),
+        property,
+        base,
+    }))
 }
 
 /// The study before any evaluation: inputs, correlation and design (JSON: what the Python
@@ -185,6 +267,34 @@ pub fn plan(scene: &Scene, args: &PropensityArgs) -> Result<Plan, PipelineError>
             ));
         }
         let d = Distribution::parse(key, text)?;
+        let component = if args.rereduce && !key.ends_with("_scale") {
+            None
+        } else {
+            component_input(scene, key).map_err(|m| dist_err(key, text, m))?
+        };
+        if let Some(c) = &component {
+            if !(d.quantile(0.001) / c.base > 0.0) {
+                return Err(dist_err(
+                    key,
+                    text,
+                    format!(
+                        "a scale of component `{}` must stay positive (its 0.1 % quantile is \
+                         {})",
+                        c.component,
+                        d.quantile(0.001)
+                    ),
+                ));
+            }
+            inputs.push(Input {
+                key: key.clone(),
+                text: text.clone(),
+                mean: d.mean(),
+                distribution: d,
+                reuses_model: true,
+                component,
+            });
+            continue;
+        }
         let mut reuses = true;
         for u in [0.25, 0.5, 0.75] {
             let v = value_text(d.quantile(u));
@@ -207,7 +317,8 @@ pub fn plan(scene: &Scene, args: &PropensityArgs) -> Result<Plan, PipelineError>
                     "`{key}` changes the reduced model (what meshing, FE and the Craig-Bampton \
                      reduction see), which a propensity study builds once: vary a value applied \
                      to the reduced model (friction.law.*, loads.pmax, contact.N.p0, rotor.rpm, \
-                     contact.N.normal_stiffness, damping.*), or pass --rereduce to rebuild the \
+                     contact.N.normal_stiffness, damping.*, components.<name>.young_scale or \
+                     density_scale on the reduced model), or pass --rereduce to rebuild the \
                      model for every sample (slow: one reduction per sample)"
                 ),
             ));
@@ -218,7 +329,20 @@ pub fn plan(scene: &Scene, args: &PropensityArgs) -> Result<Plan, PipelineError>
             mean: d.mean(),
             distribution: d,
             reuses_model: reuses,
+            component: None,
         });
+    }
+    if let (Some(c), true) = (
+        inputs.iter().find(|i| i.component.is_some()),
+        inputs.iter().any(|i| !i.reuses_model),
+    ) {
+        return Err(dist_err(
+            &c.key,
+            &c.text,
+            "varies the one reduced model, which an input that changes the model (rebuilt per \
+             sample, --rereduce) replaces: give the component's `material` key instead"
+                .into(),
+        ));
     }
     let d = inputs.len();
     let correlation = if args.corr.is_empty() {

@@ -1,18 +1,19 @@
 //! `squeal transient`: the BSQL nonlinear transient of the reduced brake model.
 //!
-//! reduced model → BSQL system (M, B, K, G, P(t), gap friction) ([`system`]) → steady sliding
-//! state before the brake load (TOLINT) and consistent y'(0) ([`start`]), or a restart file's
-//! state ([`resume`]) → BDF or generalized-α ([`stepper`]) to TFINAL through the one
-//! [`driver`], whose sinks record what the run keeps → the squeal verdict on what they
-//! recorded ([`verdict`], pure).
+//! reduced model → the problem at the scene's operating point (M, B, K, G, P(t), the gaps;
+//! [`crate::problem`]) → steady sliding state before the brake load (TOLINT) and consistent
+//! y'(0) (`problem::start`), or a restart file's state ([`resume`]) → BDF or generalized-α
+//! ([`stepper`]) to TFINAL through the one [`driver`], whose sinks record what the run keeps →
+//! the squeal verdict on what they recorded ([`verdict`], pure), with the roots of the
+//! linearised problem as its CEA input (`problem::linear::verdict_roots`).
 //!
-//! The folder is layered, each layer importing only those below it (checked by
-//! `pipeline/tests/layers.rs`):
+//! The folder is layered, each layer importing only those below it and the problem layer
+//! (checked by `pipeline/tests/layers.rs`):
 //!
-//! 1. [`sink`]: the `Sink` trait, its views and the checkpoint each sink saves its part into;
-//!    [`system`]: the problem; [`verdict`]: the analysis, pure (no sink, scene or file);
-//! 2. [`options`], [`restart`] (the restart file and its writer), [`stepper`], [`driver`],
-//!    [`start`];
+//! 1. [`sink`]: the `Sink` trait, its views (the checkpoint each sink saves its part into is
+//!    `problem::restart`'s); [`verdict`]: the analysis, pure (no sink, scene or file);
+//! 2. [`restart`] (the restart file's writer), [`stepper`], [`driver`], [`start`] (the run's
+//!    origin as a checkpoint part);
 //! 3. [`collect`]: data-only sinks (response, contact validity, face velocity, steps by
 //!    order); [`files`]: the history, energy and response writers;
 //! 4. [`prepare`], [`resume`], [`run`] (start → drive → decide → result), [`result`],

@@ -4,43 +4,9 @@
 use super::resume::Resume;
 use crate::error::PipelineError;
 use crate::model;
+pub use crate::problem::options::{step_bound, StepBound};
 use crate::problem::system::{self, Problem};
 use crate::scene::{Integrator, Scene, TransientSpec};
-use serde::Serialize;
-use squeal_solver::Real;
-
-/// The step bound a run used.
-#[derive(Debug, Clone, Serialize)]
-pub struct StepBound {
-    /// The bound applied (None: unbounded).
-    pub h_max: Option<Real>,
-    /// The scene's own `h_max`.
-    pub scene_h_max: Option<Real>,
-    /// The model's band and the band bound 1/(N·f_band) (None: no band or bound off).
-    pub band_hz: Option<Real>,
-    pub band_h_max: Option<Real>,
-    /// N, steps per period at the top of the band.
-    pub band_samples_per_period: Real,
-}
-
-/// The step bound of `spec` on a model of band `band_hz`: the smaller of the scene's `h_max`
-/// and 1/(N·f_band) (unless `band_step_bound = false`).
-pub fn step_bound(spec: &TransientSpec, band_hz: Option<Real>) -> StepBound {
-    let band_h_max = band_hz
-        .filter(|_| spec.band_step_bound)
-        .map(|f| 1.0 / (spec.band_samples_per_period * f));
-    let h_max = match (spec.h_max, band_h_max) {
-        (Some(a), Some(b)) => Some(a.min(b)),
-        (a, b) => a.or(b),
-    };
-    StepBound {
-        h_max,
-        scene_h_max: spec.h_max,
-        band_hz,
-        band_h_max,
-        band_samples_per_period: spec.band_samples_per_period,
-    }
-}
 
 /// A transient of `scene` on a reduced model, ready to run.
 pub struct Prepared<'a> {
