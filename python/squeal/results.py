@@ -565,12 +565,27 @@ class LimitCycleReport(TypedDict):
 # ---- propensity (`squeal propensity`'s propensity.json, stages::propensity)
 
 
-class PropensityInput(TypedDict):
+class ComponentInput(TypedDict):
+    """A component property varied on the one reduced model (``propensity::ComponentInput``)."""
+
+    component: str
+    property: str
+    """``young_scale``, ``density_scale`` or ``loss_factor``."""
+    base: float
+
+
+class _PropensityInputBase(TypedDict):
     key: str
     text: str
     distribution: Dict[str, Any]
     mean: float
     reuses_model: bool
+
+
+class PropensityInput(_PropensityInputBase, total=False):
+    """An uncertain input (``propensity::Input``; ``component`` for a component property)."""
+
+    component: ComponentInput
 
 
 class FrequencyBand(TypedDict):

@@ -140,6 +140,11 @@ def test_propensity_report_and_the_plan_as_dicts(tmp_path):
     assert {"PropensityInput", "PropensityModel", "Probability", "BandProbability",
             "MaxRealPart", "SobolIndices", "PropensityStats"} <= seen, seen
     assert hint(squeal.PropensityResult, "report") is R.PropensityReport
+    # A component property (the optional `component` key of an input) on the tiny brake.
+    tiny = squeal.Scene.from_file(TINY).set("cea", {})
+    c = squeal.propensity(tiny, {"components.pad.young_scale": "uniform(0.9, 1.1)"}, 16,
+                          out=tmp_path / "component")
+    assert "ComponentInput" in check(c.report, R.PropensityReport)
     # The report is propensity.json as json.load reads it (the timings are set before the
     # file is written).
     assert r.report == json.loads((tmp_path / "propensity.json").read_text())
