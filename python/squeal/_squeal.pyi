@@ -1,9 +1,24 @@
 """Type stubs of the extension module ``squeal._squeal`` (built from ``python/src``)."""
 
 import os
-from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, TypedDict, Union
 
 import numpy as np
+
+from .results import (
+    CacheUse,
+    CeaReport,
+    CeaSweep,
+    CompareReport,
+    HistoryColumn,
+    LimitCycleReport,
+    ModesReport,
+    PropensityEvaluated,
+    PropensityReport,
+    SweepPoint,
+    TransientSummary,
+    Verdict,
+)
 
 __version__: str
 
@@ -74,23 +89,77 @@ class Scene:
     def components(self) -> List[str]: ...
     def __eq__(self, other: object) -> bool: ...
 
+class ModesOut(TypedDict):
+    frequencies_hz: np.ndarray
+    shapes: np.ndarray
+    nodes: np.ndarray
+    node_tags: np.ndarray
+    cells: List[Tuple[str, np.ndarray]]
+    report: ModesReport
+
+class ReduceOut(TypedDict):
+    K: np.ndarray
+    M: np.ndarray
+    B: Optional[np.ndarray]
+    p_brake: np.ndarray
+    dofs: List[Dict[str, Any]]
+    gaps: List[Dict[str, Any]]
+    gap_pairs: List[int]
+    friction_law: Dict[str, Any]
+    components: List[Dict[str, Any]]
+    warnings: List[str]
+    cache: Optional[CacheUse]
+
+class TransientOut(TypedDict):
+    time: np.ndarray
+    columns: List[str]
+    column_info: List[HistoryColumn]
+    history: np.ndarray
+    energy: np.ndarray
+    energy_columns: List[str]
+    summary: TransientSummary
+    verdict: Verdict
+    success: bool
+    warnings: List[str]
+    cache: Optional[CacheUse]
+
+class CeaOut(TypedDict):
+    eigenvalues: np.ndarray
+    frequencies_hz: np.ndarray
+    damping_ratios: np.ndarray
+    unstable: np.ndarray
+    shapes: np.ndarray
+    dofs: List[Dict[str, Any]]
+    report: CeaReport
+    sweep: Optional[CeaSweep]
+    warnings: List[str]
+    cache: Optional[CacheUse]
+
+class LimitCycleOut(TypedDict):
+    frequencies_hz: np.ndarray
+    peak_normal_velocity: np.ndarray
+    rms_normal_velocity: np.ndarray
+    reached: np.ndarray
+    report: LimitCycleReport
+    warnings: List[str]
+
 def scene_from_state(text: str, base_dir: _Path, arrays: Optional[Dict[str, Any]]) -> Scene: ...
-def modes(scene: Scene, workdir: _Path, component: Optional[str] = None, progress: _Progress = None) -> Dict[str, Any]: ...
-def reduce(scene: Scene, workdir: _Path, cache: Optional[_Path] = None, progress: _Progress = None) -> Dict[str, Any]: ...
-def transient(scene: Scene, workdir: _Path, cache: Optional[_Path] = None, progress: _Progress = None) -> Dict[str, Any]: ...
+def modes(scene: Scene, workdir: _Path, component: Optional[str] = None, progress: _Progress = None) -> ModesOut: ...
+def reduce(scene: Scene, workdir: _Path, cache: Optional[_Path] = None, progress: _Progress = None) -> ReduceOut: ...
+def transient(scene: Scene, workdir: _Path, cache: Optional[_Path] = None, progress: _Progress = None) -> TransientOut: ...
 def cea(
     scene: Scene,
     workdir: _Path,
     mu: Optional[Tuple[float, float, int]] = None,
     cache: Optional[_Path] = None,
     progress: _Progress = None,
-) -> Dict[str, Any]: ...
+) -> CeaOut: ...
 def limit_cycle(
     scene: Scene,
     workdir: _Path,
     cache: Optional[_Path] = None,
     progress: _Progress = None,
-) -> Dict[str, Any]: ...
+) -> LimitCycleOut: ...
 def compare(
     a: str,
     b: str,
@@ -106,7 +175,7 @@ def compare(
     cea: bool = True,
     cache: Optional[_Path] = None,
     progress: _Progress = None,
-) -> Dict[str, Any]: ...
+) -> CompareReport: ...
 def sweep_value(
     scene: Scene,
     assignments: Sequence[Tuple[str, _Value]],
@@ -117,7 +186,7 @@ def sweep_value(
     run_dir: _Path,
     progress: _Progress = None,
     cancel: Optional[Callable[[], bool]] = None,
-) -> str: ...
+) -> SweepPoint: ...
 def model_key(scene: Scene) -> Optional[str]: ...
 def propensity_plan(
     scene: Scene,
@@ -127,20 +196,21 @@ def propensity_plan(
     replicates: Optional[int] = None,
     seed: int = 1,
     rereduce: bool = False,
-) -> str: ...
+) -> Dict[str, Any]:
+    """The plan (``propensity::Plan``: inputs, correlation, design); a dict that pickles."""
 def propensity_evaluate(
     scene: Scene,
-    plan: str,
+    plan: Dict[str, Any],
     rows: Sequence[int],
     workdir: _Path,
     cache_dir: Optional[_Path] = None,
     progress: _Progress = None,
     cancel: Optional[Callable[[], bool]] = None,
-) -> str: ...
+) -> PropensityEvaluated: ...
 def propensity_finish(
     scene: Scene,
-    plan: str,
-    samples: str,
+    plan: Dict[str, Any],
+    samples: Sequence[Dict[str, Any]],
     out: _Path,
     n_dofs: int = 0,
     n_gaps: int = 0,
@@ -148,4 +218,4 @@ def propensity_finish(
     evaluate_s: float = 0.0,
     wall_s: float = 0.0,
     threads: int = 1,
-) -> str: ...
+) -> PropensityReport: ...

@@ -12,6 +12,17 @@ import numpy as np
 
 from . import _args, _squeal
 from ._squeal import Scene
+from .results import (
+    CacheUse,
+    CeaReport,
+    CeaSweep,
+    CompareReport,
+    HistoryColumn,
+    LimitCycleReport,
+    ModesReport,
+    TransientSummary,
+    Verdict,
+)
 
 ProgressCallback = Callable[[Dict[str, Any]], None]
 PathLike = Union[str, "os.PathLike[str]"]
@@ -55,7 +66,7 @@ class ModesResult:
     """gmsh node tags (n_nodes)."""
     cells: List[Tuple[str, np.ndarray]]
     """Volume cells as meshio takes them: (meshio cell type, connectivity into ``nodes``)."""
-    report: Dict[str, Any]
+    report: ModesReport
     """``modes.json``'s content (statistics of the assembly and the Lanczos solver)."""
 
     def to_meshio(self) -> Any:
@@ -91,7 +102,7 @@ class ReducedModel:
     friction_law: Any
     components: List[Dict[str, Any]]
     warnings: List[str]
-    cache: Optional[Dict[str, Any]]
+    cache: Optional[CacheUse]
     """Cache use (``hit``, ``key``, ``note``) when a cache was given."""
 
     def to_scene(self, toml: Union[str, Dict[str, Any], None] = None, base_dir: PathLike = ".") -> Scene:
@@ -110,20 +121,20 @@ class TransientResult:
     """Times of the recorded rows, s."""
     columns: List[str]
     """Names of the history's columns (``history_map.json``; column 0 is ``t``)."""
-    column_info: List[Dict[str, Any]]
+    column_info: List[HistoryColumn]
     """What each column is (kind, grid, component, gap, DOF)."""
     history: np.ndarray
     """The recorded rows (every NOUTPT-th step), as ``history.npy``."""
     energy: np.ndarray
     energy_columns: List[str]
-    summary: Dict[str, Any]
+    summary: TransientSummary
     """``summary.json``'s body: status, steps, CPU, squeal, growth rate, statistics, …"""
-    verdict: Dict[str, Any]
+    verdict: Verdict
     """The squeal verdict (state, growth rate, dominant frequency, reasons)."""
     success: bool
     """The integration reached TFINAL (else ``summary["status"]`` says why it stopped)."""
     warnings: List[str]
-    cache: Optional[Dict[str, Any]]
+    cache: Optional[CacheUse]
 
     def column(self, name: str) -> np.ndarray:
         """One column of the history by name."""
@@ -151,12 +162,12 @@ class CeaResult:
     shapes: np.ndarray
     """Complex mode shapes on the reduced DOFs (n × n_modes)."""
     dofs: List[Dict[str, Any]]
-    report: Dict[str, Any]
+    report: CeaReport
     """``cea.json``'s content (state, contact, modes, roots outside the band, statistics)."""
-    sweep: Optional[Dict[str, Any]]
+    sweep: Optional[CeaSweep]
     """``cea.sweep.json``'s content with a friction sweep."""
     warnings: List[str]
-    cache: Optional[Dict[str, Any]]
+    cache: Optional[CacheUse]
 
     @property
     def real_parts(self) -> np.ndarray:
@@ -282,7 +293,7 @@ class LimitCycleResult:
     """Its RMS over the gaps and the period."""
     reached: np.ndarray
     """Boolean per mode: the branch reached the operating point with its harmonics converged."""
-    report: Dict[str, Any]
+    report: LimitCycleReport
     """``limit_cycle.json``'s content (``band_model``: kept/removed roots and the error
     estimate; ``modes``: root, Hopf point, branch, harmonics, Floquet stability)."""
     warnings: List[str]
@@ -319,7 +330,7 @@ class CompareResult:
 
     passed: bool
     """Every check within its tolerance (a tolerance left ``None`` is reported, not checked)."""
-    report: Dict[str, Any]
+    report: CompareReport
     """``compare.json``'s content: ``matrices`` (‖A−B‖_F/‖A‖_F per matrix), ``modes`` (MAC
     pairing, Δf/f), ``roots`` (CEA roots paired, Δf, ΔRe p), ``summaries`` (run folders),
     ``checks``."""

@@ -4,7 +4,6 @@ sample chunks on local threads or a Dask distributed cluster."""
 
 from __future__ import annotations
 
-import json
 import os
 import tempfile
 import time
@@ -14,6 +13,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from . import _args, _squeal
 from ._squeal import Scene
+from .results import PropensityEvaluated, PropensityReport, SobolIndices
 
 
 @dataclass
@@ -27,7 +27,7 @@ class PropensityResult:
     ``n_unstable``, ``error``; ``out`` the folder holding ``propensity.json`` and
     ``samples.csv``."""
 
-    report: Dict[str, Any]
+    report: PropensityReport
     samples: Any
     out: str
     keys: List[str] = field(default_factory=list)
@@ -55,7 +55,11 @@ class PropensityResult:
         (``S1, S1_lo, S1_hi, ST, ST_lo, ST_hi``); None when the study has none."""
         import pandas as pd
 
-        s = self.report.get(f"sobol_{output}")
+        by_output: Dict[str, Optional[SobolIndices]] = {
+            "max_real_part": self.report["sobol_max_real_part"],
+            "unstable": self.report["sobol_unstable"],
+        }
+        s = by_output.get(output)
         if s is None:
             return None
         return pd.DataFrame(
@@ -114,15 +118,16 @@ class PropensityResult:
         return fig
 
 
-def _evaluate(scene: Scene, plan: str, rows: List[int], workdir: str, cache: Optional[str],
-              cancel_event: Optional[str] = None) -> Dict[str, Any]:
-    """One chunk of design rows (a task on a thread or a Dask worker)."""
+def _evaluate(scene: Scene, plan: Dict[str, Any], rows: List[int], workdir: str, cache: Optional[str],
+              cancel_event: Optional[str] = None) -> PropensityEvaluated:
+    """One chunk of design rows (a task on a thread or a Dask worker; ``plan`` is the dict
+    ``propensity_plan`` returns, pickled to the worker)."""
     cancel = None
     if cancel_event is not None:
         from distributed import Event
 
         cancel = Event(cancel_event).is_set
-    return json.loads(_squeal.propensity_evaluate(scene, plan, rows, workdir, cache, cancel=cancel))
+    return _squeal.propensity_evaluate(scene, plan, rows, workdir, cache, cancel=cancel)
 
 
 def _dist_list(f: str, distributions: Any) -> List[Tuple[str, str]]:
@@ -204,7 +209,7 @@ def propensity(
 
     t0 = time.perf_counter()
     plan = _squeal.propensity_plan(scene, items, corr, n, replicates, seed, rereduce)
-    rows_total = len(json.loads(plan)["design"]["rows"])
+    rows_total = len(plan["design"]["rows"])
     out = os.path.abspath(os.fspath(out) if out is not None else tempfile.mkdtemp(prefix="squeal-propensity-"))
     cache = os.path.abspath(os.fspath(cache) if cache is not None else os.path.join(out, ".squeal-cache"))
     os.makedirs(out, exist_ok=True)
@@ -216,7 +221,7 @@ def propensity(
             ev.update(kw)
             progress(ev)
 
-    results: List[Dict[str, Any]] = []
+    results: List[PropensityEvaluated] = []
     emit("begin", label=f"propensity ({rows_total} CEAs)", bar=True)
     if client is not None:
         from distributed import Event, wait
@@ -244,18 +249,17 @@ def propensity(
         nthreads = sum(client.nthreads().values())
     else:
         # One task: the library spreads the rows over this process's threads (rayon).
-        results.append(json.loads(_squeal.propensity_evaluate(scene, plan, list(range(rows_total)), work, cache)))
+        results.append(_squeal.propensity_evaluate(scene, plan, list(range(rows_total)), work, cache))
         nthreads = os.cpu_count() or 1
     emit("end", message=f"{rows_total} CEAs")
     samples = [s for r in results for s in r["samples"]]
     build_s = max((r["build_s"] for r in results), default=0.0)
     evaluate_s = time.perf_counter() - t0 - build_s
-    first = results[0] if results else {}
-    text = _squeal.propensity_finish(
-        scene, plan, json.dumps(samples), out, first.get("n_dofs", 0), first.get("n_gaps", 0),
+    n_dofs, n_gaps = (results[0]["n_dofs"], results[0]["n_gaps"]) if results else (0, 0)
+    report = _squeal.propensity_finish(
+        scene, plan, samples, out, n_dofs, n_gaps,
         build_s, evaluate_s, time.perf_counter() - t0, nthreads,
     )
-    report = json.loads(text)
     keys = [i["key"] for i in report["inputs"]]
     df = pd.read_csv(os.path.join(out, "samples.csv"), keep_default_na=True)
     df["unstable"] = df["unstable"].map({True: True, False: False, "true": True, "false": False})

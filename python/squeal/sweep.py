@@ -4,7 +4,6 @@ worker sees."""
 
 from __future__ import annotations
 
-import json
 import os
 import re
 import tempfile
@@ -16,6 +15,7 @@ from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Tupl
 
 from . import _args, _squeal
 from ._squeal import Scene, SquealError
+from .results import SweepPoint
 
 Value = Union[bool, int, float, str]
 
@@ -31,7 +31,7 @@ def _value_dir(index: int, label: str) -> str:
     return f"{index:02d}_{clean}"
 
 
-def _failed_point(index: int, label: str, run_dir: str, error: str) -> Dict[str, Any]:
+def _failed_point(index: int, label: str, run_dir: str, error: str) -> SweepPoint:
     return {
         "index": index, "value": label, "label": label, "run_dir": run_dir,
         "cache_hit": None, "cache_key": None, "build_s": 0.0, "analysis_s": 0.0,
@@ -50,7 +50,7 @@ def _run_point(
     after: Any = None,
     cancel: Optional[Callable[[], bool]] = None,
     cancel_event: Optional[str] = None,
-) -> Dict[str, Any]:
+) -> SweepPoint:
     """One value (a task on a thread or a Dask worker): never raises for a failed value.
 
     ``cancel()`` (threads) or the ``distributed.Event`` named ``cancel_event`` (Dask) stops it:
@@ -63,10 +63,9 @@ def _run_point(
     if cancel is not None and cancel():
         return _failed_point(index, label, run_dir, "cancelled before it started")
     try:
-        text = _squeal.sweep_value(
+        return _squeal.sweep_value(
             scene, assignments, label, index, analysis, cache, run_dir, cancel=cancel,
         )
-        return json.loads(text)
     except SquealError as e:
         return _failed_point(index, label, run_dir, str(e))
 
@@ -167,7 +166,7 @@ def sweep(
             progress(ev)
 
     emit("begin", label=f"sweep ({len(tasks)} values)", bar=True)
-    points: Dict[int, Dict[str, Any]] = {}
+    points: Dict[int, SweepPoint] = {}
     if client is not None:
         from distributed import Event, wait
 
@@ -208,7 +207,7 @@ def sweep(
             futs = {}
             order = sorted(tasks, key=lambda t: t[3] is None or first.get(t[3]) != t[0])
 
-            def after_first(i: int, *args: Any) -> Dict[str, Any]:
+            def after_first(i: int, *args: Any) -> SweepPoint:
                 mkey = tasks[i][3]
                 if mkey is not None and first[mkey] != i:
                     futs[first[mkey]].exception()  # wait for the model's first value

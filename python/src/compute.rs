@@ -4,7 +4,7 @@
 use crate::arrays::{dofmap_to_py, gaps_to_py, mat_to_py};
 use crate::progress::Hook;
 use crate::scene::PyScene;
-use crate::values::{json_to_py, value_text};
+use crate::values::{to_py, value_text};
 use num_complex::Complex64;
 use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::IntoPyArray;
@@ -140,7 +140,7 @@ pub fn modes<'py>(
         cells.append((name, conn.into_pyarray(py)))?;
     }
     d.set_item("cells", cells)?;
-    d.set_item("report", json_to_py(py, &m.report)?)?;
+    d.set_item("report", to_py(py, &m.report)?)?;
     Ok(d)
 }
 
@@ -169,8 +169,8 @@ pub fn reduce<'py>(
     d.set_item("dofs", dofmap_to_py(py, &m.dofs)?)?;
     d.set_item("gaps", gaps_to_py(py, &gaps.gaps)?)?;
     d.set_item("gap_pairs", m.gap_pairs.clone())?;
-    d.set_item("friction_law", json_to_py(py, &gaps.law)?)?;
-    d.set_item("components", json_to_py(py, &m.components)?)?;
+    d.set_item("friction_law", to_py(py, &gaps.law)?)?;
+    d.set_item("components", to_py(py, &m.components)?)?;
     d.set_item("warnings", warn_list(&m.warnings))?;
     d.set_item("cache", cache_use(py, &u)?)?;
     Ok(d)
@@ -214,7 +214,7 @@ pub fn transient<'py>(
     )?;
     d.set_item(
         "column_info",
-        json_to_py(py, &h.map_or(Vec::new(), |h| h.columns.clone()))?,
+        to_py(py, &h.map_or(Vec::new(), |h| h.columns.clone()))?,
     )?;
     d.set_item("history", hist.into_pyarray(py))?;
     let energy = h.map_or(Vec::new(), |h| h.energy.clone());
@@ -229,8 +229,8 @@ pub fn transient<'py>(
             .map(|s| s.trim().to_string())
             .collect::<Vec<_>>(),
     )?;
-    d.set_item("summary", json_to_py(py, &r)?)?;
-    d.set_item("verdict", json_to_py(py, &r.verdict)?)?;
+    d.set_item("summary", to_py(py, &r)?)?;
+    d.set_item("verdict", to_py(py, &r.verdict)?)?;
     d.set_item("success", r.status.is_success())?;
     d.set_item("warnings", warn_list(&r.warnings))?;
     d.set_item("cache", cache_use(py, &u)?)?;
@@ -297,11 +297,11 @@ pub fn cea<'py>(
         .into_pyarray(py),
     )?;
     d.set_item("dofs", dofmap_to_py(py, &m.dofs)?)?;
-    d.set_item("report", json_to_py(py, &c.out)?)?;
+    d.set_item("report", to_py(py, &c.out)?)?;
     d.set_item(
         "sweep",
         match &c.sweep {
-            Some(sw) => json_to_py(py, sw)?,
+            Some(sw) => to_py(py, sw)?,
             None => py.None().into_bound(py),
         },
     )?;
@@ -312,14 +312,14 @@ pub fn cea<'py>(
 
 /// One value of a design sweep: the scene with `assignments` ((key, value) pairs) set, the
 /// model through the cache in `cache_dir`, the analyses with their files in `run_dir`; returns
-/// the point (a `sweep.json` entry) as JSON text. A failure is recorded in the point.
+/// the point (a `sweep.json` entry) as a dict. A failure is recorded in the point.
 /// `cancel`: a callable polled every 100 ms; true stops the value (`Cancelled` is raised).
 #[pyfunction]
 #[pyo3(signature = (scene, assignments, label, index, analysis, cache_dir, run_dir, progress=None, cancel=None))]
-pub fn sweep_value(
-    py: Python<'_>,
+pub fn sweep_value<'py>(
+    py: Python<'py>,
     scene: &PyScene,
-    assignments: Vec<(String, Bound<'_, PyAny>)>,
+    assignments: Vec<(String, Bound<'py, PyAny>)>,
     label: String,
     index: usize,
     analysis: &str,
@@ -327,7 +327,7 @@ pub fn sweep_value(
     run_dir: PathBuf,
     progress: Option<Py<PyAny>>,
     cancel: Option<Py<PyAny>>,
-) -> PyResult<String> {
+) -> PyResult<Bound<'py, PyAny>> {
     let analysis = sweep::Analysis::parse(analysis).map_err(|e| crate::errors::to_py(&e))?;
     let mut texts = Vec::new();
     for (k, v) in &assignments {
@@ -338,7 +338,7 @@ pub fn sweep_value(
         crate::args::callable("squeal.sweep_value", "cancel", cancel, py)?,
     );
     let base = &scene.inner;
-    run(py, &hook, |h| {
+    let p = run(py, &hook, |h| {
         let mut s = sweep::values::scene_for_all(base, &texts)?;
         if analysis != sweep::Analysis::Transient && s.cea.is_none() {
             s.cea = Some(Default::default());
@@ -355,15 +355,12 @@ pub fn sweep_value(
                     .collect(),
             );
         }
-        let failed = p.failed();
-        let mut v = serde_json::to_value(&p).map_err(|e| PipelineError::Output {
-            path: run_dir.clone(),
-            message: e.to_string(),
-        })?;
-        // SweepPoint::failed: an error, or a transient stopped before TFINAL.
-        v["failed"] = serde_json::Value::Bool(failed);
-        Ok(v.to_string())
-    })
+        Ok(p)
+    })?;
+    let d = to_py(py, &p)?;
+    // SweepPoint::failed: an error, or a transient stopped before TFINAL.
+    d.set_item("failed", p.failed())?;
+    Ok(d)
 }
 
 /// The reduced-model cache key of a meshed scene (32 hex digits), None for stored models.
@@ -420,7 +417,7 @@ pub fn compare<'py>(
         cmp::write(&r, &dir)?;
         Ok(r)
     })?;
-    json_to_py(py, &report)
+    to_py(py, &report)
 }
 
 /// The limit cycles of the band-limited model (`squeal limit-cycle`): `report` is
@@ -457,7 +454,7 @@ pub fn limit_cycle<'py>(
         "reached",
         Array1::from_iter(c.modes.iter().map(|x| x.reached)).into_pyarray(py),
     )?;
-    d.set_item("report", json_to_py(py, &c)?)?;
+    d.set_item("report", to_py(py, &c)?)?;
     d.set_item("warnings", warn_list(&m.warnings))?;
     Ok(d)
 }

@@ -5,28 +5,41 @@
 use crate::compute::run;
 use crate::progress::Hook;
 use crate::scene::PyScene;
+use crate::values::{from_py, to_py};
 use pyo3::prelude::*;
+use serde::Serialize;
 use squeal_pipeline::stages::model::ModelCache;
 use squeal_pipeline::stages::propensity::{self as prop, Evaluator, Plan, PropensityArgs, Sample};
 use squeal_pipeline::{PipelineError, RunDir};
 use std::path::PathBuf;
 
-fn json_err(what: &str, e: serde_json::Error) -> PipelineError {
-    PipelineError::Option {
-        option: what.into(),
-        message: format!("not a propensity {what} (JSON): {e}"),
-    }
+/// `obj` (a dict or list as [`propensity_plan`] / [`propensity_evaluate`] return them) as the
+/// study's `what` (`plan`, `samples`); a `SceneError` naming `what` otherwise.
+fn typed<T: serde::de::DeserializeOwned>(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<T> {
+    from_py(obj).map_err(|e| {
+        crate::errors::to_py(&PipelineError::Option {
+            option: what.into(),
+            message: format!("not a propensity {what}: {e}"),
+        })
+    })
 }
 
-fn to_json<T: serde::Serialize>(v: &T) -> Result<String, PipelineError> {
-    serde_json::to_string(v).map_err(|e| json_err("result", e))
+/// What [`propensity_evaluate`] returns for its rows.
+#[derive(Serialize)]
+struct Evaluated {
+    samples: Vec<Sample>,
+    build_s: f64,
+    n_dofs: usize,
+    n_gaps: usize,
+    evaluate_s: f64,
 }
 
-/// The plan of a study as JSON: `dists` ((key, distribution text) pairs), `corr` ((key a,
+/// The plan of a study (a dict: inputs, correlation, design): `dists` ((key, distribution text) pairs), `corr` ((key a,
 /// key b, ρ) triples), the evaluation budget, replicates (None: automatic), seed, rereduce.
 #[pyfunction]
 #[pyo3(signature = (scene, dists, corr, samples, replicates=None, seed=1, rereduce=false))]
-pub fn propensity_plan(
+pub fn propensity_plan<'py>(
+    py: Python<'py>,
     scene: &PyScene,
     dists: Vec<(String, String)>,
     corr: Vec<(String, String, f64)>,
@@ -34,7 +47,7 @@ pub fn propensity_plan(
     replicates: Option<usize>,
     seed: u32,
     rereduce: bool,
-) -> PyResult<String> {
+) -> PyResult<Bound<'py, PyAny>> {
     let args = PropensityArgs {
         dists,
         corr,
@@ -44,35 +57,34 @@ pub fn propensity_plan(
         rereduce,
         ..Default::default()
     };
-    prop::plan(&scene.inner, &args)
-        .and_then(|p| to_json(&p))
-        .map_err(|e| crate::errors::to_py(&e))
+    let plan = prop::plan(&scene.inner, &args).map_err(|e| crate::errors::to_py(&e))?;
+    to_py(py, &plan)
 }
 
-/// Evaluates the design rows `rows` of `plan` (JSON) on this process's threads: the model
-/// through the cache in `cache_dir` (built by the first task, read by the others), scratch
-/// files in `workdir`. Returns the samples as JSON; a failed row is recorded in its sample.
+/// Evaluates the design rows `rows` of `plan` (as [`propensity_plan`] returns it) on this
+/// process's threads: the model through the cache in `cache_dir` (built by the first task,
+/// read by the others), scratch files in `workdir`. Returns a dict: `samples` (one dict per
+/// row; a failed row is recorded in its sample), `build_s`, `n_dofs`, `n_gaps`, `evaluate_s`.
 #[pyfunction]
 #[pyo3(signature = (scene, plan, rows, workdir, cache_dir=None, progress=None, cancel=None))]
 #[allow(clippy::too_many_arguments)]
-pub fn propensity_evaluate(
-    py: Python<'_>,
+pub fn propensity_evaluate<'py>(
+    py: Python<'py>,
     scene: &PyScene,
-    plan: &str,
+    plan: &Bound<'py, PyAny>,
     rows: Vec<usize>,
     workdir: PathBuf,
     cache_dir: Option<PathBuf>,
     progress: Option<Py<PyAny>>,
     cancel: Option<Py<PyAny>>,
-) -> PyResult<String> {
-    let plan: Plan =
-        serde_json::from_str(plan).map_err(|e| crate::errors::to_py(&json_err("plan", e)))?;
+) -> PyResult<Bound<'py, PyAny>> {
+    let plan: Plan = typed(plan, "plan")?;
     let hook = Hook::with_cancel(
         crate::args::callable("squeal.propensity", "progress", progress, py)?,
         crate::args::callable("squeal.propensity", "cancel", cancel, py)?,
     );
     let base = &scene.inner;
-    run(py, &hook, |h| {
+    let out = run(py, &hook, |h| {
         if let Some(&r) = rows.iter().find(|&&r| r >= plan.design.rows.len()) {
             return Err(PipelineError::Option {
                 option: "rows".into(),
@@ -89,27 +101,29 @@ pub fn propensity_evaluate(
         let build_s = t0.elapsed().as_secs_f64();
         let t1 = std::time::Instant::now();
         let samples = prop::evaluate_rows(&ev, &plan, &rows, &h.progress)?;
-        let v = serde_json::json!({
-            "samples": samples,
-            "build_s": build_s,
-            "n_dofs": ev.info().n_dofs,
-            "n_gaps": ev.info().n_gaps,
-            "evaluate_s": t1.elapsed().as_secs_f64(),
-        });
-        Ok(v.to_string())
-    })
+        Ok(Evaluated {
+            samples,
+            build_s,
+            n_dofs: ev.info().n_dofs,
+            n_gaps: ev.info().n_gaps,
+            evaluate_s: t1.elapsed().as_secs_f64(),
+        })
+    })?;
+    to_py(py, &out)
 }
 
-/// The estimates of `plan` from every row's sample (JSON list, any order), written into
-/// `out` (`propensity.json`, `samples.csv`, `summary.json`); returns `propensity.json`'s text.
+/// The estimates of `plan` from every row's sample (a list of the sample dicts
+/// [`propensity_evaluate`] returns, any order), written into `out` (`propensity.json`,
+/// `samples.csv`, `summary.json`); returns `propensity.json`'s content as a dict.
 #[pyfunction]
 #[pyo3(signature = (scene, plan, samples, out, n_dofs=0, n_gaps=0, build_s=0.0, evaluate_s=0.0,
     wall_s=0.0, threads=1))]
 #[allow(clippy::too_many_arguments)]
-pub fn propensity_finish(
+pub fn propensity_finish<'py>(
+    py: Python<'py>,
     scene: &PyScene,
-    plan: &str,
-    samples: &str,
+    plan: &Bound<'py, PyAny>,
+    samples: &Bound<'py, PyAny>,
     out: PathBuf,
     n_dofs: usize,
     n_gaps: usize,
@@ -117,11 +131,10 @@ pub fn propensity_finish(
     evaluate_s: f64,
     wall_s: f64,
     threads: usize,
-) -> PyResult<String> {
-    let f = || -> Result<String, PipelineError> {
-        let plan: Plan = serde_json::from_str(plan).map_err(|e| json_err("plan", e))?;
-        let samples: Vec<Sample> =
-            serde_json::from_str(samples).map_err(|e| json_err("samples", e))?;
+) -> PyResult<Bound<'py, PyAny>> {
+    let plan: Plan = typed(plan, "plan")?;
+    let samples: Vec<Sample> = typed(samples, "samples")?;
+    let f = || -> Result<prop::report::PropensityOut, PipelineError> {
         let dir = RunDir::create(&out)?;
         let info = prop::evaluate::info_of(&scene.inner, &plan, n_dofs, n_gaps);
         let mut o = prop::report::estimate(&scene.inner, &plan, &samples, &info)?;
@@ -134,7 +147,8 @@ pub fn propensity_finish(
             scene.inner.resolved_toml().as_bytes(),
         )?;
         prop::write(&dir, &plan, &samples, &mut o)?;
-        to_json(&o)
+        Ok(o)
     };
-    f().map_err(|e| crate::errors::to_py(&e))
+    let o = f().map_err(|e| crate::errors::to_py(&e))?;
+    to_py(py, &o)
 }

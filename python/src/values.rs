@@ -1,4 +1,4 @@
-//! Python values ↔ TOML values and JSON documents.
+//! Python values ↔ TOML values, and results ↔ plain Python objects (dicts, lists, scalars).
 
 use crate::errors::SceneError;
 use pyo3::prelude::*;
@@ -89,9 +89,53 @@ pub fn toml_to_py<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, 
     })
 }
 
-/// A serialisable value as Python objects (through JSON: dicts, lists, floats, None).
-pub fn json_to_py<'py, T: serde::Serialize>(py: Python<'py>, v: &T) -> PyResult<Bound<'py, PyAny>> {
-    let text = serde_json::to_string(v)
-        .map_err(|e| pyo3::exceptions::PyValueError::new_err(format!("serialising: {e}")))?;
-    py.import("json")?.call_method1("loads", (text,))
+/// A result as plain Python objects (dict, list, str, int, float, bool, None), made straight
+/// from the Rust value by `pythonize` (no JSON text), then shaped as the CLI's JSON file of the
+/// same value reads back with `json.load`: a tuple becomes a list and a non-finite float None
+/// (serde_json writes NaN and ±inf as `null`), so `squeal.cea(...).report` and `cea.json` agree.
+pub fn to_py<'py, T: serde::Serialize + ?Sized>(
+    py: Python<'py>,
+    v: &T,
+) -> PyResult<Bound<'py, PyAny>> {
+    let obj = pythonize::pythonize(py, v).map_err(|e| {
+        pyo3::exceptions::PyValueError::new_err(format!("converting a result to Python: {e}"))
+    })?;
+    json_shaped(obj)
+}
+
+/// `obj` with its tuples as lists and its NaN/±inf as None, in place for dicts and lists.
+fn json_shaped(obj: Bound<'_, PyAny>) -> PyResult<Bound<'_, PyAny>> {
+    let py = obj.py();
+    if let Ok(f) = obj.cast::<PyFloat>() {
+        return Ok(match f.value().is_finite() {
+            true => obj,
+            false => py.None().into_bound(py),
+        });
+    }
+    if let Ok(d) = obj.cast::<PyDict>() {
+        let keys: Vec<_> = d.keys().iter().collect();
+        for k in keys {
+            if let Some(v) = d.get_item(&k)? {
+                d.set_item(k, json_shaped(v)?)?;
+            }
+        }
+        return Ok(obj);
+    }
+    if let Ok(l) = obj.cast::<PyList>() {
+        for i in 0..l.len() {
+            l.set_item(i, json_shaped(l.get_item(i)?)?)?;
+        }
+        return Ok(obj);
+    }
+    if let Ok(t) = obj.cast::<PyTuple>() {
+        let items = t.iter().map(json_shaped).collect::<PyResult<Vec<_>>>()?;
+        return Ok(PyList::new(py, items)?.into_any());
+    }
+    Ok(obj)
+}
+
+/// A Python value (dicts and lists as [`to_py`] makes them) as the Rust value `T` (by
+/// `pythonize::depythonize`); the error is the deserialiser's message.
+pub fn from_py<T: serde::de::DeserializeOwned>(obj: &Bound<'_, PyAny>) -> Result<T, String> {
+    pythonize::depythonize(obj).map_err(|e| e.to_string())
 }

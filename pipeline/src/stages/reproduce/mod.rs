@@ -6,9 +6,15 @@
 //! spectrum of a squealing response ([`report`]), `report.md` that embeds them and states which
 //! of the paper's findings reproduce.
 //!
+//! The report is made from the cases' typed results in memory: the transient's
+//! [`TransientResult`](transient::TransientResult) with its sampled history
+//! ([`TransientOptions::keep_history`](transient::TransientOptions)) and the CEA's
+//! [`CeaComputed`](cea::CeaComputed) ([`report::CaseData`]); the case folders are written for
+//! the user and never read back.
+//!
 //! Cases run `jobs` at a time (rayon). With a model cache (`--cache DIR` / `SQUEAL_CACHE`) the
 //! reduced model is built once before the cases start (they vary only parameters outside its
-//! key) and every case, in process or as a child `squeal transient`, reads it from the cache.
+//! key) and every case reads it from the cache.
 //! With `[cea_sweep]` the study also sweeps constant μ over
 //! the base scene's complex eigenvalues (`cea_sweep/`), so the report can say which mode pairs
 //! couple at which μ.
@@ -180,13 +186,13 @@ pub fn run(
         // Built once here, so the parallel cases all hit.
         c.get_or_build(scene, dir, progress)?;
     }
-    let results: Vec<Result<CaseResult, PipelineError>> = pool.install(|| {
+    let results: Vec<Result<(CaseResult, report::CaseData), PipelineError>> = pool.install(|| {
         scenes
             .par_iter()
             .map(|(c, scene, cap)| {
                 let r = run_case(c, scene, *cap, &study, dir, &quiet, cache.as_ref());
                 match &r {
-                    Ok(r) => progress.info(format!(
+                    Ok((r, _)) => progress.info(format!(
                         "case {}: {} steps, {:.1} s, t_end {:.4e}, squeal = {}, growth {:?} /s, f {:?} Hz",
                         r.case, r.steps, r.cpu_s, r.t_end, r.squeal, r.growth_rate_per_s, r.dominant_frequency_hz
                     )),
@@ -196,13 +202,17 @@ pub fn run(
             })
             .collect()
     });
-    let cases: Vec<CaseResult> = results.into_iter().collect::<Result<_, _>>()?;
+    let (cases, data): (Vec<CaseResult>, Vec<report::CaseData>) = results
+        .into_iter()
+        .collect::<Result<Vec<_>, _>>()?
+        .into_iter()
+        .unzip();
     let sweep = study
         .cea_sweep
         .map(|range| cea_sweep(&base, range, dir, &quiet, progress, cache.as_ref()));
     // A sweep stopped by Ctrl-C is recorded as failed; stop the study instead of reporting.
     progress.check("the study's CEA sweep")?;
-    let (findings, files) = report::write(&study, &cases, dir, &base, sweep.as_ref())?;
+    let (findings, files) = report::write(&study, &cases, &data, dir, &base, sweep.as_ref())?;
     let rep = ReproduceReport {
         verb: "reproduce",
         version: crate::VERSION,
@@ -260,7 +270,8 @@ fn cea_sweep(
 }
 
 /// One case in process: its transient (capped at `cap` steps, judged on the growth phase
-/// before a step collapse when the scene bounds the step) and its CEA, files in `caseN/`.
+/// before a step collapse when the scene bounds the step) and its CEA, files in `caseN/`;
+/// returns its `cases.json` row and what the report uses of it in memory.
 fn run_case(
     c: &CaseSpec,
     scene: &Scene,
@@ -269,7 +280,7 @@ fn run_case(
     dir: &RunDir,
     quiet: &Progress,
     cache: Option<&ModelCache>,
-) -> Result<CaseResult, PipelineError> {
+) -> Result<(CaseResult, report::CaseData), PipelineError> {
     let wall = Instant::now();
     let cdir = RunDir::create(&dir.path(&format!("case{}", c.case)))?;
     cdir.write_bytes("scene.resolved.toml", scene.resolved_toml().as_bytes())?;
@@ -279,14 +290,17 @@ fn run_case(
         .as_ref()
         .and_then(|t| transient::step_bound(t, scene.band_hz()).h_max);
     let opts = transient::TransientOptions {
+        // The report's figures and findings read the sampled history from memory.
+        keep_history: true,
         step_cap: cap,
         // The growth phase only: up to the first step below h_max/100 after the ramp (the
         // start of stick-slip, where the step collapses).
         stall_h: cap.and(h_max).map(|h| 1e-2 * h),
-        ..Default::default()
     };
-    let r = transient::run_on_model(scene, &cdir, quiet, None, &model, wall, &opts)?.result;
+    let mut r = transient::run_on_model(scene, &cdir, quiet, None, &model, wall, &opts)?.result;
+    let history = r.history.take();
     let mut transient_vs_cea = r.transient_vs_cea.clone();
+    let mut cea_mu_range = None;
     let (cea_unstable_modes, cea_error) = if study.cea {
         let mut cs = scene.clone();
         if cs.cea.is_none() {
@@ -294,26 +308,32 @@ fn run_case(
         }
         let cea_dir = RunDir::create(&cdir.path("cea"))?;
         let args = cea::CeaArgs::default();
-        match cea::run_on_model(&cs, &cea_dir, quiet, &args, model, None, Instant::now()) {
-            Ok(rep) => {
-                // Every in-band root of the case's CEA (cea.json), paired with the response's.
-                let modes: Option<Vec<(Real, Real)>> =
-                    std::fs::read_to_string(cea_dir.path("cea.json"))
-                        .ok()
-                        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-                        .and_then(|v| {
-                            v["modes"]
-                                .as_array()?
-                                .iter()
-                                .map(|m| {
-                                    Some((m["frequency_hz"].as_f64()?, m["real_part"].as_f64()?))
-                                })
-                                .collect()
-                        });
+        let t0 = Instant::now();
+        // `squeal cea` into caseN/cea/ (its files as `cea::run_on_model` writes them), keeping
+        // the computed result: the report reads nothing back.
+        let run_cea = || -> Result<(cea::CeaComputed, cea::CeaReport), PipelineError> {
+            cea_dir.write_bytes("scene.resolved.toml", cs.resolved_toml().as_bytes())?;
+            let c = cea::compute(&cs, &model, quiet, &args)?;
+            let rep = cea::write(&c, &model, &cea_dir, &args, None, t0)?;
+            Ok((c, rep))
+        };
+        match run_cea() {
+            Ok((c, rep)) => {
+                // Every in-band root of the case's CEA, paired with the response's; a
+                // non-finite root or μ (`null` in cea.json) leaves them out, as before.
+                let finite = |a: Real, b: Real| (a.is_finite() && b.is_finite()).then_some((a, b));
+                let modes: Option<Vec<(Real, Real)>> = c
+                    .out
+                    .modes
+                    .iter()
+                    .map(|m| finite(m.frequency_hz, m.real_part))
+                    .collect();
                 if let Some(m) = modes {
                     transient_vs_cea =
                         Some(crate::verdict::roots::pair_with_cea(&r.verdict.roots, &m));
                 }
+                let k = &c.out.steady_state.contact;
+                cea_mu_range = finite(k.mu_min, k.mu_max);
                 (
                     Some(
                         rep.unstable_modes
@@ -338,7 +358,7 @@ fn run_case(
     let damping = scene.damping.clone().unwrap_or_default();
     let law = scene.friction.clone().unwrap_or_default().law;
     let onset_s = report::onset_time(&r.verdict, study.onset_level);
-    Ok(CaseResult {
+    let result = CaseResult {
         case: c.case,
         mu: study::mu_label(&law),
         rtol1: tr.rtol1,
@@ -366,5 +386,11 @@ fn run_case(
         cea_error,
         roots: r.verdict.roots.iter().take(4).copied().collect(),
         transient_vs_cea,
-    })
+    };
+    let data = report::CaseData {
+        case: c.case,
+        history,
+        cea_mu_range,
+    };
+    Ok((result, data))
 }

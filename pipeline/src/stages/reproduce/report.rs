@@ -4,11 +4,10 @@
 use super::{CaseResult, StudySpec};
 use crate::error::PipelineError;
 use crate::figures::{spectrum, time_history, write_figure, SpectrumOptions};
-use crate::history::npy::read_npy;
-use crate::history::HistoryMap;
 use crate::output::RunDir;
 use crate::scene::Scene;
 use crate::stages::cea::sweep::{CouplingOut, SweepReport};
+use crate::stages::transient::History;
 use crate::verdict::guard::VerdictState;
 use crate::verdict::Verdict;
 use serde::{Deserialize, Serialize};
@@ -118,31 +117,51 @@ impl SweepSummary {
     }
 }
 
-/// One column of a case's history: (t, values).
-pub fn column(case_dir: &Path, name: &str) -> Result<(Vec<Real>, Vec<Real>), PipelineError> {
-    let map = HistoryMap::read(&case_dir.join("history_map.json"))?;
-    let col = map
-        .columns
-        .iter()
-        .find(|c| c.name == name)
-        .ok_or_else(|| PipelineError::Input {
-            path: case_dir.join("history_map.json"),
-            message: format!("no column `{name}`"),
-        })?
-        .column;
-    let (rows, cols, data) = read_npy(&case_dir.join("history.npy"))?;
-    let mut t = Vec::with_capacity(rows);
-    let mut y = Vec::with_capacity(rows);
-    for r in 0..rows {
-        let (tr, yr) = (data[r * cols], data[r * cols + col]);
-        // Keep t strictly increasing (the final row may repeat the last step's time).
+/// What the report uses of a case besides its `cases.json` row, kept in memory from the
+/// case's runs (nothing is read back from its files).
+#[derive(Debug, Clone)]
+pub struct CaseData {
+    pub case: u32,
+    /// The transient's sampled history (the rows of `history.npy`; None with
+    /// `output.history = false`).
+    pub history: Option<History>,
+    /// The steady-state μ range (min, max) of the case's CEA (None: no CEA, or not finite).
+    pub cea_mu_range: Option<(Real, Real)>,
+}
+
+impl CaseData {
+    /// One column of the case's history: (t, values), t strictly increasing.
+    pub fn column(&self, name: &str) -> Result<(Vec<Real>, Vec<Real>), PipelineError> {
+        let h = self.history.as_ref().ok_or_else(|| PipelineError::Scene {
+            field: "output.history".into(),
+            message: format!(
+                "case {} recorded no history: the report's figures need output.history = true",
+                self.case
+            ),
+        })?;
+        let (Some(ts), Some(ys)) = (h.column("t"), h.column(name)) else {
+            return Err(PipelineError::Scene {
+                field: "output.grids".into(),
+                message: format!("case {}: the history has no column `{name}`", self.case),
+            });
+        };
+        Ok(increasing(&ts, &ys))
+    }
+}
+
+/// (t, y) with the rows whose t does not exceed the previous one left out (the final row may
+/// repeat the last step's time).
+fn increasing(ts: &[Real], ys: &[Real]) -> (Vec<Real>, Vec<Real>) {
+    let mut t = Vec::with_capacity(ts.len());
+    let mut y = Vec::with_capacity(ts.len());
+    for (&tr, &yr) in ts.iter().zip(ys) {
         if t.last().is_some_and(|&l: &Real| tr <= l) {
             continue;
         }
         t.push(tr);
         y.push(yr);
     }
-    Ok((t, y))
+    (t, y)
 }
 
 /// Onset of squeal: the time the squealing root's fitted amplitude reaches `level`.
@@ -270,6 +289,21 @@ fn by_case(cases: &[CaseResult], n: u32) -> Option<&CaseResult> {
     cases.iter().find(|c| c.case == n)
 }
 
+fn data_of(data: &[CaseData], n: u32) -> Option<&CaseData> {
+    data.iter().find(|d| d.case == n)
+}
+
+/// Column `name` of case `n`'s history.
+fn column_of(
+    data: &[CaseData],
+    n: u32,
+    name: &str,
+) -> Result<(Vec<Real>, Vec<Real>), PipelineError> {
+    data_of(data, n)
+        .ok_or_else(|| PipelineError::Model(format!("case {n} has no data in memory")))?
+        .column(name)
+}
+
 /// Largest |a(t) − b(t)| over max |b| on the common time span (a interpolated linearly).
 fn relative_difference(a: &(Vec<Real>, Vec<Real>), b: &(Vec<Real>, Vec<Real>)) -> Option<Real> {
     let t_end = a.0.last()?.min(*b.0.last()?);
@@ -294,19 +328,13 @@ fn relative_difference(a: &(Vec<Real>, Vec<Real>), b: &(Vec<Real>, Vec<Real>)) -
 }
 
 /// The most unstable CEA mode of a case as `f Hz: Re p /s`, and its steady-state μ range.
-fn cea_evidence(c: &CaseResult, dir: &RunDir) -> String {
+fn cea_evidence(c: &CaseResult, data: &[CaseData]) -> String {
     let top = c.cea_unstable_modes.as_ref().and_then(|m| {
         m.iter()
             .max_by(|a, b| a.real_part.total_cmp(&b.real_part))
             .map(|m| format!("{:.0} Hz, Re p = {:+.1} /s", m.frequency_hz, m.real_part))
     });
-    let mu = std::fs::read_to_string(dir.path(&format!("case{}/cea/cea.json", c.case)))
-        .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-        .and_then(|v| {
-            let k = &v["steady_state"]["contact"];
-            Some((k["mu_min"].as_f64()?, k["mu_max"].as_f64()?))
-        });
+    let mu = data_of(data, c.case).and_then(|d| d.cea_mu_range);
     format!(
         "CEA of case {}: most unstable {}{}",
         c.case,
@@ -319,7 +347,7 @@ fn cea_evidence(c: &CaseResult, dir: &RunDir) -> String {
 
 fn findings(
     cases: &[CaseResult],
-    dir: &RunDir,
+    data: &[CaseData],
     resp_u: &str,
     sweep: Option<&SweepSummary>,
 ) -> Vec<Finding> {
@@ -346,8 +374,8 @@ fn findings(
                 verdict_text(&b.verdict),
                 g(b),
                 if g(a) > g(b) { "grows" } else { "does not grow" },
-                cea_evidence(a, dir),
-                cea_evidence(b, dir)
+                cea_evidence(a, data),
+                cea_evidence(b, data)
             ),
             _ => "cases 2 and 4 not both run".into(),
         },
@@ -371,7 +399,7 @@ fn findings(
                 g(c),
                 c.t_end,
                 c.tf,
-                cea_evidence(c, dir),
+                cea_evidence(c, data),
                 sweep
                     .and_then(|s| s.lowest_critical_mu)
                     .map_or(String::new(), |m| format!(
@@ -409,7 +437,7 @@ fn findings(
     let (c1, c3) = (by_case(cases, 1), by_case(cases, 3));
     let d = match (c1, c2, c3) {
         (Some(a), Some(b), Some(c)) => {
-            let read = |n: u32| column(&dir.path(&format!("case{n}")), resp_u).ok();
+            let read = |n: u32| column_of(data, n, resp_u).ok();
             let (ya, yb, yc) = (read(a.case), read(b.case), read(c.case));
             match (ya, yb, yc) {
                 (Some(ya), Some(yb), Some(yc)) => {
@@ -441,10 +469,12 @@ fn findings(
     out
 }
 
-/// Writes every output; returns the findings and the files written.
+/// Writes every output from the cases' rows and their in-memory `data` (any order); returns
+/// the findings and the files written.
 pub fn write(
     study: &StudySpec,
     cases: &[CaseResult],
+    data: &[CaseData],
     dir: &RunDir,
     base: &Scene,
     sweep: Option<&SweepSummary>,
@@ -475,7 +505,7 @@ pub fn write(
         let mut fig = crate::figures::Figure::new(&f.title, "time (s)", format!("{resp_u} (in)"));
         let mut t_min_end = Real::INFINITY;
         for c in &present {
-            let (t, y) = column(&dir.path(&format!("case{}", c.case)), &resp_u)?;
+            let (t, y) = column_of(data, c.case, &resp_u)?;
             t_min_end = t_min_end.min(*t.last().unwrap_or(&0.0));
             let part = time_history(
                 "",
@@ -513,7 +543,7 @@ pub fn write(
             .unwrap_or(0.0)
             .total_cmp(&b.growth_rate_per_s.unwrap_or(0.0))
     }) {
-        let (t, v) = column(&dir.path(&format!("case{}", c.case)), &c.response)?;
+        let (t, v) = column_of(data, c.case, &c.response)?;
         let start = t.iter().position(|&s| s > c.tload).unwrap_or(0);
         let opts = SpectrumOptions {
             f_max_hz: Some(40_000.0),
@@ -552,7 +582,7 @@ pub fn write(
              ratios are other modes.\n",
         );
     }
-    let fnd = findings(cases, dir, &resp_u, sweep);
+    let fnd = findings(cases, data, &resp_u, sweep);
     let mut md = String::new();
     let _ = writeln!(
         md,
