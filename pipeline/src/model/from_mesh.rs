@@ -461,7 +461,7 @@ pub fn build_from_mesh_cached(
     // Bonded ties: rows inside a component whose slave is a boundary grid (a gap grid, a
     // grid shared with another component) and the ties between components are eliminated
     // after the assembly, their grids boundary DOFs; the other inside rows are each
-    // component's MPC before its reduction (stages/model/ties.rs).
+    // component's MPC before its reduction (model/ties.rs).
     let tie_rows = super::ties::pair_ties(scene, &meshes, &grids)?;
     let shared: std::collections::HashSet<u64> = grids
         .shared

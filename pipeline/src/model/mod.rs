@@ -70,7 +70,7 @@ pub struct ComponentRecovery {
     /// DOF a tie eliminated, none when not in the assembled model.
     pub assembled: Vec<Vec<(usize, Real)>>,
     /// The bonded ties inside the component: its free DOFs are T × the reduction's
-    /// (`stages/model/ties.rs`); None without.
+    /// (`model/ties.rs`); None without.
     pub mpc: Option<ties::Mpc>,
 }
 

@@ -9,7 +9,7 @@ use std::sync::Arc;
 use squeal_solver::Real;
 
 /// The matrices, DOF map and gaps of a stored model in memory. Checked when the model is
-/// built (`stages::model::build`), as the files of a stored model are: shapes against the DOF
+/// built (`model::build`), as the files of a stored model are: shapes against the DOF
 /// map, finite entries, symmetry, M positive definite, gap values.
 #[derive(Debug, Clone)]
 pub struct StoredArrays {
