@@ -6,6 +6,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 import numpy as np
 
 from .results import (
+    BasisCheck,
     CacheUse,
     CeaReport,
     CeaSweep,
@@ -218,4 +219,12 @@ def propensity_finish(
     evaluate_s: float = 0.0,
     wall_s: float = 0.0,
     threads: int = 1,
+    basis_checks: Optional[Sequence[BasisCheck]] = None,
 ) -> PropensityReport: ...
+def propensity_check_basis(
+    scene: Scene,
+    plan: Dict[str, Any],
+    workdir: _Path,
+    tolerance: float = 0.05,
+    cache_dir: Optional[_Path] = None,
+) -> List[BasisCheck]: ...

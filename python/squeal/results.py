@@ -565,13 +565,18 @@ class LimitCycleReport(TypedDict):
 # ---- propensity (`squeal propensity`'s propensity.json, stages::propensity)
 
 
-class ComponentInput(TypedDict):
-    """A component property varied on the one reduced model (``propensity::ComponentInput``)."""
-
+class _ComponentInputBase(TypedDict):
     component: str
     property: str
     """``young_scale``, ``density_scale`` or ``loss_factor``."""
     base: float
+
+
+class ComponentInput(_ComponentInputBase, total=False):
+    """A component property varied on the one reduced model (``propensity::ComponentInput``;
+    ``volume`` for one volume's material)."""
+
+    volume: str
 
 
 class _PropensityInputBase(TypedDict):
@@ -594,14 +599,32 @@ class FrequencyBand(TypedDict):
     upper_hz: float
 
 
-class PropensityModel(TypedDict):
-    """``propensity::EvalInfo``."""
+class BasisCheck(TypedDict):
+    """One volume input's basis error against re-reduction (``propensity::BasisCheck``)."""
 
+    key: str
+    value: float
+    derivative: List[float]
+    """Largest Re λ (1/s) and its frequency (Hz) on the one model."""
+    rereduced: List[float]
+    real_part_change: float
+    frequency_change: float
+    allowed: float
+    passed: bool
+
+
+class _PropensityModelBase(TypedDict):
     model: str
     n_dofs: int
     n_gaps: int
     band_hz: Optional[float]
     bands: List[FrequencyBand]
+
+
+class PropensityModel(_PropensityModelBase, total=False):
+    """``propensity::EvalInfo`` (``basis_checks`` when an input scales one volume)."""
+
+    basis_checks: List[BasisCheck]
 
 
 class Probability(TypedDict):

@@ -34,6 +34,7 @@ fn _squeal(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(propensity::propensity_plan, m)?)?;
     m.add_function(wrap_pyfunction!(propensity::propensity_evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(propensity::propensity_finish, m)?)?;
+    m.add_function(wrap_pyfunction!(propensity::propensity_check_basis, m)?)?;
     m.add_function(wrap_pyfunction!(scene::scene_from_state, m)?)?;
     Ok(())
 }

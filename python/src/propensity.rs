@@ -112,12 +112,47 @@ pub fn propensity_evaluate<'py>(
     to_py(py, &out)
 }
 
+/// The basis check of the inputs that scale one volume on the reduced model
+/// (`Evaluator::check_basis`, run once before the rows are distributed): a list of the
+/// checks' dicts for [`propensity_finish`]; a change above `tolerance` × |Re λ| (at least
+/// 1 /s) raises the error naming the key. An empty list when no input scales one volume.
+#[pyfunction]
+#[pyo3(signature = (scene, plan, workdir, tolerance=0.05, cache_dir=None))]
+pub fn propensity_check_basis<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    plan: &Bound<'py, PyAny>,
+    workdir: PathBuf,
+    tolerance: f64,
+    cache_dir: Option<PathBuf>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let plan: Plan = typed(plan, "plan")?;
+    let hook = Hook::new(None);
+    let base = &scene.inner;
+    let volumes = plan
+        .inputs
+        .iter()
+        .any(|i| i.component.as_ref().is_some_and(|c| c.volume.is_some()));
+    let checks = run(py, &hook, |h| {
+        if !volumes {
+            return Ok(Vec::new());
+        }
+        let dir = RunDir::create(&workdir)?;
+        let cache = cache_dir.as_ref().map(ModelCache::new);
+        let quiet = h.progress.silenced();
+        let mut ev = Evaluator::new(base, &plan, &dir, &quiet, cache.as_ref())?;
+        ev.check_basis(&plan, &dir, (tolerance, prop::BASIS_FLOOR), &quiet)?;
+        Ok(ev.info().basis_checks)
+    })?;
+    to_py(py, &checks)
+}
+
 /// The estimates of `plan` from every row's sample (a list of the sample dicts
 /// [`propensity_evaluate`] returns, any order), written into `out` (`propensity.json`,
 /// `samples.csv`, `summary.json`); returns `propensity.json`'s content as a dict.
 #[pyfunction]
 #[pyo3(signature = (scene, plan, samples, out, n_dofs=0, n_gaps=0, build_s=0.0, evaluate_s=0.0,
-    wall_s=0.0, threads=1))]
+    wall_s=0.0, threads=1, basis_checks=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn propensity_finish<'py>(
     py: Python<'py>,
@@ -131,12 +166,18 @@ pub fn propensity_finish<'py>(
     evaluate_s: f64,
     wall_s: f64,
     threads: usize,
+    basis_checks: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let plan: Plan = typed(plan, "plan")?;
     let samples: Vec<Sample> = typed(samples, "samples")?;
+    let checks: Vec<prop::evaluate::BasisCheck> = match basis_checks {
+        Some(c) => typed(c, "basis_checks")?,
+        None => Vec::new(),
+    };
     let f = || -> Result<prop::report::PropensityOut, PipelineError> {
         let dir = RunDir::create(&out)?;
-        let info = prop::evaluate::info_of(&scene.inner, &plan, n_dofs, n_gaps);
+        let mut info = prop::evaluate::info_of(&scene.inner, &plan, n_dofs, n_gaps);
+        info.basis_checks = checks;
         let mut o = prop::report::estimate(&scene.inner, &plan, &samples, &info)?;
         o.stats.build_s = build_s;
         o.stats.evaluate_s = evaluate_s;

@@ -110,3 +110,21 @@ def test_bad_inputs_name_the_flag():
         squeal.propensity(scene, {"friction.law.mu0": "uniform(0.3, 0.5)", "contact.0.p0": "uniform(0.5, 1.5)"}, 20)
     with pytest.raises(TypeError, match="distributions"):
         squeal.propensity(scene, 0.5, 64)
+
+
+def test_one_volume_is_checked_against_re_reduction():
+    """The sample brake's inboard lining modulus on the one reduced model: before the rows are
+    evaluated, squeal.propensity compares it with re-reduction at the input's 0.5 % and
+    99.5 % quantiles (``propensity::Evaluator::check_basis``; the Rust test
+    ``one_volume_on_the_reduced_model_is_checked_against_re_reduction`` measures 0.15 and
+    0.044 /s of 118 and 147 /s) and reports the checks in ``model.basis_checks``, within the
+    default tolerance (5 % of |Re λ|, at least 1 /s); the Rust test also checks the refusal
+    above the tolerance."""
+    scene = squeal.Scene.from_file(EXAMPLES / "sample-brake" / "base.toml")
+    key = "components.1.materials.lining.young"
+    r = squeal.propensity(scene, {key: "uniform(0.7e6, 1.3e6)"}, 16, replicates=2)
+    checks = r.report["model"]["basis_checks"]
+    assert [c["key"] for c in checks] == [key, key]
+    assert all(c["passed"] and c["real_part_change"] <= c["allowed"] for c in checks)
+    assert abs(checks[0]["value"] - 0.703e6) < 1e3 and abs(checks[1]["value"] - 1.297e6) < 1e3
+    assert r.report["stats"]["failed"] == 0

@@ -61,7 +61,7 @@ pub struct EvalInfo {
 /// One volume input's basis error: the row with the input at `value` (the others at their
 /// means, component scales at 1) on the one model through the derivative and on a model
 /// re-reduced at `value`.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct BasisCheck {
     pub key: String,
     pub value: Real,
