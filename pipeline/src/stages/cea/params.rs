@@ -8,8 +8,10 @@
 //!   the rotor speed, a contact pair's normal stiffness and a component's Young's modulus
 //!   change the steady sliding state (u, λ̇), so the tangents D = ∂F_f/∂λ̇ and C_f = ∂F_f/∂v
 //!   (law derivatives at the new pressure and slip speed) and the compliant fold of the gaps
-//!   into K move with them. [`matrices_at`] solves the steady state again (a restart file's
-//!   state stays as read: only the direct part is seen).
+//!   into K move with them. [`matrices_at`] moves the state along its derivative by the
+//!   implicit function theorem ([`StateTangent`]: one factorisation of the steady state's
+//!   Newton matrix for every parameter; a restart file's state stays as read: only the direct
+//!   part is seen).
 //!
 //! **Component properties** use the reduced matrices with the Craig–Bampton basis held fixed
 //! ([`component_matrix_derivative`]): the component's block `T_cᵀ K_c T_c` scaled. For a
@@ -23,9 +25,10 @@ use crate::error::PipelineError;
 use crate::model::ReducedModel;
 use crate::problem::system::{damping_matrix, Problem};
 use crate::problem::tangents::{
-    at_steady_state, cea_matrices, tangents, Linearisation, StateSource,
+    cea_matrices, full_load_time, tangents, Linearisation, StateSource,
 };
 use crate::scene::{CeaSpec, Scene};
+use faer::linalg::solvers::Solve;
 use faer::Mat;
 use serde::Serialize;
 use squeal_contact::{FrictionLaw, GapSet};
@@ -393,15 +396,12 @@ fn axpy(a: &Mat<Real>, f: Real, d: &Mat<Real>) -> Mat<Real> {
     Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] + f * d[(i, j)])
 }
 
-/// The CEA matrices with `param` at `value` (everything else as in `base`): the problem
-/// changed, the steady state solved again when the parameter moves it (`base.lin` is a
-/// steady state), the tangents evaluated there; and whether the state was solved only to the
-/// scene's tolerance (the tight 1e-13 did not converge).
-pub fn matrices_at(
+/// The problem with `param` at `value` (everything else as in `base`).
+pub fn problem_at_value(
     base: &Base,
     param: &Parameter,
     value: Real,
-) -> Result<(CeaMatrices, bool), PipelineError> {
+) -> Result<Problem, PipelineError> {
     let (scene, model, pb) = (base.scene, base.model, base.problem);
     let delta = value - param.value;
     // An operating value varies the operating point; the gaps and the load are made anew.
@@ -493,37 +493,151 @@ pub fn matrices_at(
             problem.k = light.k;
         }
     }
-    let steady = matches!(base.lin.source, StateSource::SteadyState { .. });
-    let mut loosened = false;
-    let lin = if param.moves_state && steady {
-        let mut opts = base.spec.steady.clone();
-        // The state's round-off enters the difference quotient divided by the step: solved
-        // tighter than the scene asks, or, where the residual's round-off floor is above
-        // 1e-13 (a light load: 4.6e-13 on the study brake at 1 psi), to the scene's tolerance.
-        opts.tol = opts.tol.min(1e-13);
-        opts.max_iters = opts.max_iters.max(100);
-        match at_steady_state(&problem, &problem.gaps, &opts) {
-            Ok(lin) => lin,
-            Err(_) => {
-                loosened = true;
-                at_steady_state(&problem, &problem.gaps, &base.spec.steady)?
-            }
+    Ok(problem)
+}
+
+/// The derivative of the steady sliding state with respect to a parameter, by the implicit
+/// function theorem: R(x, θ) = 0 at x = (u, λ̇) gives ∂x/∂θ = −J⁻¹ ∂R/∂θ, with J the steady
+/// state's Newton matrix at the base state,
+/// ```text
+/// J = [ K   Gᵀ − D ]      R = [ K u + Gᵀ λ̇ − P(t) − F_f(λ̇, 0) ]
+///     [ G   −C     ]          [ G u − C λ̇                      ]
+/// ```
+/// (D = ∂F_f/∂λ̇, C the compliance) factorised once for every parameter, and ∂R/∂θ the
+/// central difference of the residual at the base state. A state at θ ± h is then
+/// x₀ ± h ∂x/∂θ: the matrices' central difference is the chain rule's ∂A/∂x ∂x/∂θ + ∂A/∂θ to
+/// O(h²), as with states solved again, without a Newton solve per value.
+///
+/// # Reference
+/// [Paper eqs. (8), (9), (12)] at v = v' = 0 (`squeal_solver::bsql::steady_state`).
+pub struct StateTangent {
+    lu: faer::linalg::solvers::PartialPivLu<Real>,
+    n: usize,
+}
+
+/// R(u, λ̇) of the steady state of `problem` at its full-load time.
+fn steady_residual(
+    problem: &Problem,
+    u: &[Real],
+    lamp: &[Real],
+) -> Result<Vec<Real>, PipelineError> {
+    let (n, ng) = (problem.k.nrows(), problem.g.nrows());
+    let t = full_load_time(problem);
+    let mut r = vec![0.0; n + ng];
+    let mut f = vec![0.0; n];
+    problem
+        .gaps
+        .add_forces(&vec![0.0; n], lamp, &mut f)
+        .map_err(|source| PipelineError::Contact {
+            what: "friction forces at the steady state".into(),
+            source,
+        })?;
+    let mut p = vec![0.0; n];
+    problem.load.add_to(t, 1.0, &mut p);
+    for i in 0..n {
+        let mut x = -p[i] - f[i];
+        for j in 0..n {
+            x += problem.k[(i, j)] * u[j];
         }
-    } else {
-        let (d, c_f) = tangents(
-            &problem.gaps,
-            problem.m.nrows(),
-            &base.lin.v,
-            &base.lin.lambda_dot,
-        )?;
-        Linearisation {
-            d,
-            c_f,
-            ..base.lin.clone()
+        for k in 0..ng {
+            x += problem.g[(k, i)] * lamp[k];
         }
+        r[i] = x;
+    }
+    for k in 0..ng {
+        let mut x = -problem.compliance.get(k).copied().unwrap_or(0.0) * lamp[k];
+        for j in 0..n {
+            x += problem.g[(k, j)] * u[j];
+        }
+        r[n + k] = x;
+    }
+    Ok(r)
+}
+
+impl StateTangent {
+    /// The Newton matrix of `base`'s steady state, factorised (None: the base state is a
+    /// restart file's, which a parameter does not move).
+    pub fn of(base: &Base) -> Option<Self> {
+        if !matches!(base.lin.source, StateSource::SteadyState { .. }) {
+            return None;
+        }
+        let (p, lin) = (base.problem, base.lin);
+        let (n, ng) = (p.k.nrows(), p.g.nrows());
+        let j = Mat::<Real>::from_fn(n + ng, n + ng, |r, c| match (r < n, c < n) {
+            (true, true) => p.k[(r, c)],
+            (true, false) => p.g[(c - n, r)] - lin.d[(r, c - n)],
+            (false, true) => p.g[(r - n, c)],
+            (false, false) if r == c => -p.compliance.get(r - n).copied().unwrap_or(0.0),
+            (false, false) => 0.0,
+        });
+        Some(StateTangent {
+            lu: j.partial_piv_lu(),
+            n,
+        })
+    }
+}
+
+/// The CEA matrices at `values` of `param` (everything else as in `base`): the problem changed
+/// and, when the parameter moves the steady state (`tangent`: the base state is a steady
+/// state), the state moved along ∂x/∂θ ([`StateTangent`]), the tangents evaluated there.
+pub fn matrices_at(
+    base: &Base,
+    param: &Parameter,
+    values: [Real; 2],
+    tangent: Option<&StateTangent>,
+) -> Result<[CeaMatrices; 2], PipelineError> {
+    let problems = [
+        problem_at_value(base, param, values[0])?,
+        problem_at_value(base, param, values[1])?,
+    ];
+    let n = base.problem.m.nrows();
+    let (u0, l0) = (&base.lin.u, &base.lin.lambda_dot);
+    // ∂x/∂θ (None: the state stays).
+    let dx = match (tangent, param.moves_state) {
+        (Some(t), true) => {
+            let ra = steady_residual(&problems[0], u0, l0)?;
+            let rb = steady_residual(&problems[1], u0, l0)?;
+            let w = values[0] - values[1];
+            let rhs = Mat::<Real>::from_fn(ra.len(), 1, |i, _| -(ra[i] - rb[i]) / w);
+            let x = t.lu.solve(&rhs);
+            Some((0..ra.len()).map(|i| x[(i, 0)]).collect::<Vec<Real>>())
+        }
+        _ => None,
     };
-    Ok((
-        cea_matrices(&problem, &lin, base.spec.friction_damping)?,
-        loosened,
-    ))
+    let mut out = Vec::with_capacity(2);
+    for (problem, value) in problems.iter().zip(values) {
+        let lin = match &dx {
+            Some(dx) => {
+                let d = value - param.value;
+                let u: Vec<Real> = (0..n).map(|i| u0[i] + d * dx[i]).collect();
+                let lamp: Vec<Real> = (0..l0.len())
+                    .map(|k| l0[k] + d * dx[tangent_n(tangent) + k])
+                    .collect();
+                let (dd, c_f) = tangents(&problem.gaps, n, &base.lin.v, &lamp)?;
+                Linearisation {
+                    u,
+                    lambda_dot: lamp,
+                    d: dd,
+                    c_f,
+                    ..base.lin.clone()
+                }
+            }
+            None => {
+                let (d, c_f) = tangents(&problem.gaps, n, &base.lin.v, l0)?;
+                Linearisation {
+                    d,
+                    c_f,
+                    ..base.lin.clone()
+                }
+            }
+        };
+        out.push(cea_matrices(problem, &lin, base.spec.friction_damping)?);
+    }
+    let b = out.pop().expect("two");
+    let a = out.pop().expect("two");
+    Ok([a, b])
+}
+
+fn tangent_n(t: Option<&StateTangent>) -> usize {
+    t.map_or(0, |t| t.n)
 }

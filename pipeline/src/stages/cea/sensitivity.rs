@@ -19,7 +19,7 @@
 //! size when θ = 0), with the first-order change `Δθ = −Re p / (∂Re p/∂θ)` that would bring
 //! Re p to zero and whether θ + Δθ stays in the parameter's physical range.
 
-use super::params::{matrices_at, parameters, Base, Parameter};
+use super::params::{matrices_at, parameters, Base, Parameter, StateTangent};
 use crate::error::PipelineError;
 use crate::output::RunDir;
 use serde::Serialize;
@@ -101,7 +101,8 @@ pub struct SensitivityOut {
     pub component_basis: &'static str,
     /// Unstable roots (most unstable first), then the stable ones with the largest Re p.
     pub roots: Vec<RootSensitivity>,
-    /// Steady states solved.
+    /// Parameters whose steady-state derivative was solved (one solve each with the one
+    /// factorisation of the steady state's Newton matrix, [`StateTangent`]).
     pub n_state_solves: usize,
     pub time_s: Real,
 }
@@ -126,28 +127,23 @@ fn chosen(modes: &[Mode], unstable: &[usize]) -> Vec<usize> {
 }
 
 /// The matrix derivative of `param` at `base` by central difference (one-sided over
-/// `[θ, θ + 2h]` when `θ − h` is below the parameter's range), the steady states it re-solved,
-/// and whether a state was solved only to the scene's tolerance (the tight one did not
-/// converge).
+/// `[θ, θ + 2h]` when `θ − h` is below the parameter's range), the state moved along its
+/// derivative when the parameter moves it (`tangent`); and whether it did.
 pub fn matrix_derivative(
     base: &Base,
     param: &Parameter,
-) -> Result<(MatrixDerivative, usize, bool), PipelineError> {
+    tangent: Option<&StateTangent>,
+) -> Result<(MatrixDerivative, bool), PipelineError> {
     let h = STEP * param.scale;
     let (a, b) = if param.value - h < param.lower {
         (param.value + 2.0 * h, param.value)
     } else {
         (param.value + h, param.value - h)
     };
-    let (plus, loose_plus) = matrices_at(base, param, a)?;
-    let (minus, loose_minus) = matrices_at(base, param, b)?;
+    let [plus, minus] = matrices_at(base, param, [a, b], tangent)?;
     let dq = MatrixDerivative::central_difference(&plus, &minus, h)
         .map_err(|source| PipelineError::cea(format!("derivative of {}", param.name), source))?;
-    Ok((
-        dq,
-        if param.moves_state { 2 } else { 0 },
-        loose_plus || loose_minus,
-    ))
+    Ok((dq, param.moves_state && tangent.is_some()))
 }
 
 /// The sensitivities of the roots `modes` (the CEA's reported roots, on `sys`).
@@ -169,21 +165,14 @@ pub fn sensitivities(
     }
     let mut per_root: Vec<Vec<ParamSensitivity>> = vec![Vec::new(); which.len()];
     let mut n_state_solves = 0;
-    // A parameter whose difference cannot be formed (a re-solved state that does not
-    // converge) is left out and named in `notes`: the roots and the other parameters stand.
+    // One factorisation of the steady state's Newton matrix for every parameter.
+    let tangent = StateTangent::of(base);
+    // A parameter whose difference cannot be formed is left out and named in `notes`: the
+    // roots and the other parameters stand.
     let mut computed = Vec::with_capacity(params.len());
     for param in params.drain(..) {
-        let (dq, solves) = match matrix_derivative(base, &param) {
-            Ok((dq, solves, loosened)) => {
-                if loosened {
-                    notes.push(format!(
-                        "{}: a re-solved steady state converged only to the scene's \
-                         tolerance {:.1e}, not 1e-13: this derivative is less accurate",
-                        param.name, base.spec.steady.tol
-                    ));
-                }
-                (dq, solves)
-            }
+        let (dq, solves) = match matrix_derivative(base, &param, tangent.as_ref()) {
+            Ok((dq, moved)) => (dq, usize::from(moved)),
             Err(e) => {
                 notes.push(format!("{}: not computed: {e}", param.name));
                 continue;
