@@ -120,13 +120,6 @@ impl OperatingPoint {
         }
     }
 
-    /// The same point with another friction law.
-    pub fn with_law(&self, law: FrictionLaw) -> Self {
-        let mut p = self.clone();
-        p.friction.law = law;
-        p
-    }
-
     /// ω (rad/s) along the rotor axis: rpm · 2π/60 · axis.
     pub fn omega(&self) -> [Real; 3] {
         let w = self.rotor.rpm * 2.0 * std::f64::consts::PI / 60.0;

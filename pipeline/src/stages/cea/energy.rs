@@ -157,16 +157,7 @@ pub(crate) fn from_reductions(model: &ReducedModel, overall: Real) -> Option<Vec
     }
     let mut parts = Vec::with_capacity(model.recovery.len());
     for r in &model.recovery {
-        let mut dofs: Vec<usize> = r.assembled.iter().flatten().map(|t| t.0).collect();
-        dofs.sort_unstable();
-        dofs.dedup();
-        let mut t = Mat::<Real>::zeros(r.assembled.len(), dofs.len());
-        for (j, terms) in r.assembled.iter().enumerate() {
-            for &(i, w) in terms {
-                let a = dofs.binary_search(&i).ok()?;
-                t[(j, a)] += w;
-            }
-        }
+        let (dofs, t) = scatter_of(r);
         let factor = model
             .components
             .iter()
@@ -187,6 +178,24 @@ pub(crate) fn from_reductions(model: &ReducedModel, overall: Real) -> Option<Vec
         });
     }
     Some(parts)
+}
+
+/// The assembled DOFs a component's reduced coordinates touch (sorted) and `T_c` on them:
+/// `x_c = T_c x` (`ComponentRecovery::assembled`), so a component matrix `A_c` is
+/// `T_cᵀ A_c T_c` on those DOFs.
+pub(crate) fn scatter_of(r: &crate::model::ComponentRecovery) -> (Vec<usize>, Mat<Real>) {
+    let mut dofs: Vec<usize> = r.assembled.iter().flatten().map(|t| t.0).collect();
+    dofs.sort_unstable();
+    dofs.dedup();
+    let mut t = Mat::<Real>::zeros(r.assembled.len(), dofs.len());
+    for (j, terms) in r.assembled.iter().enumerate() {
+        for &(i, w) in terms {
+            // `dofs` holds every i of the terms.
+            let a = dofs.binary_search(&i).unwrap_or_else(|a| a);
+            t[(j, a)] += w;
+        }
+    }
+    (dofs, t)
 }
 
 /// `A_c = ½(P_c A + A P_c)` on the DOFs of c and those coupled to them.

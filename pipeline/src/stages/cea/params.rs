@@ -512,7 +512,6 @@ pub fn problem_at_value(
 /// [Paper eqs. (8), (9), (12)] at v = v' = 0 (`squeal_solver::bsql::steady_state`).
 pub struct StateTangent {
     lu: faer::linalg::solvers::PartialPivLu<Real>,
-    n: usize,
 }
 
 /// R(u, λ̇) of the steady state of `problem` at its full-load time.
@@ -572,7 +571,6 @@ impl StateTangent {
         });
         Some(StateTangent {
             lu: j.partial_piv_lu(),
-            n,
         })
     }
 }
@@ -604,15 +602,14 @@ pub fn matrices_at(
         }
         _ => None,
     };
-    let mut out = Vec::with_capacity(2);
-    for (problem, value) in problems.iter().zip(values) {
+    let at = |k: usize| -> Result<CeaMatrices, PipelineError> {
+        let problem = &problems[k];
         let lin = match &dx {
             Some(dx) => {
-                let d = value - param.value;
+                let d = values[k] - param.value;
+                // x = (u, λ̇): u in dx[..n], λ̇ in dx[n..].
                 let u: Vec<Real> = (0..n).map(|i| u0[i] + d * dx[i]).collect();
-                let lamp: Vec<Real> = (0..l0.len())
-                    .map(|k| l0[k] + d * dx[tangent_n(tangent) + k])
-                    .collect();
+                let lamp: Vec<Real> = (0..l0.len()).map(|g| l0[g] + d * dx[n + g]).collect();
                 let (dd, c_f) = tangents(&problem.gaps, n, &base.lin.v, &lamp)?;
                 Linearisation {
                     u,
@@ -631,13 +628,7 @@ pub fn matrices_at(
                 }
             }
         };
-        out.push(cea_matrices(problem, &lin, base.spec.friction_damping)?);
-    }
-    let b = out.pop().expect("two");
-    let a = out.pop().expect("two");
-    Ok([a, b])
-}
-
-fn tangent_n(t: Option<&StateTangent>) -> usize {
-    t.map_or(0, |t| t.n)
+        cea_matrices(problem, &lin, base.spec.friction_damping)
+    };
+    Ok([at(0)?, at(1)?])
 }

@@ -15,6 +15,7 @@
 //! derivative is first order in the basis change, and a propensity study measures its error
 //! against re-reduction (docs/insight.md).
 
+use super::energy::scatter_of;
 use super::params::{ComponentProperty, ReducedDerivative};
 use crate::error::PipelineError;
 use crate::model::ReducedModel;
@@ -141,34 +142,15 @@ pub fn volume_matrix_derivative(
         }
         e[j] = 0.0;
     }
-    // (K₁ − K₀) Φ, column by column of the sparse difference.
-    let mut kphi = Mat::<Real>::zeros(nf, nr);
-    for (a, sign) in [(s1, 1.0), (s0, -1.0)] {
-        let (cp, ri, vals) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
-        for c in 0..a.ncols() {
-            for p in cp[c]..cp[c + 1] {
-                let (row, v) = (ri[p], sign * vals[p]);
-                for j in 0..nr {
-                    kphi[(row, j)] += v * phi[(c, j)];
-                }
-            }
-        }
-    }
-    let dc = phi.transpose() * &kphi;
-    // Scattered to the assembled reduced coordinates.
+    // Φᵀ (K₁ − K₀) Φ, scattered to the assembled reduced coordinates (T_cᵀ · T_c).
+    let dc = phi.transpose() * (s1 * &phi - s0 * &phi);
+    let (dofs, t) = scatter_of(r);
+    let local = t.transpose() * &dc * &t;
     let n = model.n();
     let mut out = Mat::<Real>::zeros(n, n);
-    for (a, ta) in r.assembled.iter().enumerate() {
-        for (b, tb) in r.assembled.iter().enumerate() {
-            let x = dc[(a, b)];
-            if x == 0.0 {
-                continue;
-            }
-            for &(i, wi) in ta {
-                for &(j, wj) in tb {
-                    out[(i, j)] += wi * x * wj;
-                }
-            }
+    for (x, &i) in dofs.iter().enumerate() {
+        for (y, &j) in dofs.iter().enumerate() {
+            out[(i, j)] = local[(x, y)];
         }
     }
     // Symmetric up to round-off: symmetrised as the model's matrices are.

@@ -152,6 +152,18 @@ fn scene_key(scene: &Scene, input: &super::Input) -> Result<String, PipelineErro
     Ok(format!("components.{i}.materials.{v}.{prop}"))
 }
 
+/// The reduced model of `scene` built afresh in the scratch folder `path` (removed after).
+fn rebuilt(
+    scene: &Scene,
+    path: &std::path::Path,
+    progress: &Progress,
+) -> Result<ReducedModel, PipelineError> {
+    let dir = RunDir::create(path)?;
+    let m = model::build(scene, &dir, &progress.silenced());
+    let _ = std::fs::remove_dir_all(path);
+    m
+}
+
 /// `a + f x`, in place.
 fn add_scaled(a: &mut Mat<Real>, f: Real, x: &Mat<Real>) {
     for j in 0..a.ncols() {
@@ -274,10 +286,8 @@ impl Evaluator {
                 sets.push((scene_key(&self.base, input)?, value_text(value)));
                 let scene = values::scene_for_all(&self.base, &sets)?;
                 let path = dir.path(&format!("basis-check-{i}-{q}"));
-                let rd = RunDir::create(&path)?;
-                let m = model::build(&scene, &rd, &progress.silenced());
-                let _ = std::fs::remove_dir_all(&path);
-                let (or, fr, _) = self.cea(&scene, &m?, progress)?;
+                let m = rebuilt(&scene, &path, progress)?;
+                let (or, fr, _) = self.cea(&scene, &m, progress)?;
                 let (fd, fr) = (f.unwrap_or(0.0), fr.unwrap_or(0.0));
                 let change = (o.max_real_part - or.max_real_part).abs();
                 let allowed = (tolerance * or.max_real_part.abs()).max(floor);
@@ -377,11 +387,8 @@ impl Evaluator {
             // The sample's operating point is the scene's: applied when its problem is made.
             (Some(m), _) => self.cea(&scene, m, progress),
             (None, Some(scratch)) => {
-                let path = scratch.join(format!("{row:06}"));
-                let dir = RunDir::create(&path)?;
-                let m = model::build(&scene, &dir, &progress.silenced());
-                let _ = std::fs::remove_dir_all(&path);
-                self.cea(&scene, &m?, progress)
+                let m = rebuilt(&scene, &scratch.join(format!("{row:06}")), progress)?;
+                self.cea(&scene, &m, progress)
             }
             (None, None) => Err(PipelineError::Model("propensity: no model".into())),
         }
