@@ -677,13 +677,28 @@ class SobolIndices(TypedDict):
     variance: float
 
 
-class PropensityStats(TypedDict):
+class _PropensityStatsBase(TypedDict):
     evaluations: int
     failed: int
     build_s: float
     evaluate_s: float
     wall_s: float
     threads: int
+
+
+class PropensityPhases(TypedDict):
+    """``propensity::evaluate::Phases``: seconds summed over the rows."""
+
+    rows: int
+    state_s: float
+    eigen_s: float
+    refine_s: float
+
+
+class PropensityStats(_PropensityStatsBase, total=False):
+    """``propensity::report::PropensityStats`` (``phases`` from the CLI's run)."""
+
+    phases: PropensityPhases
 
 
 class PropensityReport(TypedDict):

@@ -8,7 +8,7 @@ use crate::scene::{CeaSpec, CeaState, Scene};
 use faer::Mat;
 use serde::Serialize;
 use squeal_contact::GapSet;
-use squeal_solver::bsql::{compliant_cea, steady_state, BsqlSystem, SteadyOptions};
+use squeal_solver::bsql::{compliant_cea, steady_state_of, Statics, SteadyOptions};
 use squeal_solver::cea::CeaMatrices;
 
 use squeal_solver::Real;
@@ -70,11 +70,6 @@ pub fn tangents(
     Ok((d, c_f))
 }
 
-/// The BSQL system of `problem` with `gaps` as its friction.
-fn system(problem: &Problem, gaps: &GapSet) -> Result<BsqlSystem<GapFriction>, PipelineError> {
-    problem.system(gaps.clone())
-}
-
 /// Load time at which the brake load is complete (end of the ramp).
 pub fn full_load_time(problem: &Problem) -> Real {
     if problem.load.step {
@@ -91,9 +86,16 @@ pub fn at_steady_state(
     opts: &SteadyOptions,
 ) -> Result<Linearisation, PipelineError> {
     let n = problem.m.nrows();
-    let mut sys = system(problem, gaps)?;
+    let mut friction = GapFriction { set: gaps.clone() };
+    let statics = Statics {
+        k: &problem.k,
+        g: &problem.g,
+        load: &problem.load,
+        friction: &mut friction,
+        compliance: &problem.compliance,
+    };
     let t = full_load_time(problem);
-    let ss = steady_state(&mut sys, t, opts).map_err(|source| PipelineError::Solver {
+    let ss = steady_state_of(statics, t, opts).map_err(|source| PipelineError::Solver {
         what: format!("steady sliding state at full brake load (t = {t})"),
         source,
     })?;

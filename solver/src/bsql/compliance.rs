@@ -55,7 +55,7 @@ use crate::cea::CeaMatrices;
 use crate::{Real, SolverError};
 
 /// Checks a compliance vector: every entry finite and ≥ 0 (0 = a rigid row).
-fn check_compliance(c: &[Real], ng: usize) -> Result<(), SolverError> {
+pub(crate) fn check_compliance(c: &[Real], ng: usize) -> Result<(), SolverError> {
     if c.len() != ng {
         return Err(SolverError::DimensionMismatch {
             what: "contact compliance",

@@ -39,7 +39,7 @@ use serde::{Deserialize, Serialize};
 pub use compliance::compliant_cea;
 pub use energy::{EnergyBalance, EnergyRestart, PowerTerms};
 pub use residual::LoadHistory;
-pub use steady::{steady_state, SteadyOptions, SteadyState};
+pub use steady::{steady_state, steady_state_of, Statics, SteadyOptions, SteadyState};
 pub use unilateral::{
     EventRestart, Unilateral, UnilateralOptions, UnilateralState, UnilateralStats,
 };

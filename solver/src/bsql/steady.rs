@@ -2,10 +2,10 @@
 
 #![allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` deliberately rejects NaN too.
 
-use faer::Accum;
+use faer::{Accum, Mat};
 use serde::{Deserialize, Serialize};
 
-use super::residual::matvec;
+use super::residual::{matvec, LoadHistory};
 use super::{BsqlSystem, FrictionForces};
 use crate::{Real, SolverError};
 
@@ -92,8 +92,81 @@ pub fn steady_state<F: FrictionForces>(
     t: Real,
     opts: &SteadyOptions,
 ) -> Result<SteadyState, SolverError> {
+    let mut factorisations = 0;
+    let statics = Statics {
+        k: &sys.K,
+        g: &sys.G,
+        load: &sys.load,
+        friction: &mut sys.friction,
+        compliance: &sys.compliance,
+    };
+    let r = solve(statics, sys.g_scale, t, opts, &mut factorisations);
+    sys.stats.factorisations += factorisations;
+    r
+}
+
+/// What the steady state reads of a problem: K, G, the loads, the friction forces and the
+/// compliant rows (empty: every row rigid).
+pub struct Statics<'a, F> {
+    pub k: &'a Mat<Real>,
+    pub g: &'a Mat<Real>,
+    pub load: &'a LoadHistory,
+    pub friction: &'a mut F,
+    pub compliance: &'a [Real],
+}
+
+/// [`steady_state`] from the matrices themselves, without the transient's [`BsqlSystem`]
+/// (whose set-up — sparse row patterns of M, B, K, the modal elimination, the component
+/// blocks — the static solve never uses): a CEA per sample builds only what it needs.
+/// Checks the sizes, the loads and the compliance as [`BsqlSystem::new`] does.
+///
+/// # Errors
+/// As [`steady_state`]; sizes that do not match (named), a bad load or compliance.
+pub fn steady_state_of<F: FrictionForces>(
+    statics: Statics<'_, F>,
+    t: Real,
+    opts: &SteadyOptions,
+) -> Result<SteadyState, SolverError> {
+    let (k, g) = (statics.k, statics.g);
+    let n = k.nrows();
+    if k.ncols() != n {
+        return Err(SolverError::DimensionMismatch {
+            what: "K",
+            expected: n,
+            got: k.ncols(),
+        });
+    }
+    if g.ncols() != n {
+        return Err(SolverError::DimensionMismatch {
+            what: "G (columns)",
+            expected: n,
+            got: g.ncols(),
+        });
+    }
+    statics.load.validate(n)?;
+    if !statics.compliance.is_empty() {
+        super::compliance::check_compliance(statics.compliance, g.nrows())?;
+    }
+    let mut g_scale: Real = 0.0;
+    for j in 0..n {
+        for i in 0..g.nrows() {
+            g_scale = g_scale.max(g[(i, j)].abs());
+        }
+    }
+    let g_scale = if g_scale > 0.0 { g_scale } else { 1.0 };
+    solve(statics, g_scale, t, opts, &mut 0)
+}
+
+/// The Newton solve of [`steady_state`]; counts its factorisations in `factorisations`.
+fn solve<F: FrictionForces>(
+    sys: Statics<'_, F>,
+    g_scale: Real,
+    t: Real,
+    opts: &SteadyOptions,
+    factorisations: &mut u64,
+) -> Result<SteadyState, SolverError> {
     opts.validate()?;
-    let (n, ng) = (sys.n, sys.ng);
+    let (n, ng) = (sys.k.nrows(), sys.g.nrows());
     let mut u = vec![0.0; n];
     let mut lamp = vec![0.0; ng];
     let zero_v = vec![0.0; n];
@@ -102,6 +175,8 @@ pub fn steady_state<F: FrictionForces>(
     // The whole (n + ng) Newton matrix (the system's own LU may be the reduced one of the
     // modal elimination); allocated once per call.
     let mut lu = crate::linalg::lu::DenseLu::new(n + ng);
+    let mut f_n = vec![0.0; n];
+    let mut d_dlam = Mat::<Real>::zeros(n, ng);
     sys.load.add_to(t, 1.0, &mut p);
     let scale = p.iter().fold(1.0f64, |m, x| m.max(x.abs()));
     let tol = opts.tol * scale;
@@ -109,14 +184,14 @@ pub fn steady_state<F: FrictionForces>(
     loop {
         // Residual.
         let (ru, rg) = r.split_at_mut(n);
-        matvec(sys.K.as_ref(), &u, ru, Accum::Replace, 1.0);
-        matvec(sys.G.transpose(), &lamp, ru, Accum::Add, 1.0);
-        sys.f_n.fill(0.0);
-        sys.friction.add_forces(t, &zero_v, &lamp, &mut sys.f_n)?;
+        matvec(sys.k.as_ref(), &u, ru, Accum::Replace, 1.0);
+        matvec(sys.g.transpose(), &lamp, ru, Accum::Add, 1.0);
+        f_n.fill(0.0);
+        sys.friction.add_forces(t, &zero_v, &lamp, &mut f_n)?;
         for i in 0..n {
-            ru[i] -= p[i] + sys.f_n[i];
+            ru[i] -= p[i] + f_n[i];
         }
-        matvec(sys.G.as_ref(), &u, rg, Accum::Replace, 1.0);
+        matvec(sys.g.as_ref(), &u, rg, Accum::Replace, 1.0);
         for (k, &c) in sys.compliance.iter().enumerate() {
             rg[k] -= c * lamp[k]; // a compliant row: G u − c λ' = 0
         }
@@ -151,26 +226,26 @@ pub fn steady_state<F: FrictionForces>(
         }
         iterations += 1;
         // Newton matrix.
-        sys.d_dlam.fill(0.0);
+        d_dlam.fill(0.0);
         sys.friction
-            .add_tangents(t, &zero_v, &lamp, &mut sys.d_dlam, None)?;
+            .add_tangents(t, &zero_v, &lamp, &mut d_dlam, None)?;
         let a = &mut lu.a;
         let mut k_scale: Real = 0.0;
         for j in 0..n {
             for i in 0..n {
-                a[(i, j)] = sys.K[(i, j)];
+                a[(i, j)] = sys.k[(i, j)];
             }
-            k_scale = k_scale.max(sys.K[(j, j)].abs());
+            k_scale = k_scale.max(sys.k[(j, j)].abs());
         }
         let s = if k_scale > 0.0 {
-            k_scale / sys.g_scale
+            k_scale / g_scale
         } else {
             1.0
         };
         for k in 0..ng {
             for i in 0..n {
-                a[(i, n + k)] = s * (sys.G[(k, i)] - sys.d_dlam[(i, k)]);
-                a[(n + k, i)] = s * sys.G[(k, i)];
+                a[(i, n + k)] = s * (sys.g[(k, i)] - d_dlam[(i, k)]);
+                a[(n + k, i)] = s * sys.g[(k, i)];
             }
             for l in 0..ng {
                 a[(n + k, n + l)] = 0.0;
@@ -178,7 +253,7 @@ pub fn steady_state<F: FrictionForces>(
             a[(n + k, n + k)] = -s * s * sys.compliance.get(k).copied().unwrap_or(0.0);
         }
         lu.factor("steady-state Newton", t)?;
-        sys.stats.factorisations += 1;
+        *factorisations += 1;
         for k in 0..ng {
             r[n + k] *= s;
         }

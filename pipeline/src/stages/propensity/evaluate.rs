@@ -120,6 +120,21 @@ pub struct Evaluator {
     derivatives: Vec<(usize, Real, Derivative)>,
     /// The CEA's projection basis at the design's centre, reused by every row.
     basis: Option<ModalBasis>,
+    /// Seconds per phase, summed over the rows ([`Evaluator::phases`]).
+    phases: std::sync::Mutex<Phases>,
+}
+
+/// Where the rows' CEAs spent their time, seconds summed over the rows (each on its thread).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Phases {
+    /// Rows timed.
+    pub rows: usize,
+    /// The problem, the steady sliding state, its tangents and the CEA matrices.
+    pub state_s: Real,
+    /// The eigen-solve: projection and exact refinement.
+    pub eigen_s: Real,
+    /// Of that, the refinement of the in-band unstable roots.
+    pub refine_s: Real,
 }
 
 /// ∂K, ∂M and ∂B_element of a component property on the reduced model.
@@ -272,6 +287,7 @@ impl Evaluator {
             base,
             derivatives,
             basis: None,
+            phases: Default::default(),
         };
         // One projection basis for every row, made at the design's centre (a basis does not
         // depend on μ; an input that changes K or M is checked by `check_basis`).
@@ -295,6 +311,11 @@ impl Evaluator {
     pub fn forget_projection_basis(&mut self) {
         self.basis = None;
         self.info.projection_basis = None;
+    }
+
+    /// Where the rows evaluated so far spent their time.
+    pub fn phases(&self) -> Phases {
+        self.phases.lock().map(|p| p.clone()).unwrap_or_default()
     }
 
     /// The shared settings (for the report).
@@ -356,6 +377,9 @@ impl Evaluator {
                     .map(|(x, v)| (x.key.clone(), value_text(*v)))
                     .collect();
                 sets.push((scene_key(&self.base, input)?, value_text(value)));
+                // The reference model needs no reduction checks: they verify a reduction,
+                // they do not change it (the study's own model was checked when built).
+                sets.push(("reduction.checks".into(), "false".into()));
                 let scene = values::scene_for_all(&self.base, &sets)?;
                 let path = dir.path(&format!("basis-check-{i}-{q}"));
                 let m = rebuilt(&scene, &path, progress)?;
@@ -504,9 +528,17 @@ impl Evaluator {
         basis: Option<&ModalBasis>,
         progress: &Progress,
     ) -> Result<Lean, PipelineError> {
+        let t = std::time::Instant::now();
         let spec = lean_spec(scene, progress)?;
         let problem = system::problem(scene, m)?;
         let r = linear::roots_on(scene, &spec, &problem, m, basis, &progress.silenced())?;
+        if let Ok(mut p) = self.phases.lock() {
+            let eigen = r.stats.time_eigen_s + r.stats.time_reduce_s;
+            p.rows += 1;
+            p.state_s += t.elapsed().as_secs_f64() - eigen;
+            p.eigen_s += eigen;
+            p.refine_s += r.stats.refine.as_ref().map_or(0.0, |x| x.time_s);
+        }
         let (kept, fmax) = (&r.kept, r.band_hz.unwrap_or(Real::INFINITY));
         let top = kept
             .iter()

@@ -501,6 +501,7 @@ pub fn compute(
     out.stats.evaluate_s = eval_s;
     out.stats.wall_s = wall.elapsed().as_secs_f64();
     out.stats.threads = rayon::current_num_threads();
+    out.stats.phases = Some(ev.phases());
     Ok((plan, samples, out))
 }
 

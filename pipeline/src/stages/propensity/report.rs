@@ -60,6 +60,9 @@ pub struct PropensityStats {
     pub evaluate_s: Real,
     pub wall_s: Real,
     pub threads: usize,
+    /// Where the rows' CEAs spent their time (the CLI's run; None from Python's chunks).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub phases: Option<super::evaluate::Phases>,
 }
 
 /// `propensity.json`.
