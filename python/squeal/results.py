@@ -600,13 +600,17 @@ class FrequencyBand(TypedDict):
 
 
 class BasisCheck(TypedDict):
-    """One volume input's basis error against re-reduction (``propensity::BasisCheck``)."""
+    """One input's error of a basis the rows hold fixed (``propensity::BasisCheck``):
+    ``craig_bampton`` (a volume's material against re-reduction) or ``projection`` (the CEA's
+    projection basis of the design's centre against the row's own)."""
 
+    kind: str
     key: str
     value: float
     derivative: List[float]
-    """Largest Re λ (1/s) and its frequency (Hz) on the one model."""
+    """Largest Re λ (1/s) and its frequency (Hz) as the rows run."""
     rereduced: List[float]
+    """The same afresh (re-reduced, or with the row's own projection basis)."""
     real_part_change: float
     frequency_change: float
     allowed: float
@@ -621,10 +625,20 @@ class _PropensityModelBase(TypedDict):
     bands: List[FrequencyBand]
 
 
+class ProjectionBasis(TypedDict):
+    """``propensity::ProjectionBasis``: the CEA's projection basis every row reuses."""
+
+    n_modes: int
+    max_frequency_hz: float
+    time_s: float
+
+
 class PropensityModel(_PropensityModelBase, total=False):
-    """``propensity::EvalInfo`` (``basis_checks`` when an input scales one volume)."""
+    """``propensity::EvalInfo`` (``basis_checks`` when a basis held fixed was checked,
+    ``projection_basis`` when the rows share one)."""
 
     basis_checks: List[BasisCheck]
+    projection_basis: ProjectionBasis
 
 
 class Probability(TypedDict):

@@ -112,10 +112,11 @@ pub fn propensity_evaluate<'py>(
     to_py(py, &out)
 }
 
-/// The basis check of the inputs that scale one volume on the reduced model
-/// (`Evaluator::check_basis`, run once before the rows are distributed): a list of the
-/// checks' dicts for [`propensity_finish`]; a change above `tolerance` × |Re λ| (at least
-/// 1 /s) raises the error naming the key. An empty list when no input scales one volume.
+/// The checks of the bases the rows hold fixed (`Evaluator::check_basis`, run once before
+/// the rows are distributed: a volume's material against re-reduction, an input that changes
+/// K or M against the CEA's own projection basis): a list of the checks' dicts for
+/// [`propensity_finish`]; a change above `tolerance` × |Re λ| (at least 1 /s) raises the
+/// error naming the key. An empty list when nothing needs a check (or with `rereduce`).
 #[pyfunction]
 #[pyo3(signature = (scene, plan, workdir, tolerance=0.05, cache_dir=None))]
 pub fn propensity_check_basis<'py>(
@@ -129,12 +130,8 @@ pub fn propensity_check_basis<'py>(
     let plan: Plan = typed(plan, "plan")?;
     let hook = Hook::new(None);
     let base = &scene.inner;
-    let volumes = plan
-        .inputs
-        .iter()
-        .any(|i| i.component.as_ref().is_some_and(|c| c.volume.is_some()));
     let checks = run(py, &hook, |h| {
-        if !volumes {
+        if plan.rereduce {
             return Ok(Vec::new());
         }
         let dir = RunDir::create(&workdir)?;

@@ -13,7 +13,10 @@ use crate::model::ReducedModel;
 use crate::progress::Progress;
 use crate::scene::{CeaSpec, Scene};
 use serde::Serialize;
-use squeal_solver::cea::{complex_eigen, CeaMatrices, CeaOptions, CeaStats, Mode};
+use squeal_solver::cea::{
+    complex_eigen, method_for, CeaError, CeaMatrices, CeaMethod, CeaOptions, CeaStats, ModalBasis,
+    Mode,
+};
 use squeal_solver::Real;
 
 /// The solver options with the validity band as the projection's band of interest
@@ -54,6 +57,10 @@ pub struct Roots {
     /// Roots above it.
     pub above: Vec<Mode>,
     pub stats: CeaStats,
+    /// Projected on a basis given to [`roots_on`]: `Some(true)` when that basis is the one
+    /// this state would make (same K, M and G), `Some(false)` when it was made for other
+    /// matrices (an approximation the caller must measure); None: solved afresh.
+    pub reused_basis: Option<bool>,
 }
 
 /// Linearises `problem` about the state `spec.at` names and solves for its roots.
@@ -62,6 +69,40 @@ pub fn roots(
     spec: &CeaSpec,
     problem: &Problem,
     model: &ReducedModel,
+    progress: &Progress,
+) -> Result<Roots, PipelineError> {
+    roots_on(scene, spec, problem, model, None, progress)
+}
+
+/// The projection basis the CEA of [`roots`] would make for `problem` (None: the CEA solves
+/// exactly, as a small model does), for [`roots_on`] to reuse at other states.
+pub fn projection_basis(
+    scene: &Scene,
+    spec: &CeaSpec,
+    problem: &Problem,
+    progress: &Progress,
+) -> Result<Option<ModalBasis>, PipelineError> {
+    let lin = tangents::linearise(scene, spec, problem)?;
+    let sys = tangents::cea_matrices(problem, &lin, spec.friction_damping)?;
+    let solver = banded(&spec.solver, band_of(scene, spec));
+    let err = |source| PipelineError::cea("the projection basis".to_string(), source);
+    progress.check("cea")?;
+    match method_for(&sys, &solver).map_err(err)? {
+        CeaMethod::Projection => Ok(Some(ModalBasis::new(&sys, &solver).map_err(err)?)),
+        _ => Ok(None),
+    }
+}
+
+/// [`roots`], projected on `basis` (made by [`projection_basis`] at another state of the
+/// same model, e.g. another μ) when the CEA projects and the basis fits this problem's size
+/// and constraint; else as [`roots`]. The in-band unstable roots are refined exactly either
+/// way; the rest are the projection's. [`Roots::reused_basis`] says which ran.
+pub fn roots_on(
+    scene: &Scene,
+    spec: &CeaSpec,
+    problem: &Problem,
+    model: &ReducedModel,
+    basis: Option<&ModalBasis>,
     progress: &Progress,
 ) -> Result<Roots, PipelineError> {
     let gaps = &problem.gaps;
@@ -76,8 +117,22 @@ pub fn roots(
     let band_hz = band_of(scene, spec);
     let solver = banded(&spec.solver, band_hz);
     let step = progress.step(format!("complex eigenvalues ({n} DOFs, {ng} constraints)"));
-    let res = complex_eigen(&sys, &solver)
-        .map_err(|source| PipelineError::cea("complex eigenvalues".to_string(), source))?;
+    let err = |source| PipelineError::cea("complex eigenvalues".to_string(), source);
+    let reusable = match basis {
+        Some(b) if method_for(&sys, &solver).map_err(err)? == CeaMethod::Projection => Some(b),
+        _ => None,
+    };
+    let (res, reused_basis) = match reusable {
+        Some(b) => match b.solve_refined(&sys, &solver) {
+            Ok(r) => (r, Some(b.is_basis_of(&sys))),
+            // Another size or constraint (G): the basis does not apply, solve afresh.
+            Err(CeaError::Shape { .. } | CeaError::BasisMismatch { .. }) => {
+                (complex_eigen(&sys, &solver).map_err(err)?, None)
+            }
+            Err(e) => return Err(err(e)),
+        },
+        None => (complex_eigen(&sys, &solver).map_err(err)?, None),
+    };
     step.done(format!(
         "{} modes, {} unstable{}",
         res.stats.n_modes,
@@ -99,6 +154,7 @@ pub fn roots(
         kept,
         above,
         stats: res.stats,
+        reused_basis,
     })
 }
 

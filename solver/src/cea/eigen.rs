@@ -50,8 +50,26 @@ pub(crate) fn sandwich(l: MatRef<'_, f64>, x: &Mat<f64>) -> Mat<f64> {
 /// of the eigenvalue solver.
 pub fn complex_eigen(sys: &CeaMatrices, opts: &CeaOptions) -> Result<CeaResult, CeaError> {
     opts.validate()?;
+    match method_for(sys, opts)? {
+        CeaMethod::Auto | CeaMethod::Exact => exact(sys, opts),
+        CeaMethod::Projection => {
+            let basis = ModalBasis::new(sys, opts)?;
+            let mut r = basis.solve_refined(sys, opts)?;
+            r.stats.time_basis_s = basis.time_s();
+            Ok(r)
+        }
+    }
+}
+
+/// The method [`complex_eigen`] runs on `sys`: `opts.method`, with `auto` resolved
+/// (projection when the projection is truncated and the reduced problem has more than
+/// `projection.auto_single_min_dofs` DOFs, else exact). Never [`CeaMethod::Auto`].
+///
+/// # Errors
+/// The input checks' errors.
+pub fn method_for(sys: &CeaMatrices, opts: &CeaOptions) -> Result<CeaMethod, CeaError> {
     let pr = &opts.projection;
-    let method = match opts.method {
+    Ok(match opts.method {
         CeaMethod::Auto => {
             let (n, ng) = check_inputs(sys)?;
             if pr.is_truncated() && n - ng > pr.auto_single_min_dofs {
@@ -61,16 +79,7 @@ pub fn complex_eigen(sys: &CeaMatrices, opts: &CeaOptions) -> Result<CeaResult, 
             }
         }
         m => m,
-    };
-    match method {
-        CeaMethod::Auto | CeaMethod::Exact => exact(sys, opts),
-        CeaMethod::Projection => {
-            let basis = ModalBasis::new(sys, opts)?;
-            let mut r = basis.solve_refined(sys, opts)?;
-            r.stats.time_basis_s = basis.time_s();
-            Ok(r)
-        }
-    }
+    })
 }
 
 /// The real first-order matrix whose eigenvalues the exact method computes: the constraint

@@ -53,7 +53,7 @@ mod track;
 pub use basis::ModalBasis;
 pub use check::{compare_eigenvalues, CheckKind, EigenvalueComparison, ExactCheck};
 pub use critical::CriticalExact;
-pub use eigen::{complex_eigen, first_order_matrix};
+pub use eigen::{complex_eigen, first_order_matrix, method_for};
 pub use error::CeaError;
 pub use events::ModeEvent;
 pub use options::{BasisSolver, CeaMethod, CeaOptions, ProjectionOptions, SweepOptions};

@@ -21,6 +21,21 @@ fn first_difference(a: &Mat<f64>, b: &Mat<f64>) -> Option<(usize, usize)> {
 }
 
 impl ModalBasis {
+    /// True when `sys` has this basis' reference K, M and G (entry for entry): a basis made
+    /// afresh from `sys` with the same options would be this one ([`ModalBasis::new`] reads
+    /// nothing else), so reusing it for `sys` is no approximation.
+    pub fn is_basis_of(&self, sys: &CeaMatrices) -> bool {
+        let same = |a: &Mat<f64>, b: &Mat<f64>| {
+            a.nrows() == b.nrows() && a.ncols() == b.ncols() && first_difference(a, b).is_none()
+        };
+        let g = match (&sys.g, &self.g_ref) {
+            (Some(a), Some(b)) => same(a, b),
+            (None, None) => true,
+            _ => false,
+        };
+        g && same(&sys.k, &self.k_ref) && same(&sys.m, &self.m_ref)
+    }
+
     /// Complex eigenvalue analysis of `sys` projected on the basis: the roots of the
     /// constrained problem restricted to `u = Ψ η` (nb of them, one per conjugate pair kept).
     ///

@@ -316,6 +316,7 @@ pub fn compute(
         kept,
         above,
         stats,
+        ..
     } = linear::roots(scene, &spec, &problem, model, progress)?;
     let mut above_unstable: Vec<RootOut> = above
         .iter()

@@ -16,6 +16,7 @@ use crate::stages::cea::volume::volume_matrix_derivative;
 use crate::uq::{band_of, third_octave_bands, Band, Outcome};
 use faer::Mat;
 use serde::{Deserialize, Serialize};
+use squeal_solver::cea::ModalBasis;
 use std::path::PathBuf;
 
 use squeal_solver::Real;
@@ -56,18 +57,46 @@ pub struct EvalInfo {
     /// ([`Evaluator::check_basis`]; None: not checked, e.g. chunks evaluated from Python).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub basis_checks: Vec<BasisCheck>,
+    /// The CEA's projection basis, made once at the design's centre and reused by every row
+    /// (None: the CEA solves exactly, or the model is rebuilt per sample).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub projection_basis: Option<ProjectionBasis>,
 }
 
-/// One volume input's basis error: the row with the input at `value` (the others at their
-/// means, component scales at 1) on the one model through the derivative and on a model
-/// re-reduced at `value`.
+/// The projection basis the rows share ([`linear::projection_basis`]).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct ProjectionBasis {
+    /// Real modes in it, and the highest one's frequency (Hz).
+    pub n_modes: usize,
+    pub max_frequency_hz: Real,
+    /// Seconds to make it (once, instead of once per row).
+    pub time_s: Real,
+}
+
+/// What a [`BasisCheck`] measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BasisKind {
+    /// One volume's material through the reduced-matrix derivative (the Craig–Bampton basis
+    /// and the projection basis held) against a model re-reduced there.
+    CraigBampton,
+    /// The CEA's projection basis of the design's centre against one made for the row.
+    Projection,
+}
+
+/// One input's basis error: the row with the input at `value` (the others at their means,
+/// component scales at 1) as every row runs (the one model, the shared projection basis) and
+/// afresh: on a model re-reduced at `value` (`craig_bampton`: a volume's material), or with
+/// the projection basis made for the row (`projection`: any input that changes K or M; an
+/// input that changes neither leaves the basis exact and is not checked).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct BasisCheck {
+    pub kind: BasisKind,
     pub key: String,
     pub value: Real,
-    /// Largest Re λ (1/s) and its frequency (Hz) through the derivative.
+    /// Largest Re λ (1/s) and its frequency (Hz) as the rows run.
     pub derivative: (Real, Real),
-    /// The same re-reduced.
+    /// The same afresh (re-reduced, or with the row's own projection basis).
     pub rereduced: (Real, Real),
     /// |ΔRe λ| (1/s) and |Δf|/f.
     pub real_part_change: Real,
@@ -89,6 +118,8 @@ pub struct Evaluator {
     /// Per input varied on the reduced model (a component property): its key's index, the
     /// value at scale 1, the derivative of K, M and the element damping.
     derivatives: Vec<(usize, Real, Derivative)>,
+    /// The CEA's projection basis at the design's centre, reused by every row.
+    basis: Option<ModalBasis>,
 }
 
 /// ∂K, ∂M and ∂B_element of a component property on the reduced model.
@@ -198,6 +229,7 @@ pub fn info_of(scene: &Scene, plan: &Plan, n_dofs: usize, n_gaps: usize) -> Eval
         band_hz,
         bands: third_octave_bands(LOWEST_BAND_HZ, band_hz.unwrap_or(DEFAULT_TOP_HZ)),
         basis_checks: Vec::new(),
+        projection_basis: None,
     }
 }
 
@@ -232,14 +264,37 @@ impl Evaluator {
             let (n, g) = (m.n(), m.gap_geometry.len());
             (Some(m), None, n, g)
         };
-        Ok(Evaluator {
+        let mut ev = Evaluator {
             keys: plan.keys(),
             model,
             scratch,
             info: info_of(scene, plan, n_dofs, n_gaps),
             base,
             derivatives,
-        })
+            basis: None,
+        };
+        // One projection basis for every row, made at the design's centre (a basis does not
+        // depend on μ; an input that changes K or M is checked by `check_basis`).
+        if ev.model.is_some() {
+            let t = std::time::Instant::now();
+            let (scene, m) = ev.row_model(&centre(plan))?;
+            let problem = system::problem(&scene, &m)?;
+            let spec = lean_spec(&scene, progress)?;
+            ev.basis = linear::projection_basis(&scene, &spec, &problem, &progress.silenced())?;
+            ev.info.projection_basis = ev.basis.as_ref().map(|b| ProjectionBasis {
+                n_modes: b.len(),
+                max_frequency_hz: b.frequencies_hz().last().copied().unwrap_or(0.0),
+                time_s: t.elapsed().as_secs_f64(),
+            });
+        }
+        Ok(ev)
+    }
+
+    /// Makes every later row build its own projection basis, as a single CEA does (for
+    /// comparisons: the rows are exact but slower).
+    pub fn forget_projection_basis(&mut self) {
+        self.basis = None;
+        self.info.projection_basis = None;
     }
 
     /// The shared settings (for the report).
@@ -247,12 +302,19 @@ impl Evaluator {
         self.info.clone()
     }
 
-    /// For each input that scales one volume on the reduced model (first order in the
-    /// basis's change): the row with it at its 0.5 % and 99.5 % quantiles (the other inputs at
-    /// their means, component scales at 1), evaluated on the one model and on a model
-    /// re-reduced there (in `dir`); kept in [`EvalInfo::basis_checks`]. A change of the
-    /// largest Re λ above `tolerance` × |Re λ|, and above `floor` (1/s), is an error naming
-    /// the key.
+    /// The bases the rows hold fixed, checked per input at its 0.5 % and 99.5 % quantiles
+    /// (the other inputs at their means, component scales at 1), the row as every row runs
+    /// against the same afresh; kept in [`EvalInfo::basis_checks`]:
+    /// - an input that scales one volume on the reduced model (first order in the Craig–
+    ///   Bampton basis's change): against a model re-reduced there (in `dir`), with its own
+    ///   projection basis;
+    /// - any other input whose row changes K or M (a whole component's modulus or density, a
+    ///   contact stiffness): against the CEA with the row's own projection basis. An input that
+    ///   leaves K, M and G as at the centre (μ, a friction-law coefficient) leaves the basis
+    ///   exact and is not checked.
+    ///
+    /// A change of the largest Re λ above `tolerance` × |Re λ|, and above `floor` (1/s), is
+    /// an error naming the key.
     pub fn check_basis(
         &mut self,
         plan: &Plan,
@@ -262,19 +324,29 @@ impl Evaluator {
     ) -> Result<(), PipelineError> {
         let mut checks = Vec::new();
         for (i, input) in plan.inputs.iter().enumerate() {
-            if input.component.as_ref().is_none_or(|c| c.volume.is_none()) {
-                continue;
-            }
+            let volume = input.component.as_ref().is_some_and(|c| c.volume.is_some());
             for q in [0.005, 0.995] {
                 let value = input.distribution.quantile(q);
-                let mut values: Vec<Real> = plan.inputs.iter().map(|x| x.mean).collect();
-                for (j, x) in plan.inputs.iter().enumerate() {
-                    if let Some(c) = &x.component {
-                        values[j] = c.base;
-                    }
-                }
+                let mut values = centre(plan);
                 values[i] = value;
-                let (o, f, _) = self.try_evaluate(0, &values, progress)?;
+                let (o, f, _, exact_basis) = self.try_evaluate(0, &values, progress)?;
+                if !volume {
+                    // The projection basis: exact when the row has the centre's K, M and G.
+                    if exact_basis != Some(false) {
+                        continue;
+                    }
+                    let (scene, m) = self.row_model(&values)?;
+                    let (or, fr, _, _) = self.cea(&scene, &m, None, progress)?;
+                    checks.push(BasisCheck::new(
+                        BasisKind::Projection,
+                        &input.key,
+                        value,
+                        (o.max_real_part, f),
+                        (or.max_real_part, fr),
+                        (tolerance, floor),
+                    ));
+                    continue;
+                }
                 // Re-reduced: the scene's keys (the volume's too) on a fresh build.
                 let mut sets: Vec<(String, String)> = plan
                     .inputs
@@ -287,25 +359,31 @@ impl Evaluator {
                 let scene = values::scene_for_all(&self.base, &sets)?;
                 let path = dir.path(&format!("basis-check-{i}-{q}"));
                 let m = rebuilt(&scene, &path, progress)?;
-                let (or, fr, _) = self.cea(&scene, &m, progress)?;
-                let (fd, fr) = (f.unwrap_or(0.0), fr.unwrap_or(0.0));
-                let change = (o.max_real_part - or.max_real_part).abs();
-                let allowed = (tolerance * or.max_real_part.abs()).max(floor);
-                checks.push(BasisCheck {
-                    key: input.key.clone(),
+                let (or, fr, _, _) = self.cea(&scene, &m, None, progress)?;
+                checks.push(BasisCheck::new(
+                    BasisKind::CraigBampton,
+                    &input.key,
                     value,
-                    derivative: (o.max_real_part, fd),
-                    rereduced: (or.max_real_part, fr),
-                    real_part_change: change,
-                    frequency_change: (fd - fr).abs() / fr.abs().max(Real::MIN_POSITIVE),
-                    allowed,
-                    passed: change <= allowed,
-                });
+                    (o.max_real_part, f),
+                    (or.max_real_part, fr),
+                    (tolerance, floor),
+                ));
             }
         }
         let failed = checks.iter().find(|c| !c.passed).cloned();
         self.info.basis_checks = checks;
         match failed {
+            Some(c) if c.kind == BasisKind::Projection => Err(PipelineError::Option {
+                option: format!("--dist {}", c.key),
+                message: format!(
+                    "the CEA's projection basis made at the design's centre moves the largest \
+                     Re λ by {:.3e} /s at {} = {} ({:.4e} /s with the row's own basis, {:.4e} \
+                     /s with the centre's), above the {:.3e} /s allowed (--basis-tolerance \
+                     {tolerance}): narrow the distribution, or widen [cea.solver.projection] \
+                     cutoff_factor",
+                    c.real_part_change, c.key, c.value, c.rereduced.0, c.derivative.0, c.allowed
+                ),
+            }),
             Some(c) => Err(PipelineError::Option {
                 option: format!("--dist {}", c.key),
                 message: format!(
@@ -338,7 +416,7 @@ impl Evaluator {
             error: None,
         };
         match self.try_evaluate(row, values, progress) {
-            Ok((o, f, n)) => {
+            Ok((o, f, n, _)) => {
                 s.outcome = Some(o);
                 s.max_real_part_frequency_hz = f;
                 s.n_unstable = n;
@@ -349,13 +427,30 @@ impl Evaluator {
         Ok(s)
     }
 
+    /// The row's CEA: on the one model and the shared projection basis, or (`--rereduce`)
+    /// on a model built for it. The last value is [`linear::Roots::reused_basis`].
     fn try_evaluate(
         &self,
         row: usize,
         values: &[Real],
         progress: &Progress,
-    ) -> Result<(Outcome, Option<Real>, usize), PipelineError> {
-        // The scene's keys set on the scene; a component property on the reduced model.
+    ) -> Result<Lean, PipelineError> {
+        match (&self.model, &self.scratch) {
+            (Some(_), _) => {
+                let (scene, m) = self.row_model(values)?;
+                self.cea(&scene, &m, self.basis.as_ref(), progress)
+            }
+            (None, Some(scratch)) => {
+                let scene = self.row_scene(values)?;
+                let m = rebuilt(&scene, &scratch.join(format!("{row:06}")), progress)?;
+                self.cea(&scene, &m, None, progress)
+            }
+            (None, None) => Err(PipelineError::Model("propensity: no model".into())),
+        }
+    }
+
+    /// The row's scene: the inputs that are scene keys set on the base scene.
+    fn row_scene(&self, values: &[Real]) -> Result<Scene, PipelineError> {
         let on_model = |i: usize| self.derivatives.iter().any(|d| d.0 == i);
         let assignments: Vec<(String, String)> = self
             .keys
@@ -365,9 +460,21 @@ impl Evaluator {
             .filter(|(i, _)| !on_model(*i))
             .map(|(_, (k, v))| (k.clone(), value_text(*v)))
             .collect();
-        let scene = values::scene_for_all(&self.base, &assignments)?;
-        match (&self.model, &self.scratch) {
-            (Some(m), _) if !self.derivatives.is_empty() => {
+        values::scene_for_all(&self.base, &assignments)
+    }
+
+    /// The row's scene and the one model with the row's component properties applied.
+    fn row_model(
+        &self,
+        values: &[Real],
+    ) -> Result<(Scene, std::borrow::Cow<'_, ReducedModel>), PipelineError> {
+        use std::borrow::Cow;
+        let scene = self.row_scene(values)?;
+        let Some(m) = &self.model else {
+            return Err(PipelineError::Model("propensity: no model".into()));
+        };
+        match self.derivatives.is_empty() {
+            false => {
                 let mut m = m.clone();
                 for (i, base, d) in &self.derivatives {
                     let delta = values[*i] / base - 1.0;
@@ -382,15 +489,10 @@ impl Evaluator {
                         add_scaled(b, delta, x);
                     }
                 }
-                self.cea(&scene, &m, progress)
+                Ok((scene, Cow::Owned(m)))
             }
             // The sample's operating point is the scene's: applied when its problem is made.
-            (Some(m), _) => self.cea(&scene, m, progress),
-            (None, Some(scratch)) => {
-                let m = rebuilt(&scene, &scratch.join(format!("{row:06}")), progress)?;
-                self.cea(&scene, &m, progress)
-            }
-            (None, None) => Err(PipelineError::Model("propensity: no model".into())),
+            true => Ok((scene, Cow::Borrowed(m))),
         }
     }
 
@@ -399,15 +501,12 @@ impl Evaluator {
         &self,
         scene: &Scene,
         m: &ReducedModel,
+        basis: Option<&ModalBasis>,
         progress: &Progress,
-    ) -> Result<(Outcome, Option<Real>, usize), PipelineError> {
-        let mut spec = scene.cea.clone().unwrap_or_default();
-        spec.sweep = None;
-        spec.validate()?;
-        spec.solver.interrupt = progress.solver_interrupt();
-        spec.solver.compute_shapes = false;
+    ) -> Result<Lean, PipelineError> {
+        let spec = lean_spec(scene, progress)?;
         let problem = system::problem(scene, m)?;
-        let r = linear::roots(scene, &spec, &problem, m, &progress.silenced())?;
+        let r = linear::roots_on(scene, &spec, &problem, m, basis, &progress.silenced())?;
         let (kept, fmax) = (&r.kept, r.band_hz.unwrap_or(Real::INFINITY));
         let top = kept
             .iter()
@@ -433,6 +532,58 @@ impl Evaluator {
             },
             Some(top.frequency_hz),
             n_unstable,
+            r.reused_basis,
         ))
+    }
+}
+
+/// A lean CEA's outcome, the frequency of its largest Re λ, its count of unstable roots in
+/// the band, and whether it reused a projection basis ([`linear::Roots::reused_basis`]).
+type Lean = (Outcome, Option<Real>, usize, Option<bool>);
+
+/// The `[cea]` table of a row: its sweep left out, no shapes.
+fn lean_spec(scene: &Scene, progress: &Progress) -> Result<CeaSpec, PipelineError> {
+    let mut spec = scene.cea.clone().unwrap_or_default();
+    spec.sweep = None;
+    spec.validate()?;
+    spec.solver.interrupt = progress.solver_interrupt();
+    spec.solver.compute_shapes = false;
+    Ok(spec)
+}
+
+/// The design's centre: every input at its mean, a component property at its value in the
+/// model as built.
+fn centre(plan: &Plan) -> Vec<Real> {
+    plan.inputs
+        .iter()
+        .map(|x| x.component.as_ref().map_or(x.mean, |c| c.base))
+        .collect()
+}
+
+impl BasisCheck {
+    /// `rows` (largest Re λ, its frequency) as the rows run, `fresh` afresh; allowed:
+    /// `tolerance` × |Re λ afresh|, at least `floor`.
+    fn new(
+        kind: BasisKind,
+        key: &str,
+        value: Real,
+        rows: (Real, Option<Real>),
+        fresh: (Real, Option<Real>),
+        (tolerance, floor): (Real, Real),
+    ) -> BasisCheck {
+        let (fd, fr) = (rows.1.unwrap_or(0.0), fresh.1.unwrap_or(0.0));
+        let change = (rows.0 - fresh.0).abs();
+        let allowed = (tolerance * fresh.0.abs()).max(floor);
+        BasisCheck {
+            kind,
+            key: key.to_string(),
+            value,
+            derivative: (rows.0, fd),
+            rereduced: (fresh.0, fr),
+            real_part_change: change,
+            frequency_change: (fd - fr).abs() / fr.abs().max(Real::MIN_POSITIVE),
+            allowed,
+            passed: change <= allowed,
+        }
     }
 }
