@@ -327,7 +327,7 @@ impl PatchFrame {
 /// A_bb → Lᵀ A_bb L, with L = blockdiag(I_{n_kept}, `basis`) (the interface DOFs are the
 /// boundary positions n_kept.. in `blocks`).
 pub(crate) fn project_blocks(blocks: Blocks, n_kept: usize, basis: MatRef<'_, Real>) -> Blocks {
-    let (ib, bb) = project_ib_bb(&blocks.ib, &blocks.bb, n_kept, basis);
+    let (ib, bb) = project_ib_bb(&blocks.ib, BbRef::Dense(&blocks.bb), n_kept, basis);
     Blocks {
         ii: blocks.ii,
         ib,
@@ -338,11 +338,11 @@ pub(crate) fn project_blocks(blocks: Blocks, n_kept: usize, basis: MatRef<'_, Re
 /// The boundary blocks of [`project_blocks`] alone, from borrowed A_ib and A_bb.
 pub(crate) fn project_ib_bb(
     ib: &Sparse,
-    bb: &Mat<Real>,
+    bb: BbRef<'_>,
     n_kept: usize,
     basis: MatRef<'_, Real>,
 ) -> (Sparse, Mat<Real>) {
-    let (nb, np) = (bb.nrows(), basis.ncols());
+    let (nb, np) = (ib.ncols(), basis.ncols());
     let nx = n_kept + np;
     let ni = ib.nrows();
     let (cp, ri, v) = (ib.symbolic().col_ptr(), ib.symbolic().row_idx(), ib.val());
@@ -384,20 +384,73 @@ pub(crate) fn project_ib_bb(
     let ib = super::partition::from_columns(ni, cols);
     // Lᵀ A_bb L.
     let nf = nb - n_kept;
-    let a_kk = bb.submatrix(0, 0, n_kept, n_kept);
-    let a_kf = bb.submatrix(0, n_kept, n_kept, nf);
-    let a_ff = bb.submatrix(n_kept, n_kept, nf, nf);
     let mut out = Mat::<Real>::zeros(nx, nx);
-    out.submatrix_mut(0, 0, n_kept, n_kept).copy_from(a_kk);
+    let (kf, ff_w) = match bb {
+        BbRef::Dense(bb) => {
+            let a_kk = bb.submatrix(0, 0, n_kept, n_kept);
+            out.submatrix_mut(0, 0, n_kept, n_kept).copy_from(a_kk);
+            let a_kf = bb.submatrix(0, n_kept, n_kept, nf);
+            let a_ff = bb.submatrix(n_kept, n_kept, nf, nf);
+            (a_kf * basis, a_ff * basis)
+        }
+        BbRef::Sparse(bb) => {
+            // A_kf L and A_ff L from the stored entries (A_bb symmetric, full storage).
+            let (cp, ri, v) = (bb.symbolic().col_ptr(), bb.symbolic().row_idx(), bb.val());
+            let mut kf = Mat::<Real>::zeros(n_kept, np);
+            let mut ffw = Mat::<Real>::zeros(nf, np);
+            for j in 0..nb {
+                for p in cp[j]..cp[j + 1] {
+                    let (i, a) = (ri[p], v[p]);
+                    match (i < n_kept, j < n_kept) {
+                        (true, true) => out[(i, j)] = a,
+                        (_, true) => {}
+                        (true, false) => {
+                            let l = basis.row(j - n_kept);
+                            for c in 0..np {
+                                kf[(i, c)] += a * l[c];
+                            }
+                        }
+                        (false, false) => {
+                            let l = basis.row(j - n_kept);
+                            for c in 0..np {
+                                ffw[(i - n_kept, c)] += a * l[c];
+                            }
+                        }
+                    }
+                }
+            }
+            (kf, ffw)
+        }
+    };
     if np > 0 {
-        let kf = a_kf * basis;
         out.submatrix_mut(0, n_kept, n_kept, np).copy_from(&kf);
         out.submatrix_mut(n_kept, 0, np, n_kept)
             .copy_from(kf.transpose());
-        let ff = basis.transpose() * (a_ff * basis);
+        let ff = basis.transpose() * ff_w;
         out.submatrix_mut(n_kept, n_kept, np, np).copy_from(&ff);
     }
     (ib, out)
+}
+
+/// A boundary block A_bb as [`project_ib_bb`] reads it: dense, or sparse (full symmetric
+/// storage; the interface ladder keeps it so over every interface DOF).
+#[derive(Clone, Copy)]
+pub(crate) enum BbRef<'a> {
+    Dense(&'a Mat<Real>),
+    Sparse(&'a Sparse),
+}
+
+/// The nonzeros of a dense matrix as a sparse one.
+pub(crate) fn sparse_of(a: &Mat<Real>) -> Sparse {
+    let cols = (0..a.ncols())
+        .map(|j| {
+            (0..a.nrows())
+                .filter(|&i| a[(i, j)] != 0.0)
+                .map(|i| (i, a[(i, j)]))
+                .collect()
+        })
+        .collect();
+    super::partition::from_columns(a.nrows(), cols)
 }
 
 #[cfg(test)]

@@ -26,8 +26,8 @@ use std::time::Instant;
 /// Each [`InterfaceLadder::reduce`] gives the same model as [`reduce_interface`] with
 /// [`super::polynomial_basis`] of that degree (to round-off: the same factor and modes, the
 /// same columns). Memory: the constraint modes of every column solved so far (n_i × (kept +
-/// the largest degree's coordinates)) and the unprojected boundary blocks (dense over the
-/// kept and interface DOFs), besides one model's. No damping matrix.
+/// the largest degree's coordinates)) and the unprojected boundary blocks (A_bb sparse),
+/// besides one model's. No damping matrix.
 ///
 /// A component that the options substructure (`substructures.above_dofs`) is reduced anew at
 /// each degree by [`reduce_interface`] (the substructured path has no shared factor).
@@ -96,9 +96,8 @@ impl InterfaceLadder {
                 let t = Instant::now();
                 let interior =
                     Interior::new(k, m, None, &boundary, &dofs, None, opts, dof_coords, t)?;
-                let (kib, _) = interior.project_k(None);
                 let kept: Vec<usize> = (0..boundary.len()).collect();
-                let kept_psi = interior.constraint_modes(&columns(&kib, &kept), opts)?;
+                let kept_psi = interior.constraint_modes(&columns(interior.kib(), &kept), opts)?;
                 Inner::Shared {
                     interior: Box::new(interior),
                     kept_psi,

@@ -2,7 +2,7 @@
 
 use super::eigen::{self, LanczosParams, Want};
 use super::factor::KiiFactor;
-use super::interface::{project_blocks, project_ib_bb, InterfaceBasis};
+use super::interface::{project_blocks, project_ib_bb, sparse_of, BbRef, InterfaceBasis};
 use super::model::{peak_rss_kib, CbModel, CbStats, EigenMethod, PhaseMemory};
 use super::options::CbOptions;
 use super::partition::{at_b, check_square, split, sym_spmm, to_dense, Blocks, Partition, Sparse};
@@ -155,6 +155,9 @@ pub(crate) struct Interior {
     k: Blocks,
     m: Blocks,
     b: Option<Blocks>,
+    /// Unless `projected`: their A_bb blocks, sparse (over every interface DOF a dense A_bb
+    /// would be (kept + interface DOFs)² numbers); the Blocks' own `bb` are then empty.
+    bb_sparse: Option<(Sparse, Sparse, Option<Sparse>)>,
     llt: Option<KiiFactor>,
     factor_info: Option<super::factor::FactorInfo>,
     nnz_kii: usize,
@@ -200,8 +203,19 @@ impl Interior {
             None => blocks,
         };
         let mut Kp = proj(split(k, &part));
-        let Mp = proj(split(m, &part));
-        let Bp = b.map(|b| proj(split(b, &part)));
+        let mut Mp = proj(split(m, &part));
+        let mut Bp = b.map(|b| proj(split(b, &part)));
+        let bb_sparse = match project {
+            Some(_) => None,
+            None => {
+                let take = |blocks: &mut Blocks| {
+                    let s = sparse_of(&blocks.bb);
+                    blocks.bb = Mat::zeros(0, 0);
+                    s
+                };
+                Some((take(&mut Kp), take(&mut Mp), Bp.as_mut().map(take)))
+            }
+        };
         let mut mem = PhaseMemory {
             partition: peak_rss_kib(),
             ..Default::default()
@@ -298,6 +312,7 @@ impl Interior {
             k: Kp,
             m: Mp,
             b: Bp,
+            bb_sparse,
             llt,
             factor_info,
             nnz_kii,
@@ -320,17 +335,33 @@ impl Interior {
         self.part.interior.len()
     }
 
-    /// A_ib and A_bb of `blocks` in the boundary coordinates [u_kept, p] of `basis`.
-    fn project(&self, blocks: &Blocks, basis: Option<MatRef<'_, Real>>) -> (Sparse, Mat<Real>) {
-        match basis {
-            Some(l) if !self.projected => project_ib_bb(&blocks.ib, &blocks.bb, self.n_kept, l),
+    /// A_ib and A_bb of `blocks` (`bb`: its sparse A_bb when kept so) in the boundary
+    /// coordinates [u_kept, p] of `basis`; None: the blocks as they are.
+    fn project(
+        &self,
+        blocks: &Blocks,
+        bb: Option<&Sparse>,
+        basis: Option<MatRef<'_, Real>>,
+    ) -> (Sparse, Mat<Real>) {
+        let bb_ref = match bb {
+            Some(s) => BbRef::Sparse(s),
+            None => BbRef::Dense(&blocks.bb),
+        };
+        match (basis, bb) {
+            (Some(l), _) if !self.projected => project_ib_bb(&blocks.ib, bb_ref, self.n_kept, l),
+            (_, Some(s)) => (blocks.ib.clone(), to_dense(s)),
             _ => (blocks.ib.clone(), blocks.bb.clone()),
         }
     }
 
-    /// K_ib and K_bb in the boundary coordinates of `basis` (None: the exact boundary).
+    /// K_ib and K_bb in the boundary coordinates of `basis` (None: the boundary as split).
     pub(crate) fn project_k(&self, basis: Option<MatRef<'_, Real>>) -> (Sparse, Mat<Real>) {
-        self.project(&self.k, basis)
+        self.project(&self.k, self.bb_sparse.as_ref().map(|b| &b.0), basis)
+    }
+
+    /// K_ib as split (kept boundary DOFs, then the interface DOFs).
+    pub(crate) fn kib(&self) -> &Sparse {
+        &self.k.ib
     }
 
     /// Constraint modes −K_ii⁻¹ `kib` for the columns of `kib` (n_i × c), solved in parallel
@@ -400,7 +431,7 @@ impl Interior {
             kr[(nb + j, nb + j)] = l;
         }
         opts.check_interrupt("the fixed-interface modes")?;
-        let (mib, mbb) = self.project(&self.m, basis);
+        let (mib, mbb) = self.project(&self.m, self.bb_sparse.as_ref().map(|b| &b.1), basis);
         let mr = reduced_mass_like(
             (&self.m.ii, &mib, &mbb),
             psi.as_ref(),
@@ -413,7 +444,8 @@ impl Interior {
             .b
             .as_ref()
             .map(|bp| {
-                let (bib, bbb) = self.project(bp, basis);
+                let bb = self.bb_sparse.as_ref().and_then(|b| b.2.as_ref());
+                let (bib, bbb) = self.project(bp, bb, basis);
                 reduced_mass_like(
                     (&bp.ii, &bib, &bbb),
                     psi.as_ref(),
