@@ -390,3 +390,50 @@ fn difference(coarse: &Roots, fine: &Roots) -> Estimate {
         bound: Real::INFINITY,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn roots(list: &[(Real, Real, bool)]) -> Roots {
+        let in_band: Vec<(Cplx, bool)> = list
+            .iter()
+            .map(|&(re, im, u)| (Cplx::new(re, im), u))
+            .collect();
+        let all = in_band.iter().map(|x| x.0).collect();
+        Roots { in_band, all }
+    }
+
+    /// By hand: the same roots differ by 0; halving the dominant growth rate is a growth
+    /// change of 0.5 (against that rate) and a root change of 10 / |10 + 500i| (larger than
+    /// the other root's 1 / |−1 + 101i|).
+    #[test]
+    fn difference_by_hand() {
+        let a = roots(&[(-1.0, 100.0, false), (20.0, 500.0, true)]);
+        let e = difference(&a, &a);
+        assert_eq!((e.value, e.root_change, e.growth_change), (0.0, 0.0, 0.0));
+        let b = roots(&[(-1.0, 101.0, false), (10.0, 500.0, true)]);
+        let e = difference(&a, &b);
+        assert!((e.growth_change - 0.5).abs() < 1e-12, "{e:?}");
+        assert_eq!(e.growth_scale, Some(20.0));
+        let r = 10.0 / Cplx::new(10.0, 500.0).norm();
+        assert!(r > 1.0 / Cplx::new(-1.0, 101.0).norm());
+        assert!((e.root_change - r).abs() < 1e-12, "{e:?}");
+        assert_eq!(e.value, 0.5);
+        // A spurious marginal unstable root next to a dominant one: measured against it.
+        let c = roots(&[(0.1, 100.0, true), (20.0, 500.0, true)]);
+        let e = difference(&a, &c);
+        assert!((e.growth_change - 1.1 / 20.0).abs() < 1e-12, "{e:?}");
+    }
+
+    /// The geometric tail: differences falling by ρ = 1/2 sum to the last one, by 3/4 to three
+    /// times it; a difference that does not fall is unresolved.
+    #[test]
+    fn tail_by_hand() {
+        assert_eq!(tail(0.1, 0.2), 0.1);
+        assert!((tail(0.075, 0.1) - 0.225).abs() < 1e-15);
+        assert_eq!(tail(0.01, 1.0), 0.01);
+        assert!(tail(0.2, 0.1).is_infinite() && tail(0.1, 0.1).is_infinite());
+        assert_eq!(tail(0.0, 0.0), 0.0);
+    }
+}
