@@ -1,6 +1,6 @@
 //! Input checks and the contact operator shared by the exact and projected solves.
 
-use super::{check_finite, CeaError, CeaMatrices, Cplx};
+use super::{check_finite, CeaError, CeaMatrices};
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 
@@ -127,13 +127,4 @@ impl ContactProjector {
         let W = self.coefficients(&Z);
         Z - &self.a * &W
     }
-}
-
-/// `A z` for a real matrix A and a complex vector z, as two real matrix–vector products
-/// (faer's product with an n × 2 right-hand side is ~8× slower than two n × 1 ones here).
-pub(crate) fn mul_complex(a: &Mat<f64>, z: &[Cplx]) -> Vec<Cplx> {
-    let re = faer::Col::from_fn(z.len(), |i| z[i].re);
-    let im = faer::Col::from_fn(z.len(), |i| z[i].im);
-    let (yr, yi) = (a * &re, a * &im);
-    (0..a.nrows()).map(|i| Cplx::new(yr[i], yi[i])).collect()
 }
