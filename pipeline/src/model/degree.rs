@@ -22,7 +22,7 @@
 //!
 //! A difference alone is not an error estimate: two degrees that are both far from
 //! converged can agree (on the partly covered plate of the tests, degrees 4 and 6 differ by
-//! 0.14 while both are 0.66 off). The estimate of degree d_k's error is the geometric tail
+//! 0.14 while they are 0.68 and 0.66 off). The estimate of degree d_k's error is the geometric tail
 //! from the last two differences, for the root change and the growth change apart
 //! (ρ = δ_k / δ_{k−1} of each):
 //!
