@@ -7,6 +7,7 @@ use super::areas::pad_areas;
 use super::cache::component::{
     ComponentCache, ComponentCacheUse, ComponentInputs, StoredReduction,
 };
+use super::degree::Ladders;
 use super::grids::{merge, Grids};
 use super::ties::Mpc;
 use super::{symmetrise, ComponentRecovery, ComponentReport, ReducedModel};
@@ -381,6 +382,22 @@ pub fn build_from_mesh_cached(
     progress: &Progress,
     cache: Option<&ComponentCache>,
 ) -> Result<ReducedModel, PipelineError> {
+    let ladders = Ladders::new(scene);
+    if ladders.any_adaptive() {
+        return super::degree::build_adaptive(scene, dir, progress, cache, ladders);
+    }
+    build_once(scene, dir, progress, cache, &ladders)
+}
+
+/// [`build_from_mesh_cached`] with each interface-reduced component at the degree `ladders`
+/// says (reduced on its ladder when its degree is chosen by a tolerance).
+pub(super) fn build_once(
+    scene: &Scene,
+    dir: &RunDir,
+    progress: &Progress,
+    cache: Option<&ComponentCache>,
+    ladders: &Ladders,
+) -> Result<ReducedModel, PipelineError> {
     if scene.components.is_empty() {
         return Err(PipelineError::Scene {
             field: "components".into(),
@@ -432,7 +449,7 @@ pub fn build_from_mesh_cached(
         if spec.boundary != ContactBoundary::ContactFaces {
             continue;
         }
-        for pair in &scene.contact {
+        for (pi, pair) in scene.contact.iter().enumerate() {
             for (side, set) in [
                 (&pair.pad, &pair.pad_faces),
                 (&pair.rotor, &pair.rotor_faces),
@@ -454,6 +471,13 @@ pub fn build_from_mesh_cached(
                         })
                     }
                 };
+                // An interface-reduced rotor's contact faces are its pair's patch, whether a
+                // gap touches them or not (the pad may cover part of it).
+                if set == &pair.rotor_faces && spec.interface.is_some() {
+                    for &n in &nodes {
+                        patch_of.entry(grids.grid_of[c][n]).or_insert(pi);
+                    }
+                }
                 gap_grids.extend(nodes.into_iter().map(|n| grids.grid_of[c][n]));
             }
         }
@@ -517,6 +541,7 @@ pub fn build_from_mesh_cached(
                 opts.checks,
                 cache,
                 super::ties::component_rows(&inside_rows, c, &grids.grid_of[c]),
+                ladders,
                 progress,
             )
         })
@@ -648,6 +673,14 @@ pub fn build_from_mesh_cached(
             cb_stats: r.cb.as_ref().map(|c| c.stats.clone()),
             element_damping_factor: f,
             reduction_cache: r.cache.clone(),
+            interface: match (&spec.interface, r.cb.as_ref()) {
+                (Some(f), Some(cb)) => Some(super::InterfaceChoice::fixed(
+                    f.start_degree(),
+                    cb.stats.n_interface_coords,
+                    cb.stats.n_interface_dofs,
+                )),
+                _ => None,
+            },
         })
         .collect();
     let checks: Vec<(String, CbCheck)> = scene
@@ -735,6 +768,7 @@ fn reduce_component(
     run_checks: bool,
     cache: Option<&ComponentCache>,
     tie_rows: Option<super::ties::NodeRows>,
+    ladders: &Ladders,
     progress: &Progress,
 ) -> Result<Reduced, PipelineError> {
     let start = std::time::Instant::now();
@@ -946,25 +980,41 @@ fn reduce_component(
         Some(t) => t.select(&coords),
         None => coords,
     };
-    let interface = match &spec.interface {
-        Some(f) => Some(cb::InterfaceBasis {
-            basis: cb::polynomial_basis(&iface_points, f.degree)
-                .map_err(red_err("interface basis"))?,
-            dofs: iface_dofs,
-        }),
-        None => None,
+    let model = match &spec.interface {
+        // The degree an error estimate chooses: one factor for every degree tried.
+        Some(f) if f.adaptive() => ladders
+            .reduce(c, || {
+                cb::InterfaceLadder::new(
+                    &asm.k,
+                    &asm.m,
+                    boundary.clone(),
+                    iface_dofs.into_iter().zip(iface_points).collect(),
+                    cb_opts,
+                    Some(&coords),
+                )
+            })
+            .map_err(red_err("Craig–Bampton (interface ladder)"))?,
+        _ => {
+            let interface = match &spec.interface {
+                Some(f) => Some(cb::InterfaceBasis {
+                    basis: cb::polynomial_basis(&iface_points, f.start_degree())
+                        .map_err(red_err("interface basis"))?,
+                    dofs: iface_dofs,
+                }),
+                None => None,
+            };
+            cb::reduce_interface(
+                &asm.k,
+                &asm.m,
+                None,
+                &boundary,
+                interface.as_ref(),
+                cb_opts,
+                Some(&coords),
+            )
+            .map_err(red_err("Craig–Bampton"))?
+        }
     };
-    let model = cb::reduce_interface(
-        &asm.k,
-        &asm.m,
-        None,
-        &boundary,
-        interface.as_ref(),
-        cb_opts,
-        Some(&coords),
-    )
-    .map_err(red_err("Craig–Bampton"))?;
-    drop(interface);
     drop(coords);
     let check = if run_checks {
         let free_dofs: Vec<usize> = (0..dofs.n_free()).collect();

@@ -4,6 +4,7 @@
 
 mod areas;
 pub mod cache;
+mod degree;
 mod from_mesh;
 pub mod gap_table;
 pub mod grids;
@@ -13,6 +14,7 @@ mod stored;
 pub mod ties;
 
 pub use cache::{CacheUse, ModelCache};
+pub use degree::{DegreeRow, InterfaceChoice};
 pub use from_mesh::{build_from_mesh, build_from_mesh_cached};
 pub use grids::GridInfo;
 pub use stored::{load_arrays, load_stored, write_stored, StoredFiles};
@@ -51,6 +53,9 @@ pub struct ComponentReport {
     /// (`cache::component`): key, hit, seconds.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reduction_cache: Option<cache::component::ComponentCacheUse>,
+    /// The interface reduction's degree and its error estimate (`[components.interface]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub interface: Option<InterfaceChoice>,
 }
 
 /// What it takes to expand a reduced vector to one component's full mesh (meshed models only):

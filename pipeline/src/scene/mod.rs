@@ -8,6 +8,7 @@ pub mod arrays;
 mod brake;
 pub mod cea;
 pub mod contact;
+pub mod interface;
 pub mod material;
 mod materials;
 mod overrides;
@@ -20,6 +21,7 @@ pub use accuracy::AccuracySpec;
 pub use arrays::{ArraysRef, StoredArrays};
 pub use cea::{CeaSpec, CeaState, CeaSweepSpec, SweepVary};
 pub use contact::{ContactPair, FrictionSpec, Pairing, RotorSpec, Sliding};
+pub use interface::InterfaceSpec;
 pub use material::MaterialSpec;
 pub use overrides::apply_override;
 pub use reduction::{ModelSource, ModelSpec, ReductionSpec};
@@ -149,19 +151,6 @@ pub struct ComponentSpec {
     /// `rotate_deg`. More boundary DOFs (those no gap touches stay in the reduced model).
     #[serde(default, skip_serializing_if = "is_default_boundary")]
     pub boundary: ContactBoundary,
-}
-
-/// `[components.interface]`: the component's gap nodes (those not shared with another
-/// component) are not Craig–Bampton boundary DOFs; per `[[contact]]` pair they move in an
-/// orthonormal polynomial basis of the pair's rotor patch (Legendre polynomials of total
-/// degree ≤ `degree` in the patch's principal coordinates, per direction), and the gaps see
-/// the rotor points through recovery rows over those interface coordinates.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct InterfaceSpec {
-    /// Highest total polynomial degree, 1..=30 (required; a flat patch has
-    /// (degree + 1)(degree + 2)/2 functions per direction, fewer if it has fewer nodes).
-    pub degree: usize,
 }
 
 /// Which nodes of a component's contact sets are Craig–Bampton boundary nodes.
@@ -472,12 +461,7 @@ impl Scene {
                 });
             }
             if let Some(f) = &c.interface {
-                if !(1..=30).contains(&f.degree) {
-                    return Err(PipelineError::Scene {
-                        field: format!("components[{i}].interface.degree"),
-                        message: format!("{} is not in 1..=30", f.degree),
-                    });
-                }
+                f.validate(i)?;
                 if let Some(j) = self.contact.iter().position(|p| p.pad == c.name) {
                     return Err(PipelineError::Scene {
                         field: format!("components[{i}].interface"),

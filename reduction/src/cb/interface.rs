@@ -12,7 +12,7 @@
 //! motions of each patch, and as d grows the basis spans every nodal field of the patch, so
 //! the reduction tends to the exact Craig–Bampton one.
 
-use super::partition::Blocks;
+use super::partition::{Blocks, Sparse};
 use crate::error::ReductionError;
 use faer::{Mat, MatRef, Side};
 use squeal_meshes::Real;
@@ -88,6 +88,35 @@ pub struct InterfaceDof {
 /// function that is dependent on the previous ones at the nodes (norm falling below 1e-8 of
 /// its own) is dropped. Columns of different groups have disjoint supports.
 pub fn polynomial_basis(dofs: &[InterfaceDof], degree: usize) -> Result<Mat<Real>, ReductionError> {
+    basis_in_frame(dofs, degree, false).map(|(l, _)| l)
+}
+
+/// What one column of a [`polynomial_basis_graded`] basis is: its group (patch, direction) and
+/// the monomial exponents it started from (total degree = their sum).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct BasisColumn {
+    pub patch: usize,
+    pub direction: usize,
+    pub powers: [usize; 3],
+}
+
+impl BasisColumn {
+    /// Total polynomial degree of the column.
+    pub fn degree(&self) -> usize {
+        self.powers.iter().sum()
+    }
+}
+
+/// [`polynomial_basis`] with each column's [`BasisColumn`].
+///
+/// The bases are nested column by column: within a (patch, direction) group the monomials are
+/// taken by increasing total degree and orthonormalised in that order, so the columns of
+/// degree ≤ d of the degree-D basis (D ≥ d) are the degree-d basis's columns, with the same
+/// values — the interface ladder ([`super::InterfaceLadder`]) reuses their constraint modes.
+pub fn polynomial_basis_graded(
+    dofs: &[InterfaceDof],
+    degree: usize,
+) -> Result<(Mat<Real>, Vec<BasisColumn>), ReductionError> {
     basis_in_frame(dofs, degree, false)
 }
 
@@ -98,14 +127,14 @@ pub(crate) fn polynomial_basis_2d(
     dofs: &[InterfaceDof],
     degree: usize,
 ) -> Result<Mat<Real>, ReductionError> {
-    basis_in_frame(dofs, degree, true)
+    basis_in_frame(dofs, degree, true).map(|(l, _)| l)
 }
 
 fn basis_in_frame(
     dofs: &[InterfaceDof],
     degree: usize,
     planar: bool,
-) -> Result<Mat<Real>, ReductionError> {
+) -> Result<(Mat<Real>, Vec<BasisColumn>), ReductionError> {
     if let Some((i, d)) = dofs
         .iter()
         .enumerate()
@@ -119,6 +148,7 @@ fn basis_in_frame(
     }
     let n_patch = dofs.iter().map(|d| d.patch + 1).max().unwrap_or(0);
     let mut columns: Vec<Vec<Real>> = Vec::new();
+    let mut tags: Vec<BasisColumn> = Vec::new();
     for patch in 0..n_patch {
         let members: Vec<usize> = (0..dofs.len())
             .filter(|&i| dofs[i].patch == patch)
@@ -149,6 +179,11 @@ fn basis_in_frame(
                     .collect();
                 if orthonormalise(&mut v, &kept) {
                     kept.push(v);
+                    tags.push(BasisColumn {
+                        patch,
+                        direction: dir,
+                        powers,
+                    });
                 }
             }
             for v in kept {
@@ -160,9 +195,8 @@ fn basis_in_frame(
             }
         }
     }
-    Ok(Mat::from_fn(dofs.len(), columns.len(), |i, j| {
-        columns[j][i]
-    }))
+    let l = Mat::from_fn(dofs.len(), columns.len(), |i, j| columns[j][i]);
+    Ok((l, tags))
 }
 
 /// Legendre polynomial P_n(x) (three-term recurrence).
@@ -293,8 +327,22 @@ impl PatchFrame {
 /// A_bb → Lᵀ A_bb L, with L = blockdiag(I_{n_kept}, `basis`) (the interface DOFs are the
 /// boundary positions n_kept.. in `blocks`).
 pub(crate) fn project_blocks(blocks: Blocks, n_kept: usize, basis: MatRef<'_, Real>) -> Blocks {
-    let Blocks { ii, ib, bb } = blocks;
-    let (nb, np) = (bb.nrows(), basis.ncols());
+    let (ib, bb) = project_ib_bb(&blocks.ib, BbRef::Dense(&blocks.bb), n_kept, basis);
+    Blocks {
+        ii: blocks.ii,
+        ib,
+        bb,
+    }
+}
+
+/// The boundary blocks of [`project_blocks`] alone, from borrowed A_ib and A_bb.
+pub(crate) fn project_ib_bb(
+    ib: &Sparse,
+    bb: BbRef<'_>,
+    n_kept: usize,
+    basis: MatRef<'_, Real>,
+) -> (Sparse, Mat<Real>) {
+    let (nb, np) = (ib.ncols(), basis.ncols());
     let nx = n_kept + np;
     let ni = ib.nrows();
     let (cp, ri, v) = (ib.symbolic().col_ptr(), ib.symbolic().row_idx(), ib.val());
@@ -336,20 +384,73 @@ pub(crate) fn project_blocks(blocks: Blocks, n_kept: usize, basis: MatRef<'_, Re
     let ib = super::partition::from_columns(ni, cols);
     // Lᵀ A_bb L.
     let nf = nb - n_kept;
-    let a_kk = bb.submatrix(0, 0, n_kept, n_kept);
-    let a_kf = bb.submatrix(0, n_kept, n_kept, nf);
-    let a_ff = bb.submatrix(n_kept, n_kept, nf, nf);
     let mut out = Mat::<Real>::zeros(nx, nx);
-    out.submatrix_mut(0, 0, n_kept, n_kept).copy_from(a_kk);
+    let (kf, ff_w) = match bb {
+        BbRef::Dense(bb) => {
+            let a_kk = bb.submatrix(0, 0, n_kept, n_kept);
+            out.submatrix_mut(0, 0, n_kept, n_kept).copy_from(a_kk);
+            let a_kf = bb.submatrix(0, n_kept, n_kept, nf);
+            let a_ff = bb.submatrix(n_kept, n_kept, nf, nf);
+            (a_kf * basis, a_ff * basis)
+        }
+        BbRef::Sparse(bb) => {
+            // A_kf L and A_ff L from the stored entries (A_bb symmetric, full storage).
+            let (cp, ri, v) = (bb.symbolic().col_ptr(), bb.symbolic().row_idx(), bb.val());
+            let mut kf = Mat::<Real>::zeros(n_kept, np);
+            let mut ffw = Mat::<Real>::zeros(nf, np);
+            for j in 0..nb {
+                for p in cp[j]..cp[j + 1] {
+                    let (i, a) = (ri[p], v[p]);
+                    match (i < n_kept, j < n_kept) {
+                        (true, true) => out[(i, j)] = a,
+                        (_, true) => {}
+                        (true, false) => {
+                            let l = basis.row(j - n_kept);
+                            for c in 0..np {
+                                kf[(i, c)] += a * l[c];
+                            }
+                        }
+                        (false, false) => {
+                            let l = basis.row(j - n_kept);
+                            for c in 0..np {
+                                ffw[(i - n_kept, c)] += a * l[c];
+                            }
+                        }
+                    }
+                }
+            }
+            (kf, ffw)
+        }
+    };
     if np > 0 {
-        let kf = a_kf * basis;
         out.submatrix_mut(0, n_kept, n_kept, np).copy_from(&kf);
         out.submatrix_mut(n_kept, 0, np, n_kept)
             .copy_from(kf.transpose());
-        let ff = basis.transpose() * (a_ff * basis);
+        let ff = basis.transpose() * ff_w;
         out.submatrix_mut(n_kept, n_kept, np, np).copy_from(&ff);
     }
-    Blocks { ii, ib, bb: out }
+    (ib, out)
+}
+
+/// A boundary block A_bb as [`project_ib_bb`] reads it: dense, or sparse (full symmetric
+/// storage; the interface ladder keeps it so over every interface DOF).
+#[derive(Clone, Copy)]
+pub(crate) enum BbRef<'a> {
+    Dense(&'a Mat<Real>),
+    Sparse(&'a Sparse),
+}
+
+/// The nonzeros of a dense matrix as a sparse one.
+pub(crate) fn sparse_of(a: &Mat<Real>) -> Sparse {
+    let cols = (0..a.ncols())
+        .map(|j| {
+            (0..a.nrows())
+                .filter(|&i| a[(i, j)] != 0.0)
+                .map(|i| (i, a[(i, j)]))
+                .collect()
+        })
+        .collect();
+    super::partition::from_columns(a.nrows(), cols)
 }
 
 #[cfg(test)]

@@ -10,6 +10,8 @@
 //! - [`reduce_interface`]: the same with part of the boundary moving in an interface basis
 //!   u_f = L p ([`InterfaceBasis`], e.g. [`polynomial_basis`] of a contact patch): constraint
 //!   modes and products scale with the interface coordinates instead of the boundary DOFs.
+//! - [`InterfaceLadder`]: the same at increasing polynomial degrees on one K_ii factor and one
+//!   set of fixed-interface modes, solving only the new columns' constraint modes per degree.
 //! - [`CbModel::recover`]: full free-DOF vector from a reduced one.
 //! - [`check`]: pyyeti-`cbcheck`-like report ([`CbCheck`], Serialize + Display).
 
@@ -17,6 +19,7 @@ mod check;
 mod eigen;
 mod factor;
 mod interface;
+mod ladder;
 mod model;
 mod multilevel;
 mod options;
@@ -28,7 +31,10 @@ mod verify;
 pub use check::{check, CbCheck, CheckOptions, FrequencyRow, FullMethod, RigidCheck};
 pub use eigen::dense_generalized_eigen;
 pub use factor::KiiOrdering;
-pub use interface::{polynomial_basis, InterfaceBasis, InterfaceDof};
+pub use interface::{
+    polynomial_basis, polynomial_basis_graded, BasisColumn, InterfaceBasis, InterfaceDof,
+};
+pub use ladder::InterfaceLadder;
 pub use model::{peak_rss_kib, CbModel, CbStats, EigenMethod, PhaseMemory};
 pub use multilevel::{MultilevelStats, SeparatorStats, SubstructureOptions, SubstructureStats};
 pub use options::CbOptions;

@@ -133,6 +133,17 @@ pub struct CeaOut {
     /// Sensitivities of the roots to the design parameters ([`sensitivity`]; None with
     /// `[cea] sensitivity = false`).
     pub sensitivity: Option<sensitivity::SensitivityOut>,
+    /// Per interface-reduced component (`[components.interface]`): its degree and the error
+    /// estimate of these roots (`model/degree.rs`); empty without interface reduction.
+    pub interface_reduction: Vec<InterfaceOut>,
+}
+
+/// One interface-reduced component in `cea.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct InterfaceOut {
+    pub component: String,
+    #[serde(flatten)]
+    pub choice: crate::model::InterfaceChoice,
 }
 
 /// `summary.json` of `squeal cea`.
@@ -404,6 +415,16 @@ pub fn compute(
         stats,
         energy,
         sensitivity: sens,
+        interface_reduction: model
+            .components
+            .iter()
+            .filter_map(|c| {
+                c.interface.clone().map(|choice| InterfaceOut {
+                    component: c.name.clone(),
+                    choice,
+                })
+            })
+            .collect(),
     };
     let mut sweep_rep = None;
     if let Some(sw) = &spec.sweep {
