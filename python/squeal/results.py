@@ -443,6 +443,35 @@ class CeaSteadyState(TypedDict):
     max_abs_velocity: float
 
 
+class InterfaceDegreeRow(TypedDict):
+    """One degree an interface reduction tried (``model::degree::DegreeRow``)."""
+
+    degree: int
+    n_coords: int
+    difference: Optional[float]
+    root_change: Optional[float]
+    growth_change: Optional[float]
+    estimate: Optional[float]
+    n_in_band: int
+    n_unstable: int
+    constraint_solves: int
+
+
+class InterfaceReduction(TypedDict):
+    """An interface-reduced component's degree and error estimate (``cea::InterfaceOut``)."""
+
+    component: str
+    degree: int
+    n_coords: int
+    n_interface_dofs: int
+    tolerance: Optional[float]
+    estimate: Optional[float]
+    growth_scale: Optional[float]
+    exact: bool
+    history: List[InterfaceDegreeRow]
+    note: str
+
+
 class CeaReport(TypedDict):
     """``cea.json`` (``cea::CeaOut``)."""
 
@@ -458,6 +487,7 @@ class CeaReport(TypedDict):
     stats: CeaStats
     energy: Dict[str, Any]
     sensitivity: Optional[Dict[str, Any]]
+    interface_reduction: List[InterfaceReduction]
 
 
 class CeaCoupling(TypedDict):
