@@ -89,11 +89,11 @@ impl<'a> ShiftInvert<'a> {
         self.sigma
     }
 
-    /// `y = (F − σE)⁻¹E x` (x, y of length 2n) for several vectors at once: one product of M and of C with
-    /// all of them (their real and imaginary parts as columns) and one multi-column LU
-    /// solve, so each matrix and the factor are read once per block, not once per vector
-    /// (the applications are bound by memory traffic: on the 2 043-DOF brake the factor
-    /// alone is 107 MB).
+    /// `y = (F − σE)⁻¹E x` (x, y of length 2n) for several vectors at once: one product of M
+    /// and of C with all of them (their real and imaginary parts as columns) and one
+    /// multi-column LU solve, so each matrix and the factor are read once per block, not once
+    /// per vector (the applications are bound by memory traffic: on the 2 043-DOF brake the
+    /// factor alone is 107 MB).
     pub(crate) fn apply_block(&self, xs: &[&[Cplx]]) -> Vec<Vec<Cplx>> {
         let (n, s, nb) = (self.n, self.sigma, xs.len());
         // Columns 2j and 2j + 1: real and imaginary parts of vector j.
@@ -242,6 +242,11 @@ impl Arnoldi {
                 let refs: Vec<&[Cplx]> = self.v[j..].iter().map(|x| x.as_slice()).collect();
                 op.apply_block(&refs)
             };
+            if images.is_empty() {
+                // No vector left to apply (every start vector was dependent).
+                self.exhausted = true;
+                break;
+            }
             self.applications += images.len();
             let t1 = Instant::now();
             self.time_apply_s += (t1 - t).as_secs_f64();
