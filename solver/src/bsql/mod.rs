@@ -603,7 +603,7 @@ pub(crate) fn check_matrices(
     load: &LoadHistory,
 ) -> Result<(usize, usize, Real), SolverError> {
     let n = M.nrows();
-    for (what, m) in [("M", M), ("B", B), ("K", K)] {
+    for (what, m) in [("M", M), ("B", B)] {
         if m.nrows() != n || m.ncols() != n {
             return Err(SolverError::DimensionMismatch {
                 what,
@@ -611,6 +611,25 @@ pub(crate) fn check_matrices(
                 got: if m.nrows() != n { m.nrows() } else { m.ncols() },
             });
         }
+    }
+    check_statics(n, K, G, load)
+}
+
+/// The checks of [`check_matrices`] on K (n × n), G (n columns) and the loads alone (what the
+/// steady state reads): (n, ng, the largest |G_ij|).
+#[allow(non_snake_case)]
+pub(crate) fn check_statics(
+    n: usize,
+    K: &Mat<Real>,
+    G: &Mat<Real>,
+    load: &LoadHistory,
+) -> Result<(usize, usize, Real), SolverError> {
+    if K.nrows() != n || K.ncols() != n {
+        return Err(SolverError::DimensionMismatch {
+            what: "K",
+            expected: n,
+            got: if K.nrows() != n { K.nrows() } else { K.ncols() },
+        });
     }
     if G.ncols() != n {
         return Err(SolverError::DimensionMismatch {

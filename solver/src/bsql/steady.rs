@@ -127,31 +127,10 @@ pub fn steady_state_of<F: FrictionForces>(
     t: Real,
     opts: &SteadyOptions,
 ) -> Result<SteadyState, SolverError> {
-    let (k, g) = (statics.k, statics.g);
-    let n = k.nrows();
-    if k.ncols() != n {
-        return Err(SolverError::DimensionMismatch {
-            what: "K",
-            expected: n,
-            got: k.ncols(),
-        });
-    }
-    if g.ncols() != n {
-        return Err(SolverError::DimensionMismatch {
-            what: "G (columns)",
-            expected: n,
-            got: g.ncols(),
-        });
-    }
-    statics.load.validate(n)?;
+    let n = statics.k.nrows();
+    let (_, ng, g_scale) = super::check_statics(n, statics.k, statics.g, statics.load)?;
     if !statics.compliance.is_empty() {
-        super::compliance::check_compliance(statics.compliance, g.nrows())?;
-    }
-    let mut g_scale: Real = 0.0;
-    for j in 0..n {
-        for i in 0..g.nrows() {
-            g_scale = g_scale.max(g[(i, j)].abs());
-        }
+        super::compliance::check_compliance(statics.compliance, ng)?;
     }
     let g_scale = if g_scale > 0.0 { g_scale } else { 1.0 };
     solve(statics, g_scale, t, opts, &mut 0)

@@ -1,6 +1,6 @@
 //! Input checks and the contact operator shared by the exact and projected solves.
 
-use super::{check_finite, CeaError, CeaMatrices};
+use super::{check_finite, CeaError, CeaMatrices, Cplx};
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 
@@ -127,4 +127,31 @@ impl ContactProjector {
         let W = self.coefficients(&Z);
         Z - &self.a * &W
     }
+}
+
+/// m complex vectors of length n as 2m real columns (column 2j the real parts of vector j,
+/// 2j + 1 its imaginary parts; `z(j, i)` is entry i of vector j), so that a real matrix
+/// multiplies them all in one product.
+pub(crate) fn real_columns(n: usize, m: usize, z: impl Fn(usize, usize) -> Cplx) -> Mat<f64> {
+    Mat::from_fn(n, 2 * m, |i, c| {
+        let v = z(c / 2, i);
+        if c % 2 == 0 {
+            v.re
+        } else {
+            v.im
+        }
+    })
+}
+
+/// Entry i of complex vector j of a [`real_columns`] matrix.
+pub(crate) fn complex_at(x: &Mat<f64>, i: usize, j: usize) -> Cplx {
+    Cplx::new(x[(i, 2 * j)], x[(i, 2 * j + 1)])
+}
+
+/// The 2-norm of complex vector j of a [`real_columns`] matrix.
+pub(crate) fn complex_norm(x: &Mat<f64>, j: usize) -> f64 {
+    (0..x.nrows())
+        .map(|i| x[(i, 2 * j)].powi(2) + x[(i, 2 * j + 1)].powi(2))
+        .sum::<f64>()
+        .sqrt()
 }

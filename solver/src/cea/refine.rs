@@ -2,7 +2,7 @@
 //! full first-order operator ([`super::shift_invert`]).
 
 use super::eigen::normalise_shape;
-use super::operator::damping;
+use super::operator::{complex_at, complex_norm, damping, real_columns};
 use super::shift_invert::{Arnoldi, Ritz, ShiftInvert};
 use super::{CeaError, CeaMatrices, Cplx, Mode};
 use faer::linalg::solvers::SolveLstsq;
@@ -248,39 +248,23 @@ impl<'a> Residual<'a> {
             return Vec::new();
         };
         let m = pairs.len();
-        // Columns 2j and 2j + 1: real and imaginary parts of u_j.
-        let u = Mat::from_fn(n, 2 * m, |i, c| {
-            let z = pairs[c / 2].1[i];
-            if c % 2 == 0 {
-                z.re
-            } else {
-                z.im
-            }
-        });
-        let at = |x: &Mat<f64>, i: usize, j: usize| Cplx::new(x[(i, 2 * j)], x[(i, 2 * j + 1)]);
+        let u = real_columns(n, m, |j, i| pairs[j].1[i]);
         let (mu, ku) = (&self.sys.m * &u, &self.sys.k * &u);
         let cu = self.c.map(|c| c * &u);
-        let mut r = Mat::from_fn(n, 2 * m, |_, _| 0.0);
-        for (j, (p, _)) in pairs.iter().enumerate() {
-            for i in 0..n {
-                let mut z = p * p * at(&mu, i, j) + at(&ku, i, j);
-                if let Some(cu) = &cu {
-                    z += p * at(cu, i, j);
-                }
-                r[(i, 2 * j)] = z.re;
-                r[(i, 2 * j + 1)] = z.im;
-            }
-        }
+        let mut r = real_columns(n, m, |j, i| {
+            let p = pairs[j].0;
+            let cu = cu
+                .as_ref()
+                .map_or(Cplx::new(0.0, 0.0), |cu| complex_at(cu, i, j));
+            p * p * complex_at(&mu, i, j) + complex_at(&ku, i, j) + p * cu
+        });
         let mut nn = vec![0.0; m];
         if let (Some(a), Some(qr)) = (&self.A, &self.qr) {
             // N = argmin ‖r + A N‖ (A real: real and imaginary parts apart).
             let nmat = qr.solve_lstsq(-&r);
             r += a * &nmat;
             for (j, x) in nn.iter_mut().enumerate() {
-                *x = (0..nmat.nrows())
-                    .map(|i| nmat[(i, 2 * j)].powi(2) + nmat[(i, 2 * j + 1)].powi(2))
-                    .sum::<f64>()
-                    .sqrt();
+                *x = complex_norm(&nmat, j);
             }
         }
         let gu = self
@@ -289,20 +273,14 @@ impl<'a> Residual<'a> {
             .as_ref()
             .filter(|g| g.nrows() > 0)
             .map(|g| g * &u);
-        let col_norm = |x: &Mat<f64>, j: usize| {
-            (0..x.nrows())
-                .map(|i| x[(i, 2 * j)].powi(2) + x[(i, 2 * j + 1)].powi(2))
-                .sum::<f64>()
-                .sqrt()
-        };
         let [nm, nc, nk, na, ng] = self.norms;
         (0..m)
             .map(|j| {
-                let (un, rn, pa) = (col_norm(&u, j), col_norm(&r, j), pairs[j].0.norm());
+                let (un, rn, pa) = (complex_norm(&u, j), complex_norm(&r, j), pairs[j].0.norm());
                 let scale = (pa * pa * nm + pa * nc + nk) * un + na * nn[j];
                 let back = if scale > 0.0 { rn / scale } else { rn };
                 let cons = match &gu {
-                    Some(gu) if ng > 0.0 && un > 0.0 => col_norm(gu, j) / (ng * un),
+                    Some(gu) if ng > 0.0 && un > 0.0 => complex_norm(gu, j) / (ng * un),
                     _ => 0.0,
                 };
                 (back, cons)

@@ -1,6 +1,7 @@
 //! Shift-invert Arnoldi on the full first-order operator of the constrained problem (no
 //! constraint elimination, no projection): the exact check of the projected roots.
 
+use super::operator::{complex_at, real_columns};
 use super::{CeaError, CeaMatrices, Cplx};
 use faer::linalg::solvers::{PartialPivLu, Solve};
 use faer::{c64, Mat};
@@ -96,25 +97,14 @@ impl<'a> ShiftInvert<'a> {
     /// factor alone is 107 MB).
     pub(crate) fn apply_block(&self, xs: &[&[Cplx]]) -> Vec<Vec<Cplx>> {
         let (n, s, nb) = (self.n, self.sigma, xs.len());
-        // Columns 2j and 2j + 1: real and imaginary parts of vector j.
-        let split = |f: &dyn Fn(usize, usize) -> Cplx| {
-            Mat::<f64>::from_fn(n, 2 * nb, |i, c| {
-                let z = f(c / 2, i);
-                if c % 2 == 0 {
-                    z.re
-                } else {
-                    z.im
-                }
-            })
-        };
-        let t = split(&|j, i| xs[j][n + i] + s * xs[j][i]);
+        let t = real_columns(n, nb, |j, i| xs[j][n + i] + s * xs[j][i]);
         let mt = self.m * &t;
-        let ca = self.c.map(|c| c * split(&|j, i| xs[j][i]));
+        let ca = self.c.map(|c| c * real_columns(n, nb, |j, i| xs[j][i]));
         let mut rhs = Mat::<c64>::from_fn(n + self.ng, nb, |i, j| {
             if i < n {
-                let mut r = -c64::new(mt[(i, 2 * j)], mt[(i, 2 * j + 1)]);
+                let mut r = -complex_at(&mt, i, j);
                 if let Some(ca) = &ca {
-                    r -= c64::new(ca[(i, 2 * j)], ca[(i, 2 * j + 1)]);
+                    r -= complex_at(ca, i, j);
                 }
                 r
             } else {
@@ -175,6 +165,20 @@ fn norm(a: &[Cplx]) -> f64 {
     a.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt()
 }
 
+/// Removes from `w` its components along the orthonormal `v` (classical Gram–Schmidt, twice);
+/// returns the coefficients removed, one per vector of `v`.
+fn orthogonalise(v: &[Vec<Cplx>], w: &mut [Cplx]) -> Vec<Cplx> {
+    let mut h = vec![Cplx::new(0.0, 0.0); v.len()];
+    for _ in 0..2 {
+        for (hi, vi) in h.iter_mut().zip(v) {
+            let c = dot(vi, w);
+            *hi += c;
+            w.iter_mut().zip(vi).for_each(|(x, y)| *x -= c * y);
+        }
+    }
+    h
+}
+
 impl Arnoldi {
     /// Starts from `block` fixed pseudo-random vectors, each applied twice to the operator so
     /// that it has no component on the infinite eigenvectors (the index-3 Jordan chains map
@@ -204,12 +208,7 @@ impl Arnoldi {
         let mut v: Vec<Vec<Cplx>> = Vec::with_capacity(block);
         for mut x in xs {
             let nx0 = norm(&x);
-            for _ in 0..2 {
-                for vi in &v {
-                    let c = dot(vi, &x);
-                    x.iter_mut().zip(vi).for_each(|(a, b)| *a -= c * b);
-                }
-            }
+            orthogonalise(&v, &mut x);
             let nx = norm(&x);
             // A start vector in the span of the others adds nothing: the block shrinks.
             if nx > 1e-10 * nx0 {
@@ -252,16 +251,9 @@ impl Arnoldi {
             self.time_apply_s += (t1 - t).as_secs_f64();
             for mut w in images {
                 let len = self.v.len();
-                let mut hj = vec![Cplx::new(0.0, 0.0); len + 1];
-                for _ in 0..2 {
-                    for (i, vi) in self.v.iter().enumerate() {
-                        let c = dot(vi, &w);
-                        hj[i] += c;
-                        w.iter_mut().zip(vi).for_each(|(x, y)| *x -= c * y);
-                    }
-                }
+                let mut hj = orthogonalise(&self.v, &mut w);
                 let beta = norm(&w);
-                hj[len] = Cplx::new(beta, 0.0);
+                hj.push(Cplx::new(beta, 0.0));
                 let scale = hj.iter().take(len).map(|z| z.norm()).fold(beta, f64::max);
                 self.h.push(hj);
                 if beta <= 1e-14 * scale {

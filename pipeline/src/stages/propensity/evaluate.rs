@@ -346,17 +346,23 @@ impl Evaluator {
         let mut checks = Vec::new();
         for (i, input) in plan.inputs.iter().enumerate() {
             let volume = input.component.as_ref().is_some_and(|c| c.volume.is_some());
+            // Without a shared projection basis (an exact CEA, or a model rebuilt per row)
+            // only a volume's material holds a basis fixed.
+            if !volume && self.basis.is_none() {
+                continue;
+            }
             for q in [0.005, 0.995] {
                 let value = input.distribution.quantile(q);
                 let mut values = centre(plan);
                 values[i] = value;
-                let (o, f, _, exact_basis) = self.try_evaluate(0, &values, progress)?;
                 if !volume {
                     // The projection basis: exact when the row has the centre's K, M and G.
+                    let (scene, m) = self.row_model(&values)?;
+                    let (o, f, _, exact_basis) =
+                        self.cea(&scene, &m, self.basis.as_ref(), progress)?;
                     if exact_basis != Some(false) {
                         continue;
                     }
-                    let (scene, m) = self.row_model(&values)?;
                     let (or, fr, _, _) = self.cea(&scene, &m, None, progress)?;
                     checks.push(BasisCheck::new(
                         BasisKind::Projection,
@@ -368,6 +374,7 @@ impl Evaluator {
                     ));
                     continue;
                 }
+                let (o, f, _, _) = self.try_evaluate(0, &values, progress)?;
                 // Re-reduced: the scene's keys (the volume's too) on a fresh build.
                 let mut sets: Vec<(String, String)> = plan
                     .inputs
