@@ -5,6 +5,7 @@
 //! approach the exact-CB ones as the degree grows, and equal them to round-off once the basis
 //! spans the patch's nodal fields.
 
+mod common;
 use squeal_pipeline::progress::Progress;
 use squeal_pipeline::stages::cea::{self, CeaArgs};
 use squeal_pipeline::stages::model::{self, ReducedModel};
@@ -12,60 +13,11 @@ use squeal_pipeline::{PipelineError, RunDir, Scene};
 use squeal_reduction::superelement::DofKind;
 use squeal_solver::cea::Cplx;
 
-/// Plate rotor 3 × 3 × 0.3 (9 × 9 × 2 hex8) clamped at x = 0 and x = 3; pad 1 × 1 × 0.2 (4 × 4
-/// × 1 hex8, rotor cells 1/3, pad cells 1/4: non-matching) on the middle of its top face.
-/// `interface`: the rotor's `[components.interface]` table, or "" for exact CB.
+/// The plate brake (`common::plate_brake`) with the pad on the middle of the rotor's top face
+/// (rotor cells 1/3, pad cells 1/4: non-matching). `interface`: the rotor's
+/// `[components.interface]` table, or "" for exact CB.
 fn plate_brake(interface: &str) -> String {
-    format!(
-        r#"title = "plate brake {interface}"
-units = "consistent"
-
-[[components]]
-name = "rotor"
-element = "hex8"
-geometry = {{ kind = "block", origin = [0.0, 0.0, -0.3], lx = 3.0, ly = 3.0, lz = 0.3, nx = 9, ny = 9, nz = 2 }}
-material = {{ young = 1.0e4, poisson = 0.3, density = 1.0 }}
-fixed = [{{ set = "x0" }}, {{ set = "x1" }}]
-{interface}
-
-[[components]]
-name = "pad"
-element = "hex8"
-geometry = {{ kind = "block", origin = [1.0, 1.0, 0.0], lx = 1.0, ly = 1.0, lz = 0.2, nx = 4, ny = 4, nz = 1 }}
-material = {{ young = 5.0e3, poisson = 0.3, density = 1.0 }}
-fixed = [{{ set = "x0", dofs = "xy" }}]
-
-[reduction]
-n_modes = 12
-
-[[contact]]
-pad = "pad"
-pad_faces = "z0"
-rotor = "rotor"
-rotor_faces = "z1"
-pairing = "surface"
-p0 = 1.0
-
-[friction]
-law = {{ kind = "linear_speed", mu0 = 0.6, slope = -0.05 }}
-vtol = 1e-3
-
-[rotor]
-rpm = 10.0
-
-[loads]
-pmax = 2.0
-tload = 0.01
-pressure = [{{ component = "pad", faces = "z1", pressure = 1.0 }}]
-
-[damping]
-modal_ratio = 0.01
-
-[cea]
-at = "steady_state"
-friction_damping = true
-"#
-    )
+    common::plate_brake(interface, [1.0, 1.0], "")
 }
 
 fn interface(degree: usize) -> String {
@@ -83,12 +35,7 @@ fn scene(text: &str, dir: &std::path::Path) -> Result<Scene, PipelineError> {
     Scene::from_toml_str(text, dir.to_path_buf(), &[])
 }
 
-fn build(text: &str, dir: &std::path::Path) -> (Scene, ReducedModel) {
-    let s = scene(text, dir).unwrap();
-    let run = RunDir::create(&dir.join(format!("run{}", text.len()))).unwrap();
-    let m = model::build(&s, &run, &Progress::quiet()).unwrap();
-    (s, m)
-}
+use common::build_model as build;
 
 /// CEA roots (sorted by |Im|) and the steady-state contact forces λ̇.
 fn cea_of(s: &Scene, m: &ReducedModel) -> (Vec<Cplx>, Vec<f64>) {

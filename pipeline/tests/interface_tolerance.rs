@@ -5,67 +5,21 @@
 //! interface reduction), whose in-band CEA roots the chosen model must match to the tolerance;
 //! the estimate must bound the chosen model's true error.
 
+mod common;
 use squeal_pipeline::progress::Progress;
 use squeal_pipeline::stages::cea::{self, CeaArgs};
 use squeal_pipeline::stages::model::{self, ReducedModel};
 use squeal_pipeline::{RunDir, Scene};
 use squeal_solver::cea::Cplx;
 
-/// Plate rotor 3 × 3 × 0.3 (9 × 9 × 2 hex8) clamped at x = 0 and x = 3, its whole top face a
-/// contact boundary (`boundary = "contact_faces"`: 100 nodes); pad 1 × 1 × 0.2 (4 × 4 × 1
-/// hex8, non-matching) off-centre on it, covering a ninth of the patch.
+/// The plate brake (`common::plate_brake`) with the rotor's whole top face a contact boundary
+/// (`boundary = "contact_faces"`: 100 nodes) and the pad off-centre on it, covering a ninth of
+/// the patch; `interface` is the rotor's interface table, `extra` ends the `[cea]` table.
 fn plate_brake(interface: &str, extra: &str) -> String {
-    format!(
-        r#"title = "plate brake, partly covered patch {interface}"
-units = "consistent"
-
-[[components]]
-name = "rotor"
-element = "hex8"
-geometry = {{ kind = "block", origin = [0.0, 0.0, -0.3], lx = 3.0, ly = 3.0, lz = 0.3, nx = 9, ny = 9, nz = 2 }}
-material = {{ young = 1.0e4, poisson = 0.3, density = 1.0 }}
-fixed = [{{ set = "x0" }}, {{ set = "x1" }}]
-boundary = "contact_faces"
-{interface}
-
-[[components]]
-name = "pad"
-element = "hex8"
-geometry = {{ kind = "block", origin = [0.6, 1.3, 0.0], lx = 1.0, ly = 1.0, lz = 0.2, nx = 4, ny = 4, nz = 1 }}
-material = {{ young = 5.0e3, poisson = 0.3, density = 1.0 }}
-fixed = [{{ set = "x0", dofs = "xy" }}]
-
-[reduction]
-n_modes = 12
-
-[[contact]]
-pad = "pad"
-pad_faces = "z0"
-rotor = "rotor"
-rotor_faces = "z1"
-pairing = "surface"
-p0 = 1.0
-
-[friction]
-law = {{ kind = "linear_speed", mu0 = 0.6, slope = -0.05 }}
-vtol = 1e-3
-
-[rotor]
-rpm = 10.0
-
-[loads]
-pmax = 2.0
-tload = 0.01
-pressure = [{{ component = "pad", faces = "z1", pressure = 1.0 }}]
-
-[damping]
-modal_ratio = 0.01
-
-[cea]
-at = "steady_state"
-friction_damping = true
-{extra}
-"#
+    common::plate_brake(
+        &format!("boundary = \"contact_faces\"\n{interface}"),
+        [0.6, 1.3],
+        extra,
     )
 }
 
@@ -81,12 +35,7 @@ fn scene(text: &str, dir: &std::path::Path) -> Result<Scene, String> {
     Scene::from_toml_str(text, dir.to_path_buf(), &[]).map_err(|e| e.to_string())
 }
 
-fn build(text: &str, dir: &std::path::Path) -> (Scene, ReducedModel) {
-    let s = scene(text, dir).unwrap();
-    let run = RunDir::create(&dir.join(format!("run{}", text.len()))).unwrap();
-    let m = model::build(&s, &run, &Progress::quiet()).unwrap();
-    (s, m)
-}
+use common::build_model as build;
 
 /// In-band CEA roots (with their unstable flag) and the `cea.json` content.
 fn cea_of(s: &Scene, m: &ReducedModel) -> (Vec<(Cplx, bool)>, cea::CeaOut) {

@@ -333,6 +333,26 @@ fn a_material_key_of_a_several_material_component_is_refused() {
         .is_none());
 }
 
+/// Prints each basis check: the largest Re λ as the rows run and afresh.
+fn print_checks(checks: &[propensity::evaluate::BasisCheck]) {
+    for c in checks {
+        eprintln!(
+            "{:?} {} = {:.4e}: Re {:.6e} /s at {:.2} Hz as the rows run, {:.6e} /s at {:.2} Hz \
+             afresh (|dRe| {:.3e} /s, df/f {:.3e}, allowed {:.3e})",
+            c.kind,
+            c.key,
+            c.value,
+            c.derivative.0,
+            c.derivative.1,
+            c.rereduced.0,
+            c.rereduced.1,
+            c.real_part_change,
+            c.frequency_change,
+            c.allowed
+        );
+    }
+}
+
 /// One volume's material (the sample brake's inboard pad lining, E₀ = 1e6 psi, under a steel
 /// backplate) on the reduced model, the Craig–Bampton basis held fixed:
 /// - the volume derivatives of a component add up to the component's (Σ_V K_V = K_c: the
@@ -392,21 +412,7 @@ fn one_volume_on_the_reduced_model_is_checked_against_re_reduction() {
     let mut ev = propensity::Evaluator::new(&scene, &plan, &dir, &Progress::quiet(), None).unwrap();
     let checked = ev.check_basis(&plan, &dir, (0.05, 1.0), &Progress::quiet());
     let checks = ev.info().basis_checks;
-    for c in &checks {
-        eprintln!(
-            "{} = {:.4e}: Re {:.6e} /s at {:.2} Hz on the one model, {:.6e} /s at {:.2} Hz \
-             re-reduced (|dRe| {:.3e} /s, df/f {:.3e}, allowed {:.3e})",
-            c.key,
-            c.value,
-            c.derivative.0,
-            c.derivative.1,
-            c.rereduced.0,
-            c.rereduced.1,
-            c.real_part_change,
-            c.frequency_change,
-            c.allowed
-        );
-    }
+    print_checks(&checks);
     assert_eq!(checks.len(), 2, "{checked:?}");
     assert!((checks[0].value - 0.703e6).abs() < 1e3 && (checks[1].value - 1.297e6).abs() < 1e3);
     assert_eq!(checked.is_ok(), checks.iter().all(|c| c.passed));
@@ -459,22 +465,7 @@ fn the_rows_share_one_projection_basis_and_its_error_is_checked() {
         assert!(basis.n_modes > 0);
         let checked = ev.check_basis(&plan, &dir, (0.05, 1.0), &Progress::quiet());
         let checks = ev.info().basis_checks;
-        for c in &checks {
-            eprintln!(
-                "{:?} {} = {:.4}: Re {:.6e} /s at {:.2} Hz on the centre's basis, {:.6e} /s \
-                 at {:.2} Hz on its own (|dRe| {:.3e} /s, df/f {:.3e}, allowed {:.3e})",
-                c.kind,
-                c.key,
-                c.value,
-                c.derivative.0,
-                c.derivative.1,
-                c.rereduced.0,
-                c.rereduced.1,
-                c.real_part_change,
-                c.frequency_change,
-                c.allowed
-            );
-        }
+        print_checks(&checks);
         assert_eq!(checks.len(), 2, "{checks:?}");
         assert!(checks
             .iter()

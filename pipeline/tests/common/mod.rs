@@ -85,3 +85,79 @@ tload = 0.0
     .unwrap();
     p
 }
+
+/// A small brake (`tests/interface.rs`, `tests/interface_tolerance.rs`): a plate rotor
+/// 3 × 3 × 0.3 (9 × 9 × 2 hex8) clamped at x = 0 and x = 3, and a pad 1 × 1 × 0.2 (4 × 4 × 1
+/// hex8: non-matching) with its lower corner at `pad_xy` on the rotor's top face, tied by
+/// surface pairing. `rotor` is added to the rotor's table (an `interface` table, a
+/// `boundary`), `cea` to the `[cea]` table.
+pub fn plate_brake(rotor: &str, pad_xy: [f64; 2], cea: &str) -> String {
+    let [x, y] = pad_xy;
+    format!(
+        r#"title = "plate brake"
+units = "consistent"
+
+[[components]]
+name = "rotor"
+element = "hex8"
+geometry = {{ kind = "block", origin = [0.0, 0.0, -0.3], lx = 3.0, ly = 3.0, lz = 0.3, nx = 9, ny = 9, nz = 2 }}
+material = {{ young = 1.0e4, poisson = 0.3, density = 1.0 }}
+fixed = [{{ set = "x0" }}, {{ set = "x1" }}]
+{rotor}
+
+[[components]]
+name = "pad"
+element = "hex8"
+geometry = {{ kind = "block", origin = [{x:?}, {y:?}, 0.0], lx = 1.0, ly = 1.0, lz = 0.2, nx = 4, ny = 4, nz = 1 }}
+material = {{ young = 5.0e3, poisson = 0.3, density = 1.0 }}
+fixed = [{{ set = "x0", dofs = "xy" }}]
+
+[reduction]
+n_modes = 12
+
+[[contact]]
+pad = "pad"
+pad_faces = "z0"
+rotor = "rotor"
+rotor_faces = "z1"
+pairing = "surface"
+p0 = 1.0
+
+[friction]
+law = {{ kind = "linear_speed", mu0 = 0.6, slope = -0.05 }}
+vtol = 1e-3
+
+[rotor]
+rpm = 10.0
+
+[loads]
+pmax = 2.0
+tload = 0.01
+pressure = [{{ component = "pad", faces = "z1", pressure = 1.0 }}]
+
+[damping]
+modal_ratio = 0.01
+
+[cea]
+at = "steady_state"
+friction_damping = true
+{cea}
+"#
+    )
+}
+
+/// The scene of `text` (files relative to `dir`) and its reduced model, built in a run folder
+/// under `dir` named by the text's length.
+pub fn build_model(
+    text: &str,
+    dir: &std::path::Path,
+) -> (
+    squeal_pipeline::Scene,
+    squeal_pipeline::stages::model::ReducedModel,
+) {
+    use squeal_pipeline::progress::Progress;
+    let s = squeal_pipeline::Scene::from_toml_str(text, dir.to_path_buf(), &[]).unwrap();
+    let run = squeal_pipeline::RunDir::create(&dir.join(format!("run{}", text.len()))).unwrap();
+    let m = squeal_pipeline::stages::model::build(&s, &run, &Progress::quiet()).unwrap();
+    (s, m)
+}
