@@ -30,8 +30,11 @@ fn nearest(modes: &[Mode], p: squeal_solver::cea::Cplx) -> &Mode {
 /// strong enough to make 7 roots of the band (the lowest quarter of the spectrum) unstable,
 /// and to make a basis cut at 2× the band err by up to 5 % on them (the projected roots even
 /// pair up with the wrong exact roots). After refinement (plain Arnoldi, and band Arnoldi of
-/// block 4) every exact unstable in-band root is in the result to 1e-9 relative with its exact shape (MAC > 1 − 1e-8), every unstable
-/// in-band root of the result is an exact root, and the backward errors are at round-off.
+/// block 4; with the constraint and multipliers eliminated by slave DOFs, an LU of size
+/// n − ng = 138, and with the bordered LU of size n + ng = 162) every exact unstable in-band
+/// root is in the result to 1e-9 relative with its exact shape (MAC > 1 − 1e-8), every
+/// unstable in-band root of the result is an exact root, and the backward errors are at
+/// round-off.
 #[test]
 fn refined_roots_equal_the_dense_roots() {
     let sys = random_constrained(150, 12, 2.0, 0x5eed_1234_abcd_0001);
@@ -85,14 +88,24 @@ fn refined_roots_equal_the_dense_roots() {
         "the projection alone is not exact here: {err_plain:e}"
     );
 
-    // Plain Arnoldi (block 1) and the default band Arnoldi (block 4).
-    for block in [1, 4] {
+    // Plain Arnoldi (block 1) and the default band Arnoldi (block 4), each with the default
+    // null-space factorisation and with the bordered one.
+    for (block, null_space) in [(1, true), (4, true), (1, false), (4, false)] {
         let mut opts = opts.clone();
         opts.projection.refine.block = block;
+        opts.projection.refine.null_space = null_space;
         let p = complex_eigen(&sys, &opts).unwrap();
         let st = p.stats.refine.as_ref().expect("refinement ran");
+        for sh in &st.shifts {
+            let (kind, size) = if null_space {
+                ("null_space", 150 - 12)
+            } else {
+                ("bordered", 150 + 12)
+            };
+            assert_eq!((sh.factorisation, sh.factor_size), (kind, size));
+        }
         eprintln!(
-            "block {block}: targets {}, refined {} ({} targets), shifts {}, applications {}, \
+            "block {block}, null space {null_space}: targets {}, refined {} ({} targets), shifts {}, applications {}, \
          missed {}, max |dp| {:e}, max residual {:e}, plain error {err_plain:e}",
             st.n_targets,
             st.n_refined,
