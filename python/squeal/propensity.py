@@ -242,8 +242,12 @@ def propensity(
         parts = [list(range(rows_total))[i::chunks] for i in range(min(chunks, rows_total))]
         stop_name = f"squeal-propensity-cancel-{uuid.uuid4().hex}"
         stop = Event(stop_name, client=client)
-        futures = [client.submit(_evaluate, scene, plan, p, work, cache, cancel_event=stop_name, pure=False)
-                   for p in parts]
+        # A work folder per chunk: chunks that build the model (a volume input needs its
+        # component blocks) write the same mesh files, and two workers writing one folder tore
+        # the rotor's .msh under the other's reader.
+        futures = [client.submit(_evaluate, scene, plan, p, os.path.join(work, f"chunk-{k:03d}"), cache,
+                                 cancel_event=stop_name, pure=False)
+                   for k, p in enumerate(parts)]
         try:
             done = 0
             for fut in as_completed(futures):

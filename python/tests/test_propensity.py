@@ -77,6 +77,9 @@ def test_dask_cluster_gives_the_threads_numbers(tmp_path):
                                   dashboard_address=None) as cluster, distributed.Client(cluster) as client:
         dask = squeal.propensity(scene, dists, 256, client=client, out=tmp_path / "dask", cache=tmp_path / "cache")
     assert dask.p_unstable == local.p_unstable
+    # Each chunk ran in its own work folder (chunks that build a model must not share one).
+    chunks = sorted(d.name for d in (tmp_path / "dask" / "work").iterdir())
+    assert chunks == [f"chunk-{k:03d}" for k in range(4)], chunks
     np.testing.assert_allclose(dask.samples["max_real_part"].to_numpy(), local.samples["max_real_part"].to_numpy(),
                                rtol=1e-12, atol=1e-9)
     s = dask.sobol("unstable")
