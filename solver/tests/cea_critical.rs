@@ -111,6 +111,9 @@ fn critical_mu_equals_dense_exact_bisection() {
             ..exact_opts()
         },
         max_exact_critical: 30,
+        // The friction-free basis alone, so that the exact search starts from a projected
+        // crossing well off the exact one (the enriched basis: the last test).
+        enrich: false,
         ..SweepOptions::default()
     };
     let s = sweep(build, &mus, &opts).unwrap();
@@ -236,4 +239,108 @@ fn the_exact_onset_budget_goes_to_the_lowest_onsets() {
         0
     );
     assert_eq!(none.stats.n_critical_exact_skipped, attempted);
+}
+
+/// The basis enrichment ([`SweepOptions::enrich`]): on a model whose friction-free modes are a
+/// poor basis at high μ, the enriched basis' roots match the dense exact roots at every step
+/// (the least stable in-band ones, to the enrichment's tolerance), the measured
+/// `basis_error` is honest (the dense comparison at its μ is no larger), and the projected
+/// crossing moves onto the exact one.
+#[test]
+fn enriched_basis_keeps_the_projection_exact_across_the_sweep() {
+    let m = RandomConstrained::new(120, 8, 11);
+    let mus: Vec<f64> = (0..11).map(|i| 0.1 * i as f64).collect();
+    let r0 = complex_eigen(&m.at(0.0), &exact_opts()).unwrap();
+    let band = 0.25 * r0.modes.last().unwrap().frequency_hz;
+    let opts = |enrich: bool| SweepOptions {
+        cea: CeaOptions {
+            method: CeaMethod::Projection,
+            projection: ProjectionOptions {
+                frequency_max_hz: Some(band),
+                cutoff_factor: 1.5,
+                basis_mu: Some(0.0),
+                ..ProjectionOptions::default()
+            },
+            ..exact_opts()
+        },
+        enrich,
+        max_exact_critical: 30,
+        ..SweepOptions::default()
+    };
+    let build = |mu: f64| Ok::<_, CeaError>(m.at(mu));
+    let plain = sweep(build, &mus, &opts(false)).unwrap();
+    let rich = sweep(build, &mus, &opts(true)).unwrap();
+    let st = &rich.stats;
+    let tol = opts(true).enrich_tol;
+    let k = opts(true).enrich_roots;
+    eprintln!(
+        "basis {} ({} enriched of {} reduced), tests: {:?}",
+        st.n_basis,
+        st.n_basis_enriched,
+        st.n_reduced,
+        st.enrichment
+            .iter()
+            .map(|p| (p.mu, p.max_rel_error, p.n_added))
+            .collect::<Vec<_>>()
+    );
+    assert!(plain.stats.enrichment.is_empty() && plain.stats.basis_error.is_none());
+    // The friction-free basis fails the first test; the enriched one passes at a μ it was not
+    // enriched at, with a basis still truncated.
+    assert!(st.enrichment[0].max_rel_error > tol);
+    assert!(st.n_basis_enriched > 0 && st.n_basis < st.n_reduced);
+    assert_eq!(st.basis_converged, Some(true));
+    let last = st.enrichment.last().unwrap();
+    assert_eq!(last.n_added, 0);
+    assert!(st.basis_error.unwrap() <= tol);
+    assert!(st.enrichment[..st.enrichment.len() - 1]
+        .iter()
+        .all(|p| p.mu != last.mu));
+    // Every step: each of the k in-band projected roots with the largest Re p against the
+    // nearest dense exact root.
+    let worst = |s: &Sweep| {
+        let mut worst: f64 = 0.0;
+        for step in &s.steps {
+            let exact = complex_eigen(&m.at(step.mu), &exact_opts()).unwrap();
+            let mut inb: Vec<_> = step
+                .modes
+                .iter()
+                .filter(|x| x.frequency_hz <= band)
+                .collect();
+            inb.sort_by(|a, b| b.real_part.total_cmp(&a.real_part));
+            for x in inb.iter().take(k) {
+                let d = exact
+                    .modes
+                    .iter()
+                    .map(|e| (e.eigenvalue - x.eigenvalue).norm() / e.eigenvalue.norm())
+                    .fold(f64::INFINITY, f64::min);
+                worst = worst.max(d);
+            }
+        }
+        worst
+    };
+    let (w_plain, w_rich) = (worst(&plain), worst(&rich));
+    eprintln!(
+        "worst relative root error over the steps: plain {w_plain:.3e}, enriched {w_rich:.3e}"
+    );
+    assert!(
+        w_plain > 10.0 * tol,
+        "the test needs a poor friction-free basis"
+    );
+    assert!(w_rich <= 10.0 * tol, "{w_rich}");
+    // The projected crossing (before the exact search) is now the exact one's neighbour.
+    let reference = dense_bisection(&m, &mus, band);
+    let (cp, cr) = (lowest_in_band(&plain, band), lowest_in_band(&rich, band));
+    eprintln!(
+        "reference {reference:.9}: located plain {:.9}, enriched {:.9}; exact {:.9} ({} solves) vs {:.9} ({} solves)",
+        cp.mu_located,
+        cr.mu_located,
+        cp.mu,
+        cp.exact.as_ref().map_or(0, |x| x.n_solves),
+        cr.mu,
+        cr.exact.as_ref().map_or(0, |x| x.n_solves)
+    );
+    assert!((cr.mu_located - reference).abs() < 0.1 * (cp.mu_located - reference).abs());
+    let x = cr.exact.as_ref().expect("refined exactly");
+    assert!(x.converged);
+    assert!((cr.mu - reference).abs() <= opts(true).exact_critical_tol);
 }

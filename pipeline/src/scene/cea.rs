@@ -74,6 +74,13 @@ pub struct CeaSweepSpec {
     /// With `refine_critical`: how many in-band onsets, lowest first, are moved to the exact
     /// crossing (default: 4; the others keep the projected crossing).
     pub max_exact_onsets: usize,
+    /// With the projection method, enrich the basis with exact eigenvectors at the sweep's
+    /// μ until its least stable in-band roots are within `enrich_tol` at a μ it was not
+    /// enriched at (default: true; `stats.enrichment` and `stats.basis_error` in
+    /// cea.sweep.json).
+    pub enrich: bool,
+    /// Relative root error the enrichment aims at (default: 1e-4).
+    pub enrich_tol: Real,
 }
 
 impl Default for CeaSweepSpec {
@@ -90,6 +97,8 @@ impl Default for CeaSweepSpec {
             resolve_state: true,
             refine_critical: s.refine_critical,
             max_exact_onsets: s.max_exact_onsets,
+            enrich: s.enrich,
+            enrich_tol: s.enrich_tol,
         }
     }
 }
@@ -197,6 +206,8 @@ impl CeaSweepSpec {
             exact_check: self.exact_check,
             refine_critical: self.refine_critical,
             max_exact_onsets: self.max_exact_onsets,
+            enrich: self.enrich,
+            enrich_tol: self.enrich_tol,
             ..SweepOptions::default()
         }
     }

@@ -2,8 +2,8 @@
 
 use super::eigen::sandwich;
 use super::lanczos::lowest_modes;
-use super::operator::{check_inputs, cholesky, mass_solve};
-use super::{reduce, BasisSolver, CeaError, CeaMatrices, CeaOptions};
+use super::operator::{check_inputs, cholesky, mass_solve, real_columns};
+use super::{reduce, BasisSolver, CeaError, CeaMatrices, CeaOptions, Cplx};
 use faer::{Mat, MatRef, Side};
 use std::time::Instant;
 
@@ -37,6 +37,8 @@ pub struct ModalBasis {
     pub(crate) n_reduced: usize,
     /// σ_min(G)/σ_max(G).
     pub(crate) rank_ratio: f64,
+    /// Vectors added by [`ModalBasis::enrich`] (the last columns of Ψ).
+    n_enriched: usize,
     time_s: f64,
 }
 
@@ -102,8 +104,105 @@ impl ModalBasis {
             y,
             n_reduced,
             rank_ratio,
+            n_enriched: 0,
             time_s: t0.elapsed().as_secs_f64(),
         })
+    }
+
+    /// Adds the real and imaginary parts of the complex vectors `vectors` (exact eigenvectors
+    /// of the problem at another state: a friction sweep's multi-point basis) to Ψ; returns how
+    /// many columns were added.
+    ///
+    /// # Derivation
+    /// Each part w is first put in null(G) by the M-orthogonal projection
+    /// `w ← w − Y (G Y)⁻¹ G w`, `Y = M⁻¹Gᵀ` (an exact eigenvector has `G u = 0` to round-off;
+    /// the projection keeps `G Ψ = 0` exact), then made M-orthogonal to Ψ by two passes of
+    /// Gram–Schmidt `w ← w − Ψ Ψᵀ M w` (M the reference mass) and normalised, so that
+    /// `ΨᵀMΨ = I` still holds and [`ModalBasis::solve`] is unchanged. A part whose M-norm
+    /// falls below `drop_tol` × its norm before the orthogonalisation lies in span Ψ already
+    /// and is dropped. K Ψ and B Ψ are extended by the new columns. The Galerkin projection
+    /// onto the enlarged space reproduces the added eigenpairs exactly at their own state
+    /// (their residual is zero) and, the friction terms being smooth in μ, improves the roots
+    /// between the states.
+    pub(crate) fn enrich(
+        &mut self,
+        vectors: &[Vec<Cplx>],
+        drop_tol: f64,
+    ) -> Result<usize, CeaError> {
+        let n = self.psi.nrows();
+        let vectors: Vec<&Vec<Cplx>> = vectors.iter().filter(|v| v.len() == n).collect();
+        if vectors.is_empty() {
+            return Ok(0);
+        }
+        let mut w = real_columns(n, vectors.len(), |j, i| vectors[j][i]);
+        if let (Some(g), Some(y)) = (&self.g_ref, &self.y) {
+            let gy = g * y;
+            let llt = cholesky("G M^-1 G^T", &gy)?;
+            let mut c = g * &w;
+            faer::linalg::solvers::Solve::solve_in_place(&llt, &mut c);
+            w -= y * &c;
+        }
+        let m = &self.m_ref;
+        let mut new_cols: Vec<Vec<f64>> = Vec::new();
+        for j in 0..w.ncols() {
+            let mut v: Vec<f64> = (0..n).map(|i| w[(i, j)]).collect();
+            let m_norm = |v: &[f64]| -> f64 {
+                let x = faer::ColRef::from_slice(v);
+                let mx = m * x;
+                (0..n).map(|i| v[i] * mx[i]).sum::<f64>().max(0.0).sqrt()
+            };
+            let norm0 = m_norm(&v);
+            if !(norm0 > 0.0) || !norm0.is_finite() {
+                continue;
+            }
+            for _ in 0..2 {
+                let mv = m * faer::ColRef::from_slice(&v);
+                let coef = self.psi.transpose() * &mv;
+                let proj = &self.psi * &coef;
+                for i in 0..n {
+                    v[i] -= proj[i];
+                }
+                for q in &new_cols {
+                    let c: f64 = (0..n).map(|i| q[i] * mv[i]).sum();
+                    for i in 0..n {
+                        v[i] -= c * q[i];
+                    }
+                }
+            }
+            let norm = m_norm(&v);
+            if norm <= drop_tol * norm0 {
+                continue;
+            }
+            v.iter_mut().for_each(|x| *x /= norm);
+            new_cols.push(v);
+        }
+        let added = new_cols.len();
+        if added == 0 {
+            return Ok(0);
+        }
+        let nb = self.psi.ncols();
+        let wn = Mat::from_fn(n, added, |i, j| new_cols[j][i]);
+        let ext = |a: &Mat<f64>, b: Mat<f64>| {
+            Mat::from_fn(n, nb + added, |i, j| {
+                if j < nb {
+                    a[(i, j)]
+                } else {
+                    b[(i, j - nb)]
+                }
+            })
+        };
+        self.kpsi = ext(&self.kpsi, &self.k_ref * &wn);
+        if let (Some(b), Some(bp)) = (&self.b_ref, &self.bpsi) {
+            self.bpsi = Some(ext(bp, b * &wn));
+        }
+        self.psi = ext(&self.psi, wn);
+        self.n_enriched += added;
+        Ok(added)
+    }
+
+    /// Columns added by [`ModalBasis::enrich`].
+    pub fn n_enriched(&self) -> usize {
+        self.n_enriched
     }
 
     /// Number of basis modes nb.

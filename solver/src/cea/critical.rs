@@ -78,17 +78,29 @@ impl Bracket {
     }
 }
 
+/// Largest relative frequency difference from the best-MAC mode of a coalescing partner in
+/// [`tracked`].
+const PARTNER_FREQUENCY_TOL: f64 = 0.1;
+
 /// The tracked root among `modes`: of the modes whose MAC with `reference` is at least half
-/// the best MAC (near a coalescence both partners qualify), the one with the largest Re p.
-/// Returns (its index, the index of the best-MAC mode).
+/// the best MAC and whose frequency is within [`PARTNER_FREQUENCY_TOL`] of the best-MAC
+/// mode's (near a coalescence both partners qualify), the one with the largest Re p.
+/// Returns (its index, the index of the best-MAC mode). (Without the frequency condition a
+/// more unstable mode of another frequency whose shape happened to correlate was taken: on
+/// the cad brake a 3.78 kHz onset was searched on the 2.36 kHz root, already unstable, and no
+/// crossing was found.)
 pub(super) fn tracked(modes: &[Mode], reference: &[Cplx]) -> Option<(usize, usize)> {
     let macs: Vec<f64> = modes
         .iter()
         .map(|m| super::mac(reference, &m.shape))
         .collect();
     let best = (0..macs.len()).max_by(|&a, &b| macs[a].total_cmp(&macs[b]))?;
+    let fb = modes[best].frequency_hz;
     let top = (0..modes.len())
-        .filter(|&i| macs[i] >= 0.5 * macs[best])
+        .filter(|&i| {
+            macs[i] >= 0.5 * macs[best]
+                && (modes[i].frequency_hz - fb).abs() <= PARTNER_FREQUENCY_TOL * fb.abs()
+        })
         .max_by(|&a, &b| modes[a].real_part.total_cmp(&modes[b].real_part))?;
     Some((top, best))
 }
@@ -248,7 +260,7 @@ where
     /// of [`Solver::locate`]), from exact evaluations only (the tracked root refined by
     /// shift-invert Arnoldi at each trial μ): the first trial is the projected critical μ; the
     /// next steps towards the crossing by the exact value over the projected slope (×1.5, so
-    /// that it overshoots; at least 1/64 of a sweep step), growing 4× until the sign changes,
+    /// that it overshoots; at least `exact_critical_tol`), growing 4× until the sign changes,
     /// within one sweep step of the bracketing steps; then Illinois regula falsi with bisection steps, as
     /// [`Solver::locate`], until the exact bracket is shorter than
     /// `exact_critical_tol`·max(1, |μ|) (`converged`), or `max_exact_critical` evaluations.
@@ -302,7 +314,9 @@ where
         } else {
             h / 16.0
         };
-        d = d.clamp(h / 64.0, h);
+        // At least the tolerance: an accurate projection (an enriched basis) puts the
+        // crossing within it, and the first step then closes the bracket.
+        d = d.clamp(tol(mu_p).min(h), h);
         let mut br = None;
         while out.n_solves < opts.max_exact_critical {
             let mu = a.mu + dir * d;

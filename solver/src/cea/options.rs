@@ -251,6 +251,23 @@ pub struct SweepOptions {
     pub exact_check: bool,
     /// With projection, also check every k-th step (k ≥ 1; default: 0: the ends only).
     pub exact_check_every: usize,
+    /// With projection (and `cea.projection.refine.enabled`), enrich the basis before the
+    /// sweep (default: true): at the sweep's μ in the order last, midpoints (breadth first),
+    /// first, the `enrich_roots` in-band projected roots with the largest Re p are refined
+    /// exactly; when their largest relative error exceeds `enrich_tol` their exact
+    /// eigenvectors (real and imaginary parts) join the basis, at most `max_enrich_points`
+    /// times; the test that passes (or the one after the last enrichment) is at a μ the basis
+    /// was not enriched at, so its error is the basis' measured error
+    /// ([`super::SweepStats::basis_error`]). The friction-free modes alone were 5 % off at
+    /// μ = 0.9 on the cad brake's 2 043-DOF model.
+    pub enrich: bool,
+    /// Relative root error |p_exact − p_projected| / |p_exact| the enrichment aims at
+    /// (default: 1e-4: about 3 /s in Re p at 5 kHz).
+    pub enrich_tol: f64,
+    /// Most μ at which the basis is enriched (default: 3).
+    pub max_enrich_points: usize,
+    /// In-band roots refined per enrichment test, the largest Re p first (default: 8).
+    pub enrich_roots: usize,
     /// Weight of eigenvalue continuity in the tracking: a candidate's score is its MAC less
     /// this weight × its distance from the track's linearly predicted eigenvalue relative to
     /// |p| (default: 1; 0: MAC alone).
@@ -282,6 +299,10 @@ impl Default for SweepOptions {
             keep_shapes: false,
             exact_check: true,
             exact_check_every: 0,
+            enrich: true,
+            enrich_tol: 1e-4,
+            max_enrich_points: 3,
+            enrich_roots: 8,
             continuity_weight: 1.0,
             lock_tol: 5e-3,
             veer_tol: 0.05,
@@ -312,6 +333,19 @@ impl SweepOptions {
             self.exact_critical_tol > 0.0,
             "must be > 0",
         )?;
+        check(
+            "sweep.enrich_tol",
+            self.enrich_tol,
+            self.enrich_tol > 0.0 && self.enrich_tol.is_finite(),
+            "must be finite and > 0",
+        )?;
+        if self.enrich && self.enrich_roots == 0 {
+            return Err(CeaError::InvalidOption {
+                field: "sweep.enrich_roots",
+                value: "0".into(),
+                reason: "must be >= 1 when enrich is on".into(),
+            });
+        }
         check(
             "sweep.continuity_weight",
             self.continuity_weight,

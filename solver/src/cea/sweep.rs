@@ -8,7 +8,7 @@ use super::refine::{refine, RefineStats};
 use super::track::{assign, mac_matrix};
 use super::{
     compare_eigenvalues, CeaError, CeaMatrices, CeaMethod, CeaOptions, CeaResult, CeaStats,
-    CheckKind, Cplx, EigenvalueComparison, ExactCheck, ModalBasis, Mode, SweepOptions,
+    CheckKind, Cplx, EigenvalueComparison, EnrichPoint, ExactCheck, ModalBasis, Mode, SweepOptions,
 };
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -109,6 +109,17 @@ pub struct SweepStats {
     pub basis_mu: Option<f64>,
     /// Wall time of the basis computation, seconds.
     pub time_basis_s: f64,
+    /// The basis enrichment's tests, in order ([`SweepOptions::enrich`]; empty without it).
+    pub enrichment: Vec<EnrichPoint>,
+    /// Basis columns added by the enrichment (part of `n_basis`).
+    pub n_basis_enriched: usize,
+    /// The basis' measured error: the largest relative root error of the last enrichment
+    /// test, at a μ the basis was not enriched at (`None` without enrichment).
+    pub basis_error: Option<f64>,
+    /// That error is within `enrich_tol` (`None` without enrichment).
+    pub basis_converged: Option<bool>,
+    /// Wall time of the enrichment, seconds.
+    pub time_enrich_s: f64,
     /// Band of the exact checks, Hz: `projection.frequency_max_hz`, else the highest basis
     /// frequency / `cutoff_factor` (`projection` only).
     pub check_band_hz: Option<f64>,
@@ -657,9 +668,23 @@ where
     solver.stats.n_basis = basis.len();
     solver.stats.basis_max_frequency_hz = Some(f_max);
     solver.stats.basis_mu = Some(basis_mu);
-    solver.stats.check_band_hz = Some(pr.frequency_max_hz.unwrap_or(f_max / pr.cutoff_factor));
+    let band = pr.frequency_max_hz.unwrap_or(f_max / pr.cutoff_factor);
+    solver.stats.check_band_hz = Some(band);
     solver.stats.time_basis_s = t.elapsed().as_secs_f64();
     solver.basis = Some(basis);
+    let truncated = solver.stats.n_basis < n_reduced;
+    if opts.enrich && pr.refine.enabled && truncated {
+        let t = Instant::now();
+        let skip = mus.iter().position(|&m| m == basis_mu);
+        let (points, pass) = solver.enrich(mus, skip, band, opts)?;
+        let basis = solver.basis.as_ref().expect("kept");
+        solver.stats.n_basis = basis.len();
+        solver.stats.n_basis_enriched = basis.n_enriched();
+        solver.stats.basis_error = points.last().map(|p| p.max_rel_error);
+        solver.stats.basis_converged = Some(pass);
+        solver.stats.enrichment = points;
+        solver.stats.time_enrich_s = t.elapsed().as_secs_f64();
+    }
     Ok(())
 }
 
