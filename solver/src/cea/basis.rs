@@ -152,7 +152,7 @@ impl ModalBasis {
                 (0..n).map(|i| v[i] * mx[i]).sum::<f64>().max(0.0).sqrt()
             };
             let norm0 = m_norm(&v);
-            if !(norm0 > 0.0) || !norm0.is_finite() {
+            if !norm0.is_finite() || norm0 <= 0.0 {
                 continue;
             }
             for _ in 0..2 {

@@ -153,8 +153,8 @@ where
         opts: &SweepOptions,
     ) -> Result<(Vec<EnrichPoint>, bool), CeaError> {
         let mut points = Vec::new();
-        let mut added_at = 0;
-        for i in candidates(mus.len(), skip) {
+        // Every test before this one enriched the basis (a passing test returns).
+        for (added_at, i) in candidates(mus.len(), skip).into_iter().enumerate() {
             let (mut pt, shapes) = self.enrich_test(mus[i], band_hz, opts)?;
             let pass = pt.max_rel_error <= opts.enrich_tol;
             if pass || added_at >= opts.max_enrich_points {
@@ -165,7 +165,6 @@ where
             let basis = self.basis.as_mut().expect("tested above");
             pt.n_added = basis.enrich(&shapes, 1e-6)?;
             pt.time_s += t.elapsed().as_secs_f64();
-            added_at += 1;
             points.push(pt);
         }
         Ok((points, false))
