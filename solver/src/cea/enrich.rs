@@ -4,7 +4,7 @@
 //! projection is within a tolerance at a μ it was not enriched at.
 
 use super::refine::refine_targets;
-use super::sweep::Solver;
+use super::sweep::{refine_comparison, Solver};
 use super::{CeaError, CeaMatrices, Cplx, SweepOptions};
 use serde::Serialize;
 use std::fmt::Display;
@@ -100,12 +100,8 @@ where
             &self.cea.projection.refine,
             &self.cea.interrupt,
         )?;
-        let mut max_rel: f64 = 0.0;
-        let mut max_re: f64 = 0.0;
-        for root in st.roots.iter().filter(|x| x.target) {
-            max_rel = max_rel.max(root.rel_change);
-            max_re = max_re.max((root.exact.re - root.projected.re).abs());
-        }
+        let cmp = refine_comparison(&st);
+        let (mut max_rel, max_re) = (cmp.max_rel_error, cmp.max_real_part_error);
         if st.n_missed > 0 || st.n_failed > 0 {
             max_rel = max_rel.max(1.0);
         }

@@ -82,6 +82,25 @@ pub(crate) fn mass_solve(M: &Mat<f64>, Gt: &Mat<f64>) -> Result<Mat<f64>, CeaErr
     Ok(Y)
 }
 
+/// Smallest/largest |pivot| of an LU's U (`abs` the pivot's modulus); 0 when the largest is
+/// 0 or not finite.
+pub(crate) fn pivot_ratio<T: faer::traits::ComplexField>(
+    u: faer::MatRef<'_, T>,
+    abs: impl Fn(&T) -> f64,
+) -> f64 {
+    let (mut pmin, mut pmax) = (f64::INFINITY, 0.0f64);
+    for i in 0..u.nrows().min(u.ncols()) {
+        let a = abs(&u[(i, i)]);
+        pmin = pmin.min(a);
+        pmax = pmax.max(a);
+    }
+    if pmax > 0.0 && pmax.is_finite() {
+        pmin / pmax
+    } else {
+        0.0
+    }
+}
+
 /// The oblique projector `P = I − A S⁻¹ G M⁻¹`, `A = Gᵀ − D`, `S = G M⁻¹ A`
 /// (see [`super::reduce`] for its derivation).
 pub(crate) struct ContactProjector {
@@ -100,13 +119,7 @@ impl ContactProjector {
         let A = Gt - D;
         let S = Y.transpose() * &A;
         let lu = S.partial_piv_lu();
-        let U = lu.U();
-        let (mut pmin, mut pmax) = (f64::INFINITY, 0.0f64);
-        for i in 0..ng {
-            pmin = pmin.min(U[(i, i)].abs());
-            pmax = pmax.max(U[(i, i)].abs());
-        }
-        let pr = if pmax > 0.0 { pmin / pmax } else { 0.0 };
+        let pr = pivot_ratio(lu.U(), |x: &f64| x.abs());
         if pr.is_nan() || pr <= 1e3 * f64::EPSILON {
             return Err(CeaError::SingularContactOperator { ng, ratio: pr });
         }

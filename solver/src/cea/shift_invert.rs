@@ -1,29 +1,11 @@
 //! Shift-invert Arnoldi on the full first-order operator of the constrained problem (no
 //! projection): the exact check of the projected roots.
 
-use super::operator::{complex_at, real_columns};
+use super::operator::{complex_at, pivot_ratio, real_columns};
 use super::{CeaError, CeaMatrices, Cplx};
 use faer::linalg::solvers::{PartialPivLu, Solve};
 use faer::{c64, Mat};
 use std::time::Instant;
-
-/// Smallest/largest |pivot| of an LU's U.
-fn pivot_ratio<T: faer::traits::ComplexField>(
-    u: faer::MatRef<'_, T>,
-    abs: impl Fn(&T) -> f64,
-) -> f64 {
-    let (mut pmin, mut pmax) = (f64::INFINITY, 0.0f64);
-    for i in 0..u.nrows().min(u.ncols()) {
-        let a = abs(&u[(i, i)]);
-        pmin = pmin.min(a);
-        pmax = pmax.max(a);
-    }
-    if pmax > 0.0 && pmax.is_finite() {
-        pmin / pmax
-    } else {
-        0.0
-    }
-}
 
 /// Pivot ratio below which a slave block of [`Elimination`] is refused (the bordered LU runs
 /// instead).

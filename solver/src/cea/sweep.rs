@@ -690,7 +690,7 @@ where
 
 /// The comparison of an exact check by refinement: the targets' projected roots against their
 /// exact values.
-fn refine_comparison(st: &RefineStats) -> EigenvalueComparison {
+pub(super) fn refine_comparison(st: &RefineStats) -> EigenvalueComparison {
     let mut c = EigenvalueComparison {
         band_hz: st.band_hz,
         n_exact_in_band: st.n_targets_refined + st.n_missed,

@@ -524,16 +524,10 @@ pub(crate) fn static_response(
         (false, false) => 0.0,
     });
     let lu = a.partial_piv_lu();
-    let u = lu.U();
-    let (mut pmin, mut pmax) = (f64::INFINITY, 0.0f64);
-    for i in 0..n + ng {
-        pmin = pmin.min(u[(i, i)].abs());
-        pmax = pmax.max(u[(i, i)].abs());
-    }
-    if !(pmin > 1e3 * f64::EPSILON * pmax && pmax.is_finite()) {
+    let ratio = crate::cea::operator::pivot_ratio(lu.U(), |x: &f64| x.abs());
+    if ratio <= 1e3 * f64::EPSILON {
         return Err(BandError::SingularStatic(format!(
-            "min/max |pivot| = {:e} (size {})",
-            pmin / pmax,
+            "min/max |pivot| = {ratio:e} (size {})",
             n + ng
         )));
     }
