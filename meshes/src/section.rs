@@ -35,8 +35,9 @@ pub struct MaterialData {
     pub elastic: Elastic,
     /// Mass density ρ (None: the file gives none).
     pub density: Option<Real>,
-    /// Structural damping coefficient given with the material (Nastran GE), which squeal does
-    /// not apply per material (the scene's `[damping]` does); kept so the pipeline can say so.
+    /// Structural loss factor η given with the material (Nastran MAT1/MAT9 GE, Abaqus
+    /// `*DAMPING, STRUCTURAL=η`), finite and >= 0; None when the file gives none or 0. The
+    /// pipeline adds (η/W4)·K of the material's elements to the element damping.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub structural_damping: Option<Real>,
 }

@@ -9,6 +9,8 @@
 //! coordinate system of the
 //! PSOLID's CORDM (0: basic; a CORD id, rectangular, cylindrical or spherical; −1, the
 //! element coordinate system, is read for isotropic materials only, where it has no effect).
+//! MAT1's GE (field 8) and MAT9's GE (field 31) are the material's structural loss factor η
+//! ([`MaterialData::structural_damping`]), applied by the pipeline as (η/W4)·K of its elements.
 
 use super::coords::Resolved;
 use super::model::{Bulk, Mat, MatCard, Psolid};
@@ -153,12 +155,12 @@ fn material(deck: &Deck, m: &MatCard, notes: &mut Vec<String>) -> Result<Materia
         }
     }
     elastic.check().map_err(|m| err(format!("{name}: {m}")))?;
-    if let Some(g) = ge.filter(|&g| g != 0.0) {
-        notes.push(format!(
-            "{}: {name} gives GE = {g}, not applied per material: squeal's structural damping \
-             is the scene's [damping]",
-            deck.at(m.at)
-        ));
+    if let Some(g) = ge {
+        if !(g.is_finite() && g >= 0.0) {
+            return Err(err(format!(
+                "{name}: GE = {g} must be finite and >= 0 (the structural loss factor)"
+            )));
+        }
     }
     Ok(MaterialData {
         name,

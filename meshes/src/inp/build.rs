@@ -449,8 +449,8 @@ fn section(
     }
     if let Some(d) = &mat.damping {
         notes.push(format!(
-            "*MATERIAL {}: *DAMPING ({d}) not applied per material: squeal's damping is the \
-             scene's [damping]",
+            "*MATERIAL {}: *DAMPING {d} not read (squeal reads STRUCTURAL, the loss factor; \
+             Rayleigh damping is the scene's [damping])",
             mat.name
         ));
     }
@@ -497,7 +497,7 @@ fn section(
             source: deck.at(mat.at),
             elastic: elastic.clone(),
             density: mat.density,
-            structural_damping: None,
+            structural_damping: mat.structural.filter(|&g| g != 0.0),
         },
         axes: ax,
         source: format!("{}: *SOLID SECTION of {}", deck.at(sec.at), u.label),

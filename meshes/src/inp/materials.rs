@@ -26,8 +26,10 @@ pub(crate) struct MaterialDef {
     pub density: Option<f64>,
     /// Options of the material not read (keyword, place).
     pub ignored: Vec<(String, Loc)>,
-    /// *DAMPING values given (ALPHA, BETA, STRUCTURAL), for the note.
+    /// *DAMPING values given and not read (ALPHA, BETA, COMPOSITE), for the note.
     pub damping: Option<String>,
+    /// *DAMPING, STRUCTURAL=η: the structural loss factor (finite, >= 0).
+    pub structural: Option<f64>,
 }
 
 impl MaterialDef {
@@ -39,6 +41,7 @@ impl MaterialDef {
             density: None,
             ignored: Vec::new(),
             damping: None,
+            structural: None,
         }
     }
 }
@@ -156,12 +159,35 @@ pub(crate) fn read_material_option(
             mat.density = Some(v[0]);
         }
         "DAMPING" => {
-            let given: Vec<String> = b
+            if mat.structural.is_some() || mat.damping.is_some() {
+                return Err(deck.err(b.at, format!("{who} given twice")));
+            }
+            if let Some(v) = b.param("STRUCTURAL") {
+                let eta = real(v).ok_or_else(|| {
+                    deck.err(
+                        b.at,
+                        format!("{who}: STRUCTURAL={v} is not a number (the loss factor)"),
+                    )
+                })?;
+                if eta < 0.0 {
+                    return Err(deck.err(
+                        b.at,
+                        format!(
+                            "{who}: STRUCTURAL={eta} must be >= 0 (the structural loss factor)"
+                        ),
+                    ));
+                }
+                mat.structural = Some(eta);
+            }
+            let others: Vec<String> = b
                 .params
                 .iter()
+                .filter(|(n, _)| n != "STRUCTURAL")
                 .filter_map(|(n, v)| v.as_ref().map(|v| format!("{n}={v}")))
                 .collect();
-            mat.damping = Some(given.join(", "));
+            if !others.is_empty() {
+                mat.damping = Some(others.join(", "));
+            }
         }
         _ => mat.ignored.push((format!("*{kw}"), b.at)),
     }

@@ -234,6 +234,42 @@ fn field_formats_and_continuations_agree() {
     );
 }
 
+/// The structural loss factor GE: MAT1's field 8 (small and free field) and MAT9's field 31
+/// are read as the section's `structural_damping`, with no "not applied" note; a blank or zero
+/// GE is none.
+#[test]
+fn mat1_and_mat9_ge_are_the_loss_factor() {
+    let grids = "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,1.,1.,0.\nGRID,4,,0.,1.,0.\n\
+                 GRID,5,,0.,0.,1.\nGRID,6,,1.,0.,1.\nGRID,7,,1.,1.,1.\nGRID,8,,0.,1.,1.\n\
+                 CHEXA,1,1,1,2,3,4,5,6\n,7,8\nPSOLID,1,1\n";
+    let cases = [
+        (
+            "small",
+            "MAT1    1       2.1+5           .3      7.8-9                   .25\n",
+            Some(0.25),
+        ),
+        ("free", "MAT1,1,2.1+5,,.3,7.8-9,,,0.25\n", Some(0.25)),
+        ("blank", "MAT1,1,2.1+5,,.3,7.8-9\n", None),
+        ("zero", "MAT1,1,2.1+5,,.3,7.8-9,,,0.\n", None),
+        (
+            "mat9",
+            "MAT9,1,1.,,,,,,1.\n,,,,,1.,,,\n,1.,,,1.,,1.,1.\n,,,,,,,0.15\n",
+            Some(0.15),
+        ),
+    ];
+    for (name, mat, want) in cases {
+        let p = write("ge", &format!("{name}.bdf"), &format!("{grids}{mat}"));
+        let (mesh, report) = read_bdf(&p, &BdfOptions::default()).unwrap();
+        let m = &mesh.sections["pid_1"].material;
+        assert_eq!(m.structural_damping, want, "{name}");
+        assert!(
+            report.notes.iter().all(|n| !n.contains("GE")),
+            "{name}: {:?}",
+            report.notes
+        );
+    }
+}
+
 /// Bad input: each error names the file, the line and the entity.
 #[test]
 fn bad_decks_name_file_line_and_entity() {
@@ -340,6 +376,11 @@ fn bad_decks_name_file_line_and_entity() {
                  SPC1,1,1,9\n"
             ),
             vec![":16:", "SPC1 1", "GRID 9", "CD = 5"],
+        ),
+        (
+            "mat1-ge-negative",
+            format!("{base}{hex}PSOLID,1,1\nMAT1,1,2.1+5,,.3,7.8-9,,,-.1\n"),
+            vec![":12:", "MAT1 1", "GE = -0.1", "loss factor"],
         ),
         (
             "mat9-cordm-element",

@@ -101,9 +101,13 @@ fn one_instance_sections_materials_and_axes() {
         }
     );
     let notes = report.notes.join("\n");
-    for w in ["C3D20R", "C3D8I", "*EXPANSION", "*DAMPING"] {
+    for w in ["C3D20R", "C3D8I", "*EXPANSION"] {
         assert!(notes.contains(w), "{w} not in {notes}");
     }
+    // LINING's `*Damping, structural=0.05` is its loss factor, read (no note).
+    assert!(!notes.contains("*DAMPING"), "{notes}");
+    assert_eq!(hexes.material.structural_damping, Some(0.05));
+    assert_eq!(mesh.sections["E_C3D10"].material.structural_damping, None);
     let unsupported: Vec<&str> = report.unsupported.iter().map(|u| u.name.as_str()).collect();
     for w in ["*HEADING", "*STEP", "*FREQUENCY"] {
         assert!(unsupported.contains(&w), "{unsupported:?}");
@@ -257,6 +261,16 @@ fn bad_inputs_name_file_line_and_entity() {
             vec![":12:", "*MATERIAL M", "temperature"],
         ),
         (
+            "damping-negative",
+            format!("{nodes}{tet}*SOLID SECTION, ELSET=B, MATERIAL=M\n{mat}*DAMPING, STRUCTURAL=-0.1\n"),
+            vec![":14:", "*MATERIAL M", "STRUCTURAL=-0.1", "loss factor"],
+        ),
+        (
+            "damping-nan",
+            format!("{nodes}{tet}*SOLID SECTION, ELSET=B, MATERIAL=M\n{mat}*DAMPING, STRUCTURAL=nan\n"),
+            vec![":14:", "*MATERIAL M", "STRUCTURAL=nan", "not a number"],
+        ),
+        (
             "boundary-set",
             format!("{nodes}{tet}*BOUNDARY\nNOSET, 1, 3\n"),
             vec![":9:", "NOSET"],
@@ -278,6 +292,40 @@ fn bad_inputs_name_file_line_and_entity() {
             assert!(e.contains(w), "{name}: `{w}` not in: {e}");
         }
     }
+}
+
+/// `*DAMPING, STRUCTURAL=η` inside a *MATERIAL is the section's loss factor; ALPHA and BETA
+/// (Rayleigh) are not read and listed in a note.
+#[test]
+fn damping_structural_is_the_loss_factor() {
+    let head = "*NODE\n1, 0., 0., 0.\n2, 1., 0., 0.\n3, 0., 1., 0.\n4, 0., 0., 1.\n\
+                *ELEMENT, TYPE=C3D4, ELSET=B\n1, 1, 2, 3, 4\n\
+                *SOLID SECTION, ELSET=B, MATERIAL=M\n\
+                *MATERIAL, NAME=M\n*ELASTIC\n1., 0.3\n*DENSITY\n1.\n";
+    let p = write(
+        "damping",
+        "s.inp",
+        &format!("{head}*DAMPING, STRUCTURAL=0.25\n"),
+    );
+    let (mesh, report) = read_inp(&p, &InpOptions::default()).unwrap();
+    assert_eq!(mesh.sections["B"].material.structural_damping, Some(0.25));
+    assert!(
+        report.notes.iter().all(|n| !n.contains("DAMPING")),
+        "{:?}",
+        report.notes
+    );
+    let p = write(
+        "damping",
+        "ab.inp",
+        &format!("{head}*DAMPING, ALPHA=2., STRUCTURAL=0.1\n"),
+    );
+    let (mesh, report) = read_inp(&p, &InpOptions::default()).unwrap();
+    assert_eq!(mesh.sections["B"].material.structural_damping, Some(0.1));
+    let notes = report.notes.join("\n");
+    assert!(
+        notes.contains("*DAMPING ALPHA=2.") && !notes.contains("STRUCTURAL="),
+        "{notes}"
+    );
 }
 
 /// Leaving an unread element type out with `elsets`; selection errors list what exists.

@@ -50,6 +50,10 @@ struct Reduced {
     cache: Option<ComponentCacheUse>,
     /// The ties inside the component (its free DOFs = T × the reduction's).
     mpc: Option<Mpc>,
+    /// Tᵀ K_η T, K_η = Σ_b η_b K_b over the bodies with a loss factor (None: none, or W4 = 0).
+    k_eta: Option<Mat<Real>>,
+    /// The bodies whose loss factor W4 = 0 turns off.
+    loss_off: Vec<crate::scene::BlockLoss>,
 }
 
 impl Reduced {
@@ -556,7 +560,8 @@ pub(super) fn build_once(
         "reduced every component".to_string()
     });
 
-    // Superelement assembly; element damping B_c = (GE_c/W4)·K_r,c.
+    // Superelement assembly; element damping B_c = (1/W4)·(GE_c K_r,c + Tᵀ K_η,c T), K_η,c =
+    // Σ_b η_b K_b over the component's bodies with a loss factor.
     let factors: Vec<Real> = scene
         .components
         .iter()
@@ -567,10 +572,30 @@ pub(super) fn build_once(
         .zip(&factors)
         .map(|(r, &a)| {
             let k = r.k();
-            Mat::from_fn(k.nrows(), k.ncols(), |i, j| a * k[(i, j)])
+            match &r.k_eta {
+                Some(ke) => {
+                    let w = 1.0 / damping.w4;
+                    Mat::from_fn(k.nrows(), k.ncols(), |i, j| a * k[(i, j)] + w * ke[(i, j)])
+                }
+                None => Mat::from_fn(k.nrows(), k.ncols(), |i, j| a * k[(i, j)]),
+            }
         })
         .collect();
-    let any_b = factors.iter().any(|&a| a != 0.0);
+    let any_b = factors.iter().any(|&a| a != 0.0) || reduced.iter().any(|r| r.k_eta.is_some());
+    for (spec, r) in scene.components.iter().zip(&reduced) {
+        for l in &r.loss_off {
+            warnings.push(Warning {
+                input: l.input.clone(),
+                message: format!(
+                    "volume `{}` of component `{}` has loss factor {}, but GE is off until \
+                     `[damping] w4` is given (W4 = 0, NASTRAN's convention): it adds no damping",
+                    l.volume, spec.name, l.eta
+                ),
+                value: l.eta,
+                tolerance: 0.0,
+            });
+        }
+    }
     let comps: Vec<Component<'_>> = scene
         .components
         .iter()
@@ -797,6 +822,33 @@ fn reduce_component(
         }
     };
     let materials = spec.block_materials(mesh)?;
+    // Structural loss factors: with W4 > 0 the bodies with η > 0 give K_η = Σ_b η_b K_b,
+    // reduced with the component (its element damping); with W4 = 0 GE is off (a warning).
+    let losses = spec.block_loss_factors(mesh)?;
+    let w4 = scene.damping.as_ref().map_or(0.0, |d| d.w4);
+    let lossy: Vec<usize> = (0..losses.len()).filter(|&b| losses[b].eta > 0.0).collect();
+    let loss_off: Vec<crate::scene::BlockLoss> = if w4 > 0.0 {
+        Vec::new()
+    } else {
+        lossy.iter().map(|&b| losses[b].clone()).collect()
+    };
+    let with_eta = w4 > 0.0 && !lossy.is_empty();
+    if with_eta && spec.interface.as_ref().is_some_and(|f| f.adaptive()) {
+        return Err(PipelineError::Scene {
+            field: format!("components[name = {name}].interface.tolerance"),
+            message: format!(
+                "the interface degree chosen by a tolerance (the interface ladder) does not \
+                 reduce a damping matrix, and the loss factor of {} needs one: give the \
+                 interface a fixed `degree`, or set the loss factor to 0 and use \
+                 `damping.ge.{name}`",
+                lossy
+                    .iter()
+                    .map(|&b| format!("volume `{}` ({})", losses[b].volume, losses[b].eta))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        });
+    }
     let is_boundary: Vec<bool> = grids.shared[c]
         .iter()
         .zip(gid)
@@ -883,9 +935,10 @@ fn reduce_component(
     };
     // The component cache: the same inputs give the same reduction (not for an
     // interface-reduced component: its key would need the basis too; nor for one with ties
-    // inside: its key would need the ties).
+    // inside: its key would need the ties; nor for one with a loss factor on (η > 0 and
+    // W4 > 0): the entry would need Tᵀ K_η T and its key the η's).
     let key = match cache {
-        Some(_) if !run_checks && spec.interface.is_none() && mpc.is_none() => Some(
+        Some(_) if !run_checks && spec.interface.is_none() && mpc.is_none() && !with_eta => Some(
             ComponentInputs {
                 name,
                 mesh,
@@ -933,6 +986,8 @@ fn reduce_component(
                     check: None,
                     n_nodes: mesh.nodes.len(),
                     mpc: None,
+                    k_eta: None,
+                    loss_off,
                     cache: Some(ComponentCacheUse {
                         key: key.clone(),
                         hit: true,
@@ -964,10 +1019,54 @@ fn reduce_component(
         },
     )
     .map_err(fe_err(name))?;
+    // K_η = Σ_b η_b K_b: the bodies with η > 0 assembled with their elasticity scaled by η
+    // (an element's stiffness is linear in its elasticity tensor).
+    let mut k_eta = if with_eta {
+        let sub = Mesh {
+            nodes: mesh.nodes.clone(),
+            node_tags: mesh.node_tags.clone(),
+            volumes: lossy.iter().map(|&b| mesh.volumes[b].clone()).collect(),
+            ..Mesh::default()
+        };
+        let scaled: Vec<_> = lossy
+            .iter()
+            .map(|&b| crate::scene::scaled_stiffness(&materials[b], losses[b].eta))
+            .collect();
+        let a = assemble(
+            &sub,
+            &scaled,
+            &dofs,
+            &AssemblyOptions {
+                hex8: spec.hex8,
+                interrupt: cb_opts.interrupt.clone(),
+            },
+        )
+        .map_err(fe_err(name))?;
+        Some(a.k)
+    } else {
+        None
+    };
     if let Some(t) = &mpc {
         let err = |m| PipelineError::Model(format!("component `{name}`: ties: {m}"));
         asm.k = t.transform(&asm.k).map_err(err)?;
         asm.m = t.transform(&asm.m).map_err(err)?;
+        if let Some(k) = &mut k_eta {
+            *k = t.transform(k).map_err(err)?;
+        }
+    }
+    if let (Some(above), true) = (cb_opts.substructures.above_dofs, with_eta) {
+        let n_interior = asm.k.nrows() - boundary.len() - iface_dofs.len();
+        if n_interior > above {
+            return Err(PipelineError::Scene {
+                field: format!("components[name = {name}]"),
+                message: format!(
+                    "its loss factor needs the Craig–Bampton projection of K_η, which the \
+                     substructured reduction does not do ({n_interior} interior DOFs > \
+                     reduction.substructures.above_dofs = {above}): raise `above_dofs`, or \
+                     set the loss factor to 0 and use `damping.ge.{name}`"
+                ),
+            });
+        }
     }
 
     let red_err = |what: &str| {
@@ -1006,7 +1105,7 @@ fn reduce_component(
             cb::reduce_interface(
                 &asm.k,
                 &asm.m,
-                None,
+                k_eta.as_ref(),
                 &boundary,
                 interface.as_ref(),
                 cb_opts,
@@ -1016,6 +1115,9 @@ fn reduce_component(
         }
     };
     drop(coords);
+    drop(k_eta);
+    let mut model = model;
+    let k_eta = model.b.take();
     let check = if run_checks {
         let free_dofs: Vec<usize> = (0..dofs.n_free()).collect();
         let free_dofs = match &mpc {
@@ -1107,5 +1209,7 @@ fn reduce_component(
         n_nodes: mesh.nodes.len(),
         cache: cache_use,
         mpc,
+        k_eta,
+        loss_off,
     })
 }

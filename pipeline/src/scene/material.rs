@@ -14,6 +14,11 @@
 //! ```
 //! `anisotropic = [[…6 numbers…] × 6]` gives a general D (Voigt order 11, 22, 33, 23, 13, 12
 //! with engineering shears). Exactly one elasticity is required; every failing value is named.
+//!
+//! `loss_factor = η` (NASTRAN's MAT1 GE, Abaqus's `*DAMPING, STRUCTURAL`) is the material's
+//! structural damping: its bodies add (η/W4)·K_body to the component's element damping
+//! (`[damping] w4`, [`super::transient::DampingSpec`]); e.g. a shim
+//! `materials = { shim = { young = 2e9, poisson = 0.45, density = 1200.0, loss_factor = 0.3 } }`.
 
 use crate::error::PipelineError;
 use serde::{Deserialize, Serialize};
@@ -45,10 +50,31 @@ pub struct MaterialSpec {
     /// Material axes (default: global).
     #[serde(default, skip_serializing_if = "is_global")]
     pub axes: MaterialAxes,
+    /// Structural loss factor η (NASTRAN's GE), finite and >= 0: viscous (η/W4)·K of its
+    /// bodies at `damping.w4` (default: 0).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub loss_factor: Real,
 }
 
 fn is_global(a: &MaterialAxes) -> bool {
     *a == MaterialAxes::Global
+}
+
+fn is_zero(x: &Real) -> bool {
+    *x == 0.0
+}
+
+/// Checks a loss factor η (finite, >= 0); the error names `field` (the key) and the value.
+pub fn check_loss_factor(field: &str, eta: Real) -> Result<(), PipelineError> {
+    if eta.is_finite() && eta >= 0.0 {
+        return Ok(());
+    }
+    Err(PipelineError::Scene {
+        field: field.to_string(),
+        message: format!(
+            "loss factor {eta} must be finite and >= 0 (the structural damping η, NASTRAN's GE)"
+        ),
+    })
 }
 
 impl From<squeal_fe::Material> for MaterialSpec {
@@ -61,6 +87,7 @@ impl From<squeal_fe::Material> for MaterialSpec {
             transversely_isotropic: None,
             anisotropic: None,
             axes: MaterialAxes::Global,
+            loss_factor: 0.0,
         }
     }
 }
@@ -72,6 +99,7 @@ impl MaterialSpec {
             field: field.to_string(),
             message,
         };
+        check_loss_factor(&format!("{field}.loss_factor"), self.loss_factor)?;
         let mut given = Vec::new();
         if self.young.is_some() || self.poisson.is_some() {
             given.push("young/poisson");

@@ -2,10 +2,62 @@
 //! else the file's own section (Nastran PSOLID → MAT1/MAT9 with CORDM, Abaqus *SOLID SECTION →
 //! *MATERIAL with *ORIENTATION), else the scene's `material`.
 
+use super::material::{check_loss_factor, MaterialSpec};
 use super::ComponentSpec;
 use crate::error::PipelineError;
 use squeal_fe::{Elasticity, MaterialAxes, Orthotropic, SolidMaterial};
 use squeal_meshes::{AxesKind, Elastic, Mesh, Section};
+
+use squeal_solver::Real;
+
+/// The structural loss factor of one volume block.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BlockLoss {
+    /// The volume's name (`(unnamed)` when it has none).
+    pub volume: String,
+    /// Where η is given: the scene key, or the volume and the file's material and place.
+    pub input: String,
+    /// η (NASTRAN's GE), finite and >= 0.
+    pub eta: Real,
+}
+
+/// Where a block's material comes from.
+enum Source<'a> {
+    /// The scene's `materials.<name>` or `material` (its field).
+    Scene(String, &'a MaterialSpec),
+    /// The file's section of that name.
+    Section(&'a str, &'a Section),
+}
+
+/// `m` with its elasticity scaled by `f` (every modulus; Poisson's ratios kept): the element
+/// stiffness is linear in the elasticity tensor, so its K is f·K. Density and axes unchanged.
+pub fn scaled_stiffness(m: &SolidMaterial, f: Real) -> SolidMaterial {
+    let mut m = m.clone();
+    m.elasticity = match m.elasticity {
+        Elasticity::Isotropic { young, poisson } => Elasticity::Isotropic {
+            young: f * young,
+            poisson,
+        },
+        Elasticity::Orthotropic(mut o) => {
+            for x in [
+                &mut o.e1, &mut o.e2, &mut o.e3, &mut o.g12, &mut o.g13, &mut o.g23,
+            ] {
+                *x *= f;
+            }
+            Elasticity::Orthotropic(o)
+        }
+        Elasticity::TransverselyIsotropic(mut t) => {
+            for x in [&mut t.e_plane, &mut t.e_axis, &mut t.g_axis] {
+                *x *= f;
+            }
+            Elasticity::TransverselyIsotropic(t)
+        }
+        Elasticity::Anisotropic { stiffness } => Elasticity::Anisotropic {
+            stiffness: stiffness.map(|row| row.map(|x| f * x)),
+        },
+    };
+    m
+}
 
 fn scene_err(field: String, message: impl ToString) -> PipelineError {
     PipelineError::Scene {
@@ -21,6 +73,45 @@ impl ComponentSpec {
     /// error (a typo would otherwise silently give another material); so is a block with none
     /// of the three. Every material is checked (positive definite, axes valid).
     pub fn block_materials(&self, mesh: &Mesh) -> Result<Vec<SolidMaterial>, PipelineError> {
+        self.check_material_names(mesh)?;
+        mesh.volumes
+            .iter()
+            .map(|b| match self.block_source(mesh, b.name.as_deref())? {
+                Source::Scene(field, m) => m.solid(&field),
+                Source::Section(n, sec) => self.section_material(n, sec),
+            })
+            .collect()
+    }
+
+    /// The structural loss factor η of each volume block of `mesh` (in `mesh.volumes` order),
+    /// from the same material as [`ComponentSpec::block_materials`] takes: the scene's
+    /// `loss_factor` key, or the file's GE (MAT1/MAT9) or `*DAMPING, STRUCTURAL`. Errors name
+    /// the key or the file's material and the value (η must be finite and >= 0).
+    pub fn block_loss_factors(&self, mesh: &Mesh) -> Result<Vec<BlockLoss>, PipelineError> {
+        self.check_material_names(mesh)?;
+        mesh.volumes
+            .iter()
+            .map(|b| {
+                let volume = b.name.clone().unwrap_or_else(|| "(unnamed)".into());
+                let (input, eta) = match self.block_source(mesh, b.name.as_deref())? {
+                    Source::Scene(field, m) => (format!("{field}.loss_factor"), m.loss_factor),
+                    Source::Section(n, sec) => (
+                        format!(
+                            "components[name = {}].materials.{n} ({}, {})",
+                            self.name, sec.material.name, sec.material.source
+                        ),
+                        sec.material.structural_damping.unwrap_or(0.0),
+                    ),
+                };
+                check_loss_factor(&input, eta)?;
+                Ok(BlockLoss { volume, input, eta })
+            })
+            .collect()
+    }
+
+    /// A `materials` name that no block has is an error (a typo would otherwise silently
+    /// give another material).
+    fn check_material_names(&self, mesh: &Mesh) -> Result<(), PipelineError> {
         let names: Vec<&str> = mesh
             .volumes
             .iter()
@@ -35,30 +126,40 @@ impl ComponentSpec {
                 ),
             ));
         }
-        mesh.volumes
-            .iter()
-            .map(|b| {
-                let name = b.name.as_deref();
-                if let Some((n, m)) = name.and_then(|n| self.materials.get(n).map(|m| (n, m))) {
-                    return m.solid(&format!("components[name = {}].materials.{n}", self.name));
-                }
-                if let Some((n, sec)) = name.and_then(|n| mesh.sections.get(n).map(|s| (n, s))) {
-                    return self.section_material(n, sec);
-                }
-                match &self.material {
-                    Some(m) => m.solid(&format!("components[name = {}].material", self.name)),
-                    None => Err(scene_err(
-                        format!("components[name = {}].material", self.name),
-                        format!(
-                            "volume `{}` has no material in the file: give `material` (or \
-                             `materials.{}`)",
-                            name.unwrap_or("(unnamed)"),
-                            name.unwrap_or("<volume>")
-                        ),
-                    )),
-                }
-            })
-            .collect()
+        Ok(())
+    }
+
+    /// Where the material of the block named `name` comes from (see
+    /// [`ComponentSpec::block_materials`]).
+    fn block_source<'a>(
+        &'a self,
+        mesh: &'a Mesh,
+        name: Option<&'a str>,
+    ) -> Result<Source<'a>, PipelineError> {
+        if let Some((n, m)) = name.and_then(|n| self.materials.get(n).map(|m| (n, m))) {
+            return Ok(Source::Scene(
+                format!("components[name = {}].materials.{n}", self.name),
+                m,
+            ));
+        }
+        if let Some((n, sec)) = name.and_then(|n| mesh.sections.get(n).map(|s| (n, s))) {
+            return Ok(Source::Section(n, sec));
+        }
+        match &self.material {
+            Some(m) => Ok(Source::Scene(
+                format!("components[name = {}].material", self.name),
+                m,
+            )),
+            None => Err(scene_err(
+                format!("components[name = {}].material", self.name),
+                format!(
+                    "volume `{}` has no material in the file: give `material` (or \
+                     `materials.{}`)",
+                    name.unwrap_or("(unnamed)"),
+                    name.unwrap_or("<volume>")
+                ),
+            )),
+        }
     }
 
     /// fe's material for a file section (the errors name the volume, the file's material and

@@ -23,6 +23,7 @@ pub use cea::{CeaSpec, CeaState, CeaSweepSpec, SweepVary};
 pub use contact::{ContactPair, FrictionSpec, Pairing, RotorSpec, Sliding};
 pub use interface::InterfaceSpec;
 pub use material::MaterialSpec;
+pub use materials::{scaled_stiffness, BlockLoss};
 pub use overrides::apply_override;
 pub use reduction::{ModelSource, ModelSpec, ReductionSpec};
 pub use ties::{TieKind, TiePairing, TieSide, TieSpec};

@@ -108,12 +108,16 @@ impl LoadsSpec {
 }
 
 /// `[damping]`, as NASTRAN defines it for transient response:
-/// B = (G/W3)·K + Σ_c (GE_c/W4)·K_c + B_modal.
+/// B = (G/W3)·K + Σ_e (GE_e/W4)·K_e + B_modal.
 ///
-/// What is implemented: GE is given per component (every element of a component has the
-/// same material damping GE_c), so Σ_e (GE_e/W4)·K_e = Σ_c (GE_c/W4)·K_c, reduced with the
-/// component (Tᵀ K_c T = its reduced stiffness). A term whose W is 0 is off (NASTRAN's
-/// default W3 = W4 = 0 means no structural damping in transient). `modal_ratio` ζ adds
+/// What is implemented: the element damping of component c is GE_c (this table, every
+/// element of the component) plus each body's material loss factor η_b (the material's
+/// `loss_factor`, a file's MAT1/MAT9 GE or `*DAMPING, STRUCTURAL`):
+/// B_c = (1/W4)·Tᵀ (GE_c K_c + Σ_b η_b K_b) T, reduced with the component's Craig–Bampton
+/// transformation T (Tᵀ K_c T = its reduced stiffness). A term whose W is 0 is off (NASTRAN's
+/// default W3 = W4 = 0 means no structural damping in transient; a material's η > 0 with
+/// W4 = 0 is a model warning). The viscous equivalent is exact at W4 only: a mode at ω gets
+/// damping ratio η ω/(2 W4), so choose W4 = 2π × the band's centre. `modal_ratio` ζ adds
 /// B_modal = M Φ diag(2ζω_i) Φᵀ M over all modes Φ (M-orthonormal) of the assembled reduced
 /// (K, M), so each unconstrained mode gets damping ratio ζ (rigid modes get none).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -123,7 +127,8 @@ pub struct DampingSpec {
     pub g: Real,
     /// W3, the frequency (rad per unit time) converting G to viscous damping (default: 0 = G off).
     pub w3: Real,
-    /// W4, the frequency converting element damping GE to viscous damping (default: 0 = GE off).
+    /// W4, the frequency (rad per unit time) converting element damping GE and the materials'
+    /// loss factors to viscous damping (default: 0 = GE off).
     pub w4: Real,
     /// Element damping GE per component name (default: none).
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
@@ -189,7 +194,8 @@ impl DampingSpec {
         }
     }
 
-    /// True when any damping term is on.
+    /// True when any damping term of this table is on (the materials' loss factors are not
+    /// seen here).
     pub fn is_active(&self) -> bool {
         self.overall_factor() != 0.0
             || (self.w4 > 0.0 && self.ge.values().any(|&v| v != 0.0))

@@ -15,7 +15,8 @@
 //!   with `pairing = "surface"` its `unmatched`, `extension` and `max_distance`;
 //! - the load sets `loads.pressure` and `loads.force` (the unit brake load; PMAX scales it later);
 //! - the element-damping factors GE_c/W4 per component (they scale each component's reduced
-//!   stiffness into B at superelement assembly);
+//!   stiffness into B at superelement assembly) and W4 itself when > 0 (the materials' loss
+//!   factors η, in the component tables or the files hashed above, add (η/W4)·Tᵀ K_body T);
 //! - a format number, the crate version and the build id (a hash of the model-building
 //!   crates' sources and the build profile, `pipeline/build.rs`), so a squeal built from
 //!   changed sources never reads an entry an older builder wrote.
@@ -124,6 +125,9 @@ struct KeyDoc<'a> {
     pressure_loads: &'a [PressureLoad],
     force_loads: &'a [NodeForce],
     element_damping: Vec<Real>,
+    /// W4 when > 0 (the loss factors' (η/W4)·K_body; absent when GE is off).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    w4: Option<Real>,
 }
 
 /// A reduced model's cache key: the hash and the document it hashes.
@@ -219,6 +223,7 @@ impl ModelKey {
                 .iter()
                 .map(|c| damping.element_factor(&c.name))
                 .collect(),
+            w4: (damping.w4 > 0.0).then_some(damping.w4),
         };
         let document = serde_json::to_string(&doc)
             .map_err(|e| PipelineError::Model(format!("cache key of the scene: {e}")))?;

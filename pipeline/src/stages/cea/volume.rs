@@ -19,43 +19,22 @@ use super::energy::scatter_of;
 use super::params::{ComponentProperty, ReducedDerivative};
 use crate::error::PipelineError;
 use crate::model::ReducedModel;
+use crate::scene::scaled_stiffness;
 use crate::scene::Scene;
 use faer::Mat;
-use squeal_fe::{assemble, AssemblyOptions, Elasticity, SolidMaterial};
+use squeal_fe::{assemble, AssemblyOptions, SolidMaterial};
 use squeal_solver::Real;
 
 /// The material with its moduli (`YoungScale`) or density (`DensityScale`) times `f`.
 fn scaled(m: &SolidMaterial, property: ComponentProperty, f: Real) -> SolidMaterial {
-    let mut m = m.clone();
     match property {
-        ComponentProperty::DensityScale => m.density *= f,
-        _ => {
-            m.elasticity = match m.elasticity {
-                Elasticity::Isotropic { young, poisson } => Elasticity::Isotropic {
-                    young: f * young,
-                    poisson,
-                },
-                Elasticity::Orthotropic(mut o) => {
-                    for x in [
-                        &mut o.e1, &mut o.e2, &mut o.e3, &mut o.g12, &mut o.g13, &mut o.g23,
-                    ] {
-                        *x *= f;
-                    }
-                    Elasticity::Orthotropic(o)
-                }
-                Elasticity::TransverselyIsotropic(mut t) => {
-                    for x in [&mut t.e_plane, &mut t.e_axis, &mut t.g_axis] {
-                        *x *= f;
-                    }
-                    Elasticity::TransverselyIsotropic(t)
-                }
-                Elasticity::Anisotropic { stiffness } => Elasticity::Anisotropic {
-                    stiffness: stiffness.map(|row| row.map(|x| f * x)),
-                },
-            }
+        ComponentProperty::DensityScale => {
+            let mut m = m.clone();
+            m.density *= f;
+            m
         }
+        _ => scaled_stiffness(m, f),
     }
-    m
 }
 
 /// ∂K (`YoungScale`) or ∂M (`DensityScale`) of the moduli or density of volume `volume` of
