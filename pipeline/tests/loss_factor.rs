@@ -7,6 +7,8 @@
 //! layer), sharing its x = 1 face with a support block (same grid) clamped at its far end, so
 //! the pad's reduction has boundary DOFs (constraint modes Ψ) besides its modes.
 
+mod common;
+
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 use squeal_pipeline::model::cache::component::ComponentCache;
@@ -540,4 +542,107 @@ fn caches_account_for_the_loss_factor() {
         "{:?}",
         m0.warnings
     );
+}
+
+/// An interface-reduced rotor (the plate brake, its contact face in a polynomial basis of
+/// fixed degree) with η on its one body has the B of `damping.ge.rotor = η` (the interface
+/// basis' columns reduce K_η as they reduce K); with the degree chosen by a tolerance (the
+/// interface ladder, which reduces no damping matrix) the loss factor is refused, naming the
+/// key.
+#[test]
+fn interface_reduction_with_a_loss_factor() {
+    let d = tmp("interface");
+    let eta = 0.1;
+    let lossy = format!(
+        "materials = {{ block = {{ young = 1.0e4, poisson = 0.3, density = 1.0, \
+         loss_factor = {eta:?} }} }}"
+    );
+    let fixed = "interface = { degree = 4 }";
+    let text_eta = common::plate_brake(&format!("{fixed}\n{lossy}"), [1.0, 1.0], "");
+    let text_ge = common::plate_brake(fixed, [1.0, 1.0], "");
+    let build_with = |text: &str, set: &[&str], name: &str| {
+        let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+        let s = Scene::from_toml_str(text, d.clone(), &set).unwrap();
+        let run = RunDir::create(&d.join(name)).unwrap();
+        build(&s, &run, &Progress::quiet())
+    };
+    let w4 = "damping.w4=30.0";
+    let m_eta = build_with(&text_eta, &[w4], "eta").unwrap();
+    let m_ge = build_with(&text_ge, &[w4, &format!("damping.ge.rotor={eta:?}")], "ge").unwrap();
+    assert!(m_eta.components[0].interface.is_some());
+    let r = rel(m_eta.b.as_ref().unwrap(), m_ge.b.as_ref().unwrap());
+    eprintln!(
+        "interface-reduced rotor, η vs GE_c: B relative {r:.2e} (n = {})",
+        m_eta.n()
+    );
+    assert!(r < 1e-12, "{r:e}");
+
+    let ladder = "interface = { tolerance = 0.2, degree = 2 }";
+    let text = common::plate_brake(&format!("{ladder}\n{lossy}"), [1.0, 1.0], "");
+    let e = build_with(&text, &[w4], "ladder").unwrap_err().to_string();
+    eprintln!("ladder: {e}");
+    assert!(
+        e.contains("components[name = rotor].interface.tolerance")
+            && e.contains("volume `block` (0.1)"),
+        "{e}"
+    );
+    // Without W4 the loss factor is off: the ladder builds, with the warning.
+    let m = build_with(&text, &[], "ladder_off").unwrap();
+    assert!(m
+        .warnings
+        .iter()
+        .any(|w| w.input.contains("materials.block.loss_factor")));
+}
+
+/// The pad's moduli scaled by s (both bodies, the shim's η kept) scale its element damping,
+/// the bodies' loss factors included: the model's B at s = 1.2 is B(1) + 0.2·∂B/∂s of
+/// `component_matrix_derivative` (exact: a whole component's scale keeps its Craig–Bampton
+/// basis at a fixed `n_modes`), and the volume derivative of the shim's modulus carries
+/// (GE_c + η_shim)/W4 × its ∂K.
+#[test]
+fn moduli_derivatives_carry_the_loss_factor() {
+    use squeal_pipeline::stages::cea::params::{component_matrix_derivative, ComponentProperty};
+    use squeal_pipeline::stages::cea::volume::volume_matrix_derivative;
+    let d = tmp("young_scale");
+    let deck = pad_deck([None, None]);
+    let (eta, ge) = (0.3, 0.05);
+    let damping = format!("w4 = {W4:?}\nge = {{ pad = {ge:?} }}");
+    let keys = |s: f64| {
+        let m = |(e, nu): (f64, f64), eta: f64| {
+            format!(
+                "{{ young = {:?}, poisson = {nu:?}, density = 1.0, loss_factor = {eta:?} }}",
+                s * e
+            )
+        };
+        format!(
+            "materials = {{ pid_1 = {}, pid_2 = {} }}",
+            m(BACK, 0.0),
+            m(SHIM, eta)
+        )
+    };
+    let s1 = scene(&d, &deck, &keys(1.0), &damping);
+    let m1 = model_of(&s1, &d, "s1");
+    let m2 = model_of(&scene(&d, &deck, &keys(1.2), &damping), &d, "s12");
+    let der = component_matrix_derivative(&s1, &m1, "pad", ComponentProperty::YoungScale).unwrap();
+    let b1 = m1.b.as_ref().unwrap();
+    let db = der.b.as_ref().unwrap();
+    let pred = Mat::from_fn(b1.nrows(), b1.ncols(), |i, j| b1[(i, j)] + 0.2 * db[(i, j)]);
+    let r = rel(&pred, m2.b.as_ref().unwrap());
+    // Without the loss factors' part the prediction misses by the shim's share.
+    let dk = der.k.as_ref().unwrap();
+    let ge_only = Mat::from_fn(b1.nrows(), b1.ncols(), |i, j| {
+        b1[(i, j)] + 0.2 * ge / W4 * dk[(i, j)]
+    });
+    let miss = rel(&ge_only, m2.b.as_ref().unwrap());
+    eprintln!("young_scale 1.2: B predicted to {r:.2e} (GE_c's part alone: {miss:.2e})");
+    assert!(r < 1e-9, "{r:e}");
+    assert!(miss > 1e-3, "{miss:e}");
+
+    let v =
+        volume_matrix_derivative(&s1, &m1, "pad", "pid_2", ComponentProperty::YoungScale).unwrap();
+    let (vk, vb) = (v.k.unwrap(), v.b.unwrap());
+    let f = (ge + eta) / W4;
+    let want = Mat::from_fn(vk.nrows(), vk.ncols(), |i, j| f * vk[(i, j)]);
+    let rv = rel(&vb, &want);
+    assert!(rv < 1e-14, "{rv:e}");
 }

@@ -50,8 +50,9 @@ struct Reduced {
     cache: Option<ComponentCacheUse>,
     /// The ties inside the component (its free DOFs = T × the reduction's).
     mpc: Option<Mpc>,
-    /// Tᵀ K_η T, K_η = Σ_b η_b K_b over the bodies with a loss factor (None: none, or W4 = 0).
-    k_eta: Option<Mat<Real>>,
+    /// The bodies' material damping Tᵀ B_η T, B_η = Σ_b (η_b/W4) K_b over the bodies with a
+    /// loss factor (None: none, or W4 = 0); also the reduction's `b`.
+    b_eta: Option<Mat<Real>>,
     /// The bodies whose loss factor W4 = 0 turns off.
     loss_off: Vec<crate::scene::BlockLoss>,
 }
@@ -560,8 +561,8 @@ pub(super) fn build_once(
         "reduced every component".to_string()
     });
 
-    // Superelement assembly; element damping B_c = (1/W4)·(GE_c K_r,c + Tᵀ K_η,c T), K_η,c =
-    // Σ_b η_b K_b over the component's bodies with a loss factor.
+    // Superelement assembly; element damping B_c = (GE_c/W4)·K_r,c + Tᵀ B_η,c T, B_η,c =
+    // Σ_b (η_b/W4)·K_b over the component's bodies with a loss factor.
     let factors: Vec<Real> = scene
         .components
         .iter()
@@ -572,16 +573,13 @@ pub(super) fn build_once(
         .zip(&factors)
         .map(|(r, &a)| {
             let k = r.k();
-            match &r.k_eta {
-                Some(ke) => {
-                    let w = 1.0 / damping.w4;
-                    Mat::from_fn(k.nrows(), k.ncols(), |i, j| a * k[(i, j)] + w * ke[(i, j)])
-                }
+            match &r.b_eta {
+                Some(be) => Mat::from_fn(k.nrows(), k.ncols(), |i, j| a * k[(i, j)] + be[(i, j)]),
                 None => Mat::from_fn(k.nrows(), k.ncols(), |i, j| a * k[(i, j)]),
             }
         })
         .collect();
-    let any_b = factors.iter().any(|&a| a != 0.0) || reduced.iter().any(|r| r.k_eta.is_some());
+    let any_b = factors.iter().any(|&a| a != 0.0) || reduced.iter().any(|r| r.b_eta.is_some());
     for (spec, r) in scene.components.iter().zip(&reduced) {
         for l in &r.loss_off {
             warnings.push(Warning {
@@ -822,7 +820,7 @@ fn reduce_component(
         }
     };
     let materials = spec.block_materials(mesh)?;
-    // Structural loss factors: with W4 > 0 the bodies with η > 0 give K_η = Σ_b η_b K_b,
+    // Structural loss factors: with W4 > 0 the bodies with η > 0 give B_η = Σ_b (η_b/W4) K_b,
     // reduced with the component (its element damping); with W4 = 0 GE is off (a warning).
     let losses = spec.block_loss_factors(mesh)?;
     let w4 = scene.damping.as_ref().map_or(0.0, |d| d.w4);
@@ -936,7 +934,7 @@ fn reduce_component(
     // The component cache: the same inputs give the same reduction (not for an
     // interface-reduced component: its key would need the basis too; nor for one with ties
     // inside: its key would need the ties; nor for one with a loss factor on (η > 0 and
-    // W4 > 0): the entry would need Tᵀ K_η T and its key the η's).
+    // W4 > 0): the entry would need Tᵀ B_η T and its key the η's).
     let key = match cache {
         Some(_) if !run_checks && spec.interface.is_none() && mpc.is_none() && !with_eta => Some(
             ComponentInputs {
@@ -986,7 +984,7 @@ fn reduce_component(
                     check: None,
                     n_nodes: mesh.nodes.len(),
                     mpc: None,
-                    k_eta: None,
+                    b_eta: None,
                     loss_off,
                     cache: Some(ComponentCacheUse {
                         key: key.clone(),
@@ -1019,9 +1017,9 @@ fn reduce_component(
         },
     )
     .map_err(fe_err(name))?;
-    // K_η = Σ_b η_b K_b: the bodies with η > 0 assembled with their elasticity scaled by η
-    // (an element's stiffness is linear in its elasticity tensor).
-    let mut k_eta = if with_eta {
+    // B_η = Σ_b (η_b/W4)·K_b: the bodies with η > 0 assembled with their elasticity scaled
+    // by η/W4 (an element's stiffness is linear in its elasticity tensor).
+    let mut b_eta = if with_eta {
         let sub = Mesh {
             nodes: mesh.nodes.clone(),
             node_tags: mesh.node_tags.clone(),
@@ -1030,7 +1028,7 @@ fn reduce_component(
         };
         let scaled: Vec<_> = lossy
             .iter()
-            .map(|&b| crate::scene::scaled_stiffness(&materials[b], losses[b].eta))
+            .map(|&b| crate::scene::scaled_stiffness(&materials[b], losses[b].eta / w4))
             .collect();
         let a = assemble(
             &sub,
@@ -1050,8 +1048,8 @@ fn reduce_component(
         let err = |m| PipelineError::Model(format!("component `{name}`: ties: {m}"));
         asm.k = t.transform(&asm.k).map_err(err)?;
         asm.m = t.transform(&asm.m).map_err(err)?;
-        if let Some(k) = &mut k_eta {
-            *k = t.transform(k).map_err(err)?;
+        if let Some(b) = &mut b_eta {
+            *b = t.transform(b).map_err(err)?;
         }
     }
     if let (Some(above), true) = (cb_opts.substructures.above_dofs, with_eta) {
@@ -1060,7 +1058,7 @@ fn reduce_component(
             return Err(PipelineError::Scene {
                 field: format!("components[name = {name}]"),
                 message: format!(
-                    "its loss factor needs the Craig–Bampton projection of K_η, which the \
+                    "its loss factor needs the Craig–Bampton projection of B_η, which the \
                      substructured reduction does not do ({n_interior} interior DOFs > \
                      reduction.substructures.above_dofs = {above}): raise `above_dofs`, or \
                      set the loss factor to 0 and use `damping.ge.{name}`"
@@ -1105,7 +1103,7 @@ fn reduce_component(
             cb::reduce_interface(
                 &asm.k,
                 &asm.m,
-                k_eta.as_ref(),
+                b_eta.as_ref(),
                 &boundary,
                 interface.as_ref(),
                 cb_opts,
@@ -1115,9 +1113,8 @@ fn reduce_component(
         }
     };
     drop(coords);
-    drop(k_eta);
-    let mut model = model;
-    let k_eta = model.b.take();
+    drop(b_eta);
+    let b_eta = model.b.clone();
     let check = if run_checks {
         let free_dofs: Vec<usize> = (0..dofs.n_free()).collect();
         let free_dofs = match &mpc {
@@ -1209,7 +1206,7 @@ fn reduce_component(
         n_nodes: mesh.nodes.len(),
         cache: cache_use,
         mpc,
-        k_eta,
+        b_eta,
         loss_off,
     })
 }

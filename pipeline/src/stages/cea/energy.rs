@@ -150,7 +150,8 @@ pub(crate) fn scatter_check(parts: &[ComponentPart], m: &Mat<Real>, k: &Mat<Real
 /// The components' blocks from their reductions (meshed models): the component's reduced
 /// coordinates are `x_c = T_c x` (`ComponentRecovery::assembled`: one term of weight 1, or
 /// several for a grid DOF a tie eliminated), so its part of M is `T_cᵀ M_c T_c` on the
-/// assembled DOFs its terms touch. None when the model has no recovery data.
+/// assembled DOFs its terms touch; its B is `(GE_c/W4 + overall)·K_c` plus its bodies' loss
+/// factors' `T_cᵀ B_η,c T_c` (the reduction's `b`). None when the model has no recovery data.
 pub(crate) fn from_reductions(model: &ReducedModel, overall: Real) -> Option<Vec<ComponentPart>> {
     if model.recovery.is_empty() {
         return None;
@@ -167,8 +168,15 @@ pub(crate) fn from_reductions(model: &ReducedModel, overall: Real) -> Option<Vec
         let tt = t.transpose();
         let k = tt * &r.cb.k * &t;
         let m = tt * &r.cb.m * &t;
-        let b =
-            (factor != 0.0).then(|| Mat::from_fn(k.nrows(), k.ncols(), |i, j| factor * k[(i, j)]));
+        // The bodies' loss factors: the reduction's material damping Tᵀ B_η T.
+        let material = r.cb.b.as_ref().map(|b| tt * b * &t);
+        let b = match material {
+            Some(bm) => Some(Mat::from_fn(k.nrows(), k.ncols(), |i, j| {
+                factor * k[(i, j)] + bm[(i, j)]
+            })),
+            None => (factor != 0.0)
+                .then(|| Mat::from_fn(k.nrows(), k.ncols(), |i, j| factor * k[(i, j)])),
+        };
         parts.push(ComponentPart {
             name: r.name.clone(),
             dofs,

@@ -306,7 +306,7 @@ pub struct ReducedDerivative {
 /// fixed: with `S_c` the scatter of the component's reduced coordinates to the assembled ones
 /// (`T_c` of `ComponentRecovery::assembled`),
 /// ```text
-/// YoungScale:   ∂K/∂s = T_cᵀ K_c T_c,   ∂B/∂s = (GE_c/W4 + G/W3) T_cᵀ K_c T_c
+/// YoungScale:   ∂K/∂s = T_cᵀ K_c T_c,   ∂B/∂s = (GE_c/W4 + G/W3) T_cᵀ K_c T_c + T_cᵀ B_η,c T_c
 /// DensityScale: ∂M/∂s = T_cᵀ M_c T_c
 /// LossFactor:   ∂B/∂GE = T_cᵀ K_c T_c / W4
 /// ```
@@ -351,18 +351,21 @@ pub fn component_matrix_derivative(
         out
     };
     let d = scene.damping.clone().unwrap_or_default();
-    let elem = model
-        .components
-        .iter()
-        .find(|x| x.name == component)
-        .map_or(0.0, |x| x.element_damping_factor);
     Ok(match property {
         ComponentProperty::YoungScale => {
-            let f = elem + d.overall_factor();
+            // c.b = (GE_c/W4)·K_c + the bodies' T_cᵀ B_η T_c: every term scales with the moduli.
+            let o = d.overall_factor();
+            let b = match &c.b {
+                Some(b) => Some(Mat::from_fn(b.nrows(), b.ncols(), |i, j| {
+                    b[(i, j)] + o * c.k[(i, j)]
+                })),
+                None => (o != 0.0)
+                    .then(|| Mat::from_fn(c.k.nrows(), c.k.ncols(), |i, j| o * c.k[(i, j)])),
+            };
             ReducedDerivative {
                 m: None,
                 k: Some(scatter(&c.k, 1.0)),
-                b: (f != 0.0).then(|| scatter(&c.k, f)),
+                b: b.map(|b| scatter(&b, 1.0)),
             }
         }
         ComponentProperty::DensityScale => ReducedDerivative {
@@ -452,16 +455,15 @@ pub fn problem_at_value(
             // from `damping_matrix` on the changed K and M.
             let elem = match prop {
                 ComponentProperty::LossFactor => d.b.clone(),
-                ComponentProperty::YoungScale => {
-                    let f = model
-                        .components
-                        .iter()
-                        .find(|x| &x.name == component)
-                        .map_or(0.0, |x| x.element_damping_factor);
-                    d.k.as_ref()
-                        .filter(|_| f != 0.0)
-                        .map(|x| axpy(&Mat::zeros(x.nrows(), x.ncols()), f, x))
-                }
+                // ∂B/∂s less its overall part (G/W3)·∂K, which `damping_matrix` adds from the
+                // changed K: GE_c/W4 and the bodies' loss factors.
+                ComponentProperty::YoungScale => match (&d.b, &d.k) {
+                    (Some(b), Some(k)) => {
+                        let o = scene.damping.clone().unwrap_or_default().overall_factor();
+                        Some(axpy(b, -o, k))
+                    }
+                    _ => None,
+                },
                 ComponentProperty::DensityScale => None,
             };
             let b_el = match (&model.b, &elem) {

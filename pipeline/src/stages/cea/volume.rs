@@ -140,10 +140,19 @@ pub fn volume_matrix_derivative(
             k: None,
             b: None,
         },
-        _ => ReducedDerivative {
-            m: None,
-            k: Some(out),
-            b: None,
-        },
+        _ => {
+            // ∂B/∂s_V: the component's GE_c/W4, the volume's own loss factor η_V/W4 and the
+            // overall G/W3, each times ∂K/∂s_V.
+            let d = scene.damping.clone().unwrap_or_default();
+            let eta = spec.block_loss_factors(&r.mesh)?[blocks[0]].eta;
+            let f = d.element_factor(component)
+                + d.overall_factor()
+                + if d.w4 > 0.0 { eta / d.w4 } else { 0.0 };
+            ReducedDerivative {
+                m: None,
+                b: (f != 0.0).then(|| Mat::from_fn(n, n, |i, j| f * out[(i, j)])),
+                k: Some(out),
+            }
+        }
     })
 }

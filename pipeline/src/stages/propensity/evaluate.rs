@@ -161,15 +161,13 @@ impl Derivative {
             option: format!("--dist {key}"),
             message: format!("the reduced-matrix derivative: {e}"),
         })?;
-        // B's element part only: the overall G/W3 K and the modal part follow K and M when
-        // the problem's damping matrix is made.
-        let elem = model
-            .components
-            .iter()
-            .find(|x| x.name == c.component)
-            .map_or(0.0, |x| x.element_damping_factor);
-        let b = match (&d.k, elem != 0.0) {
-            (Some(k), true) => Some(Mat::from_fn(k.nrows(), k.ncols(), |i, j| elem * k[(i, j)])),
+        // B's element part only (GE_c/W4 and the bodies' loss factors): the overall G/W3 K
+        // and the modal part follow K and M when the problem's damping matrix is made.
+        let overall = scene.damping.clone().unwrap_or_default().overall_factor();
+        let b = match (&d.b, &d.k) {
+            (Some(b), Some(k)) => Some(Mat::from_fn(k.nrows(), k.ncols(), |i, j| {
+                b[(i, j)] - overall * k[(i, j)]
+            })),
             _ => None,
         };
         Ok(Derivative { k: d.k, m: d.m, b })
