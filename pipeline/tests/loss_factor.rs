@@ -470,6 +470,20 @@ fn bad_loss_factors_are_named() {
     let e = build(&s, &run, &Progress::quiet()).unwrap_err().to_string();
     eprintln!("MAT1 GE = -0.2: {e}");
     assert!(e.contains("MAT1 2") && e.contains("GE = -0.2"), "{e}");
+    // Substructured reduction does not project a damping matrix: refused, naming the option.
+    let s = scene(&d, &deck, &mat_keys([0.0, 0.3]), "w4 = 1.0");
+    let mut s = s;
+    s.reduction
+        .get_or_insert_with(Default::default)
+        .substructures
+        .above_dofs = Some(10);
+    let run = RunDir::create(&d.join("sub")).unwrap();
+    let e = build(&s, &run, &Progress::quiet()).unwrap_err().to_string();
+    eprintln!("substructured: {e}");
+    assert!(
+        e.contains("components[name = pad]") && e.contains("above_dofs = 10"),
+        "{e}"
+    );
 }
 
 /// The model cache key follows η and W4; the component cache keeps no entry for a
@@ -564,7 +578,7 @@ fn interface_reduction_with_a_loss_factor() {
         let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
         let s = Scene::from_toml_str(text, d.clone(), &set).unwrap();
         let run = RunDir::create(&d.join(name)).unwrap();
-        build(&s, &run, &Progress::quiet())
+        build(&s, &run, &Progress::quiet()).map_err(|e| e.to_string())
     };
     let w4 = "damping.w4=30.0";
     let m_eta = build_with(&text_eta, &[w4], "eta").unwrap();
@@ -579,7 +593,7 @@ fn interface_reduction_with_a_loss_factor() {
 
     let ladder = "interface = { tolerance = 0.2, degree = 2 }";
     let text = common::plate_brake(&format!("{ladder}\n{lossy}"), [1.0, 1.0], "");
-    let e = build_with(&text, &[w4], "ladder").unwrap_err().to_string();
+    let e = build_with(&text, &[w4], "ladder").unwrap_err();
     eprintln!("ladder: {e}");
     assert!(
         e.contains("components[name = rotor].interface.tolerance")
