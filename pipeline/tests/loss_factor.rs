@@ -499,6 +499,13 @@ fn caches_account_for_the_loss_factor() {
     let k1 = key(&mat_keys([0.0, 0.3]), &damping);
     let k2 = key(&mat_keys([0.0, 0.3]), "w4 = 60.0");
     assert!(k0.hex != k1.hex && k1.hex != k2.hex);
+    // Without a loss factor (no scene key, no Nastran or Abaqus file) W4 is not in the key.
+    let plain = |w4: &str| {
+        let text = common::plate_brake("", [1.0, 1.0], "");
+        let s = Scene::from_toml_str(&text, d.clone(), &[w4.to_string()]).unwrap();
+        ModelKey::of(&s).unwrap().hex
+    };
+    assert_eq!(plain("damping.w4=10.0"), plain("damping.w4=20.0"));
     // The file's GE is in the key through the deck's bytes.
     let kf = ModelKey::of(&scene(&d, &pad_deck([None, Some(0.3)]), "", &damping)).unwrap();
     let kg = ModelKey::of(&scene(&d, &pad_deck([None, Some(0.4)]), "", &damping)).unwrap();

@@ -15,8 +15,9 @@
 //!   with `pairing = "surface"` its `unmatched`, `extension` and `max_distance`;
 //! - the load sets `loads.pressure` and `loads.force` (the unit brake load; PMAX scales it later);
 //! - the element-damping factors GE_c/W4 per component (they scale each component's reduced
-//!   stiffness into B at superelement assembly) and W4 itself when > 0 (the materials' loss
-//!   factors η, in the component tables or the files hashed above, add (η/W4)·Tᵀ K_body T);
+//!   stiffness into B at superelement assembly) and W4 itself when > 0 and a material may
+//!   have a loss factor η (a scene `loss_factor` > 0, or a `bdf`/`inp` file, whose GE or
+//!   *DAMPING is in the bytes hashed above): η adds (η/W4)·Tᵀ K_body T;
 //! - a format number, the crate version and the build id (a hash of the model-building
 //!   crates' sources and the build profile, `pipeline/build.rs`), so a squeal built from
 //!   changed sources never reads an entry an older builder wrote.
@@ -125,9 +126,21 @@ struct KeyDoc<'a> {
     pressure_loads: &'a [PressureLoad],
     force_loads: &'a [NodeForce],
     element_damping: Vec<Real>,
-    /// W4 when > 0 (the loss factors' (η/W4)·K_body; absent when GE is off).
+    /// W4 when > 0 and a material may have a loss factor (the loss factors' (η/W4)·K_body;
+    /// absent otherwise, so a scene without one keeps its key whatever W4).
     #[serde(skip_serializing_if = "Option::is_none")]
     w4: Option<Real>,
+}
+
+/// True when a material of `c` may have a loss factor: a scene `loss_factor` > 0, or a
+/// Nastran or Abaqus file (MAT1/MAT9 GE, *DAMPING, STRUCTURAL), whose materials the key does
+/// not read.
+fn may_have_loss_factor(c: &ComponentSpec) -> bool {
+    matches!(
+        c.geometry,
+        GeometrySpec::Bdf { .. } | GeometrySpec::Inp { .. }
+    ) || c.material.iter().any(|m| m.loss_factor > 0.0)
+        || c.materials.values().any(|m| m.loss_factor > 0.0)
 }
 
 /// A reduced model's cache key: the hash and the document it hashes.
@@ -223,7 +236,8 @@ impl ModelKey {
                 .iter()
                 .map(|c| damping.element_factor(&c.name))
                 .collect(),
-            w4: (damping.w4 > 0.0).then_some(damping.w4),
+            w4: (damping.w4 > 0.0 && scene.components.iter().any(may_have_loss_factor))
+                .then_some(damping.w4),
         };
         let document = serde_json::to_string(&doc)
             .map_err(|e| PipelineError::Model(format!("cache key of the scene: {e}")))?;
