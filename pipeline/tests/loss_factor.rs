@@ -667,3 +667,122 @@ fn moduli_derivatives_carry_the_loss_factor() {
     let rv = rel(&vb, &want);
     assert!(rv < 1e-14, "{rv:e}");
 }
+
+/// A pad whose shim is meshed apart and tied to the backplate (`[[ties]]` inside the
+/// component: its slave DOFs eliminated by the component's MPC before the reduction): η on
+/// both bodies is still `damping.ge.pad = η` (B_η goes through the MPC as K does).
+#[test]
+fn tied_bodies_take_the_mpc_transform() {
+    let d = tmp("tied");
+    let (nx, ny) = (4usize, 2usize);
+    let id =
+        |base: usize, i: usize, j: usize, k: usize| base + 1 + i + (nx + 1) * (j + (ny + 1) * k);
+    let mut s = String::new();
+    // Backplate: grids 1.., z = 0, 0.1, 0.2; shim: grids 1001.., z = 0.2, 0.3.
+    for (base, zs) in [(0, vec![0.0, 0.1, 0.2]), (1000, vec![0.2, 0.3])] {
+        for (k, z) in zs.iter().enumerate() {
+            for j in 0..=ny {
+                for i in 0..=nx {
+                    s += &format!(
+                        "GRID,{},,{:?},{:?},{z:?}\n",
+                        id(base, i, j, k),
+                        i as f64 * 0.25,
+                        j as f64 * 0.25
+                    );
+                }
+            }
+        }
+    }
+    let mut e = 1;
+    for (base, layers, pid) in [(0, 2, 1), (1000, 1, 2)] {
+        for k in 0..layers {
+            for j in 0..ny {
+                for i in 0..nx {
+                    let g = |di: usize, dj: usize, dk: usize| id(base, i + di, j + dj, k + dk);
+                    s += &format!(
+                        "CHEXA,{e},{pid},{},{},{},{},{},{}\n,{},{}\n",
+                        g(0, 0, 0),
+                        g(1, 0, 0),
+                        g(1, 1, 0),
+                        g(0, 1, 0),
+                        g(0, 0, 1),
+                        g(1, 0, 1),
+                        g(1, 1, 1),
+                        g(0, 1, 1)
+                    );
+                    e += 1;
+                }
+            }
+        }
+    }
+    // Faces: the backplate's top (PSHELL 9), the shim's bottom (PSHELL 8).
+    for j in 0..ny {
+        for i in 0..nx {
+            for (base, k, pid) in [(0, 2, 9), (1000, 0, 8)] {
+                s += &format!(
+                    "CQUAD4,{e},{pid},{},{},{},{}\n",
+                    id(base, i, j, k),
+                    id(base, i + 1, j, k),
+                    id(base, i + 1, j + 1, k),
+                    id(base, i, j + 1, k)
+                );
+                e += 1;
+            }
+        }
+    }
+    s += "PSHELL,8\nPSHELL,9\n";
+    for (mid, (young, nu)) in [(1, BACK), (2, SHIM)] {
+        s += &format!("PSOLID,{mid},{mid}\nMAT1,{mid},{young:?},,{nu:?},1.0\n");
+    }
+    std::fs::write(d.join("tied.bdf"), s).unwrap();
+    let text = |pad: &str, damping: &str| {
+        format!(
+            r#"
+[[components]]
+name = "pad"
+geometry = {{ kind = "bdf", path = "tied.bdf" }}
+{pad}
+
+[[components]]
+name = "support"
+element = "hex8"
+geometry = {{ kind = "block", origin = [1.0, 0.0, 0.0], lx = 1.0, ly = 0.5, lz = 0.1, nx = 4, ny = 2, nz = 1 }}
+material = {{ young = 2.0e4, poisson = 0.3, density = 1.0 }}
+fixed = [{{ set = "x1" }}]
+
+[[ties]]
+a = {{ component = "pad", faces = "pid_8" }}
+b = {{ component = "pad", faces = "pid_9" }}
+
+[reduction]
+n_modes = 8
+checks = false
+
+[damping]
+{damping}
+"#
+        )
+    };
+    let eta = 0.25;
+    let s_ge = Scene::from_toml_str(
+        &text(
+            &mat_keys([0.0, 0.0]),
+            &format!("w4 = {W4:?}\nge = {{ pad = {eta:?} }}"),
+        ),
+        d.clone(),
+        &[],
+    )
+    .unwrap();
+    let s_eta = Scene::from_toml_str(
+        &text(&mat_keys([eta, eta]), &format!("w4 = {W4:?}")),
+        d.clone(),
+        &[],
+    )
+    .unwrap();
+    let (m_ge, m_eta) = (model_of(&s_ge, &d, "ge"), model_of(&s_eta, &d, "eta"));
+    let rec = m_eta.recovery.iter().find(|r| r.name == "pad").unwrap();
+    assert!(rec.mpc.is_some(), "the tie is the pad's MPC");
+    let r = rel(m_eta.b.as_ref().unwrap(), m_ge.b.as_ref().unwrap());
+    eprintln!("tied shim: η on both bodies vs GE_c, B relative {r:.2e}");
+    assert!(r < 1e-12, "{r:e}");
+}
