@@ -459,10 +459,51 @@ fn a_cea_about_tensile_gaps_warns() {
         if tensile {
             assert!(r.n_tensile_gaps > 0 && pmin < 0.0, "{pmin}");
             assert!(warned, "{:?}", r.warnings);
+            // The warning names the pair, its count and its smallest pressure.
+            let w = &r
+                .warnings
+                .iter()
+                .find(|w| w.input == "contact")
+                .unwrap()
+                .message;
+            let named = format!(
+                "contact[0]: {} of {} (smallest p_n {pmin:.4e} Pa)",
+                r.n_tensile_gaps,
+                m.gap_geometry.len()
+            );
+            assert!(w.contains(&named), "{w}");
+            assert!(!w.contains("sliding = \"none\""), "{w}");
         } else {
             assert_eq!(r.n_tensile_gaps, 0);
             assert!(pmin > 0.0 && !warned, "{pmin} {:?}", r.warnings);
         }
     }
+    // The same tensile state on a pair that does not slide: its regularised friction is a
+    // damper of negative rate where p_n < 0, which the warning says.
+    let scene = Scene::from_toml_str(
+        &format!("{}\n[cea]\n", tiny_tied_brake(0.01, 0.0)).replacen(
+            "[[contact]]\n",
+            "[[contact]]\nsliding = \"none\"\n",
+            1,
+        ),
+        d.clone(),
+        &[],
+    )
+    .unwrap();
+    let run = RunDir::create(&d.join("run-still")).unwrap();
+    let m = model::build(&scene, &run, &Progress::quiet()).unwrap();
+    let args = cea::CeaArgs::default();
+    let c = cea::compute(&scene, &m, &Progress::quiet(), &args).unwrap();
+    let r = cea::write(&c, &m, &run, &args, None, std::time::Instant::now()).unwrap();
+    let w = &r
+        .warnings
+        .iter()
+        .find(|w| w.input == "contact")
+        .unwrap()
+        .message;
+    assert!(
+        r.n_tensile_gaps > 0 && w.contains("on contact[0] (sliding = \"none\")"),
+        "{w}"
+    );
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -147,6 +147,7 @@ pub(crate) fn read_model(deck: &mut Deck) -> Result<Model, MeshError> {
     let mut m = Model::default();
     let mut level = Level::Root;
     let mut material: Option<String> = None;
+    let mut root_bc: Option<Loc> = None;
     read_blocks(deck, |deck, b| {
         let kw = b.keyword.as_str();
         // Material options follow their *MATERIAL.
@@ -271,15 +272,34 @@ pub(crate) fn read_model(deck: &mut Deck) -> Result<Model, MeshError> {
                 let s = scope_mut(&mut m, level);
                 s.orientations.insert(name_key(&o.name), o);
             }
+            // Model data after the *ASSEMBLY (as Abaqus/CAE writes it) names the assembly's
+            // sets and `instance.set`s: it belongs to the assembly, as in a *STEP.
+            ("BOUNDARY", Level::Root) if m.assembly.is_some() => {
+                let bcs = sets::boundary(deck, &b, true, &m)?;
+                scope_mut(&mut m, Level::Assembly).bcs.extend(bcs);
+            }
             ("BOUNDARY", _) => {
                 let at_assembly = level == Level::Assembly;
                 let bcs = sets::boundary(deck, &b, at_assembly, &m)?;
+                if level == Level::Root {
+                    root_bc.get_or_insert(b.at);
+                }
                 scope_mut(&mut m, level).bcs.extend(bcs);
             }
             _ => count(&mut m, &b),
         }
         Ok(())
     })?;
+    // A model-level *BOUNDARY before an *ASSEMBLY read later names nothing the instances
+    // hold: refused, not dropped.
+    if let (Some(at), Some(_)) = (root_bc, &m.assembly) {
+        return Err(deck.err(
+            at,
+            "*BOUNDARY at the model level before the *ASSEMBLY: with an assembly, give the \
+             conditions after *END ASSEMBLY (or in the assembly or a step) on `instance.set` \
+             names",
+        ));
+    }
     if level != Level::Root && level != Level::Step {
         let file = deck.files[0].clone();
         return Err(MeshError::Input {

@@ -328,6 +328,52 @@ fn damping_structural_is_the_loss_factor() {
     );
 }
 
+/// Model data after *END ASSEMBLY (where Abaqus/CAE writes the boundary conditions of the
+/// initial step's model data) names `instance.set`s: its *BOUNDARY holds the instances' nodes.
+/// Before an *ASSEMBLY, a model-level *BOUNDARY names nothing the instances hold: an error
+/// naming the line, not conditions dropped in silence (they were, until 2026-11-28).
+#[test]
+fn model_level_boundaries_after_the_assembly_fix_instance_sets() {
+    let part = "*PART, NAME=P\n*NODE\n1, 0., 0., 0.\n2, 1., 0., 0.\n3, 0., 1., 0.\n4, 0., 0., 1.\n\
+                *ELEMENT, TYPE=C3D4, ELSET=B\n1, 1, 2, 3, 4\n*NSET, NSET=BASE\n1, 2\n\
+                *SOLID SECTION, ELSET=B, MATERIAL=M\n,\n*END PART\n";
+    let asm = "*ASSEMBLY, NAME=A\n*INSTANCE, NAME=I1, PART=P\n*END INSTANCE\n\
+               *INSTANCE, NAME=I2, PART=P\n0., 0., 2.\n*END INSTANCE\n*END ASSEMBLY\n";
+    let mat = "*MATERIAL, NAME=M\n*ELASTIC\n1., 0.3\n*DENSITY\n1.\n";
+    let bc = "*BOUNDARY\nI1.BASE, 1, 3\n*BOUNDARY\nI2.BASE, 3, 3\n";
+    let p = write("model-bc", "after.inp", &format!("{part}{asm}{mat}{bc}"));
+    for (inst, want) in [
+        ("I1", vec![(1, 0), (1, 1), (1, 2), (2, 0), (2, 1), (2, 2)]),
+        ("I2", vec![(1, 2), (2, 2)]),
+    ] {
+        let opts = InpOptions {
+            instances: vec![inst.into()],
+            ..Default::default()
+        };
+        let (mesh, report) = read_inp(&p, &opts).unwrap();
+        let mut fixed: Vec<(u64, usize)> = mesh
+            .fixed
+            .iter()
+            .map(|&(i, k)| (mesh.node_tags[i], k))
+            .collect();
+        fixed.sort();
+        assert_eq!(fixed, want, "{inst}");
+        assert_eq!(report.counts["fixed DOFs"], want.len(), "{inst}");
+    }
+    let p = write(
+        "model-bc",
+        "before.inp",
+        &format!("{part}*BOUNDARY\n1, 1, 3\n{asm}{mat}"),
+    );
+    let e = read_inp(&p, &InpOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("before.inp:14:") && e.contains("before the *ASSEMBLY"),
+        "{e}"
+    );
+}
+
 /// Leaving an unread element type out with `elsets`; selection errors list what exists.
 #[test]
 fn elsets_leave_other_elements_out() {

@@ -110,7 +110,7 @@ pub fn roots_on(
     let step = progress.step("linearising about the sliding state");
     let lin = tangents::linearise(scene, spec, problem)?;
     step.done("tangents at the state");
-    let contact = tangents::contact_summary(gaps, &lin)?;
+    let contact = tangents::contact_summary(gaps, &model.gap_pairs, &lin)?;
     let sys = tangents::cea_matrices(problem, &lin, spec.friction_damping)?;
     progress.check("cea")?;
     // Roots above the band are listed apart and never count as squeal.

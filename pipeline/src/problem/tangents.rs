@@ -221,11 +221,46 @@ pub struct ContactSummary {
     pub mu_max: Real,
     /// Gaps with p_n < 0 (tension: the bilateral constraint holds them closed).
     pub n_tensile: usize,
+    /// The same per `[[contact]]` pair, in the scene's order (empty when the model's gaps
+    /// are not grouped by pair, e.g. a gap table).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub per_pair: Vec<PairContact>,
 }
 
-/// Pressure, slip and μ ranges at the state.
+/// The contact state of one `[[contact]]` pair's gaps.
+#[derive(Debug, Clone, Serialize)]
+pub struct PairContact {
+    pub n_gaps: usize,
+    pub n_tensile: usize,
+    pub min_pressure: Real,
+    pub max_pressure: Real,
+    /// Σ −λ̇ over the pair's gaps.
+    pub normal_force: Real,
+}
+
+impl ContactSummary {
+    /// "contact[i]: n of m tensile, smallest p_n x" for each pair with tensile gaps.
+    pub fn tensile_pairs(&self) -> Vec<String> {
+        self.per_pair
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.n_tensile > 0)
+            .map(|(i, p)| {
+                format!(
+                    "contact[{i}]: {} of {} (smallest p_n {:.4e} Pa)",
+                    p.n_tensile, p.n_gaps, p.min_pressure
+                )
+            })
+            .collect()
+    }
+}
+
+/// Pressure, slip and μ ranges at the state, over all gaps and per pair (`gap_pairs`: the
+/// gap count of each `[[contact]]` pair in order, the model's `gap_pairs`; per pair only when
+/// they add up to the gaps).
 pub fn contact_summary(
     gaps: &GapSet,
+    gap_pairs: &[usize],
     lin: &Linearisation,
 ) -> Result<ContactSummary, PipelineError> {
     let mut s = ContactSummary {
@@ -238,7 +273,23 @@ pub fn contact_summary(
         mu_min: Real::INFINITY,
         mu_max: Real::NEG_INFINITY,
         n_tensile: 0,
+        per_pair: Vec::new(),
     };
+    let by_pair = !gap_pairs.is_empty() && gap_pairs.iter().sum::<usize>() == gaps.len();
+    if by_pair {
+        s.per_pair = gap_pairs
+            .iter()
+            .map(|&n_gaps| PairContact {
+                n_gaps,
+                n_tensile: 0,
+                min_pressure: if n_gaps > 0 { Real::INFINITY } else { 0.0 },
+                max_pressure: if n_gaps > 0 { Real::NEG_INFINITY } else { 0.0 },
+                normal_force: 0.0,
+            })
+            .collect();
+    }
+    let mut pair = 0;
+    let mut end = gap_pairs.first().copied().unwrap_or(0);
     for g in 0..gaps.len() {
         let o = gaps
             .gap_output(g, &lin.v, &lin.lambda_dot)
@@ -252,6 +303,19 @@ pub fn contact_summary(
         s.mu_max = s.mu_max.max(o.friction.mu);
         if o.pressure < 0.0 {
             s.n_tensile += 1;
+        }
+        if by_pair {
+            while g >= end {
+                pair += 1;
+                end += gap_pairs[pair];
+            }
+            let p = &mut s.per_pair[pair];
+            p.min_pressure = p.min_pressure.min(o.pressure);
+            p.max_pressure = p.max_pressure.max(o.pressure);
+            p.normal_force -= lin.lambda_dot[g];
+            if o.pressure < 0.0 {
+                p.n_tensile += 1;
+            }
         }
     }
     if gaps.is_empty() {

@@ -573,12 +573,18 @@ pub fn write(
         warnings.push(crate::warning::Warning {
             input: "contact".into(),
             message: format!(
-                "the CEA's state has {} of {} gaps in tension (smallest p_n {:.4e} Pa): the \
+                "the CEA's state has {} of {} gaps in tension (smallest p_n {:.4e} Pa{}): the \
                  bilateral contact holds them closed, so the roots are those of a contact the \
                  brake would not keep (a transient with `separation = true` on the pairs shows \
                  what happens)",
-                contact.n_tensile, contact.n_gaps, contact.min_pressure
-            ),
+                contact.n_tensile,
+                contact.n_gaps,
+                contact.min_pressure,
+                match contact.tensile_pairs() {
+                    v if v.is_empty() => String::new(),
+                    v => format!("; {}", v.join(", ")),
+                }
+            ) + &non_sliding_note(&c.problem.op, contact),
             value: contact.min_pressure,
             tolerance: 0.0,
         });
@@ -634,4 +640,32 @@ fn run_relative(path: &str) -> String {
     std::path::Path::new(path)
         .file_name()
         .map_or_else(|| path.to_string(), |f| f.to_string_lossy().into_owned())
+}
+
+/// The note on tensile gaps of pairs that do not slide (`sliding = "none"`): their friction
+/// acts on the vibration's slip through the regularised law (eq. 5), about 0.68 μ p A / VTOL per unit slip
+/// speed, which turns negative where p_n < 0: a friction that feeds energy in, whose real
+/// roots with Re p > 0 (if any) are the bilateral constraint's, not the brake's.
+fn non_sliding_note(op: &crate::problem::OperatingPoint, contact: &ContactSummary) -> String {
+    let pairs: Vec<String> = contact
+        .per_pair
+        .iter()
+        .enumerate()
+        .filter(|(i, p)| {
+            p.n_tensile > 0
+                && op
+                    .pairs
+                    .get(*i)
+                    .is_some_and(|c| c.sliding == crate::scene::Sliding::None)
+        })
+        .map(|(i, _)| format!("contact[{i}]"))
+        .collect();
+    if pairs.is_empty() {
+        return String::new();
+    }
+    format!(
+        "; on {} (sliding = \"none\") the friction's damping (about 0.68 μ p A / VTOL, paper eq. 5) is negative where \
+         p_n < 0: real roots with Re p > 0 may come from it, not from the brake",
+        pairs.join(", ")
+    )
 }
