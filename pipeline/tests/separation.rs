@@ -478,10 +478,11 @@ fn a_cea_about_tensile_gaps_warns() {
             assert!(pmin > 0.0 && !warned, "{pmin} {:?}", r.warnings);
         }
     }
-    // The same tensile state on a pair that does not slide: its regularised friction is a
-    // damper of negative rate where p_n < 0, which the warning says.
+    // A pair that does not slide, its pad pulled off (pmax = −2: the brake load reversed, so
+    // the gaps are tensile): its regularised friction is a damper of negative rate where
+    // p_n < 0, which the warning says.
     let scene = Scene::from_toml_str(
-        &format!("{}\n[cea]\n", tiny_tied_brake(0.01, 0.0)).replacen(
+        &format!("{}\n[cea]\n", tiny_tied_brake(0.01, -2.0)).replacen(
             "[[contact]]\n",
             "[[contact]]\nsliding = \"none\"\n",
             1,
