@@ -421,10 +421,18 @@ class CeaStateSource(_CeaStateSourceBase, total=False):
     path: str
 
 
-class CeaContact(TypedDict):
-    """The contact at the state (``cea::tangents::ContactSummary``; the bounds are None
-    without gaps)."""
+class PairContact(TypedDict):
+    """The contact at the state of one ``[[contact]]`` pair's gaps
+    (``problem::tangents::PairContact``)."""
 
+    n_gaps: int
+    n_tensile: int
+    min_pressure: float
+    max_pressure: float
+    normal_force: float
+
+
+class _CeaContactBase(TypedDict):
     n_gaps: int
     max_pressure: float
     min_pressure: float
@@ -434,6 +442,14 @@ class CeaContact(TypedDict):
     mu_min: float
     mu_max: float
     n_tensile: int
+
+
+class CeaContact(_CeaContactBase, total=False):
+    """The contact at the state (``problem::tangents::ContactSummary``; the bounds are None
+    without gaps), and per pair in the scene's order (absent when the gaps are not grouped by
+    pair, e.g. a gap table)."""
+
+    per_pair: List[PairContact]
 
 
 class CeaSteadyState(TypedDict):
