@@ -435,18 +435,26 @@ fn a_cea_about_tensile_gaps_warns() {
     let d = std::env::temp_dir().join(format!("squeal-cea-tensile-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
-    for (pmax, tensile) in [(0.0, true), (2.0, false)] {
-        let scene = Scene::from_toml_str(
-            &format!("{}\n[cea]\n", tiny_tied_brake(0.01, pmax)),
-            d.clone(),
-            &[],
-        )
-        .unwrap();
-        let run = RunDir::create(&d.join(format!("run-{pmax}"))).unwrap();
+    // The CEA of a scene in its own run folder: (the model's gap count, the report).
+    let run_cea = |toml: &str, name: &str| {
+        let scene = Scene::from_toml_str(&format!("{toml}\n[cea]\n"), d.clone(), &[]).unwrap();
+        let run = RunDir::create(&d.join(name)).unwrap();
         let m = model::build(&scene, &run, &Progress::quiet()).unwrap();
         let args = cea::CeaArgs::default();
         let c = cea::compute(&scene, &m, &Progress::quiet(), &args).unwrap();
         let r = cea::write(&c, &m, &run, &args, None, std::time::Instant::now()).unwrap();
+        (m.gap_geometry.len(), r)
+    };
+    let contact_warning = |r: &cea::CeaReport| -> String {
+        r.warnings
+            .iter()
+            .find(|w| w.input == "contact")
+            .unwrap()
+            .message
+            .clone()
+    };
+    for (pmax, tensile) in [(0.0, true), (2.0, false)] {
+        let (n_gaps, r) = run_cea(&tiny_tied_brake(0.01, pmax), &format!("run-{pmax}"));
         let pmin = r.min_contact_pressure.unwrap();
         eprintln!(
             "pmax {pmax}: {} tensile, smallest p_n {pmin}",
@@ -460,16 +468,10 @@ fn a_cea_about_tensile_gaps_warns() {
             assert!(r.n_tensile_gaps > 0 && pmin < 0.0, "{pmin}");
             assert!(warned, "{:?}", r.warnings);
             // The warning names the pair, its count and its smallest pressure.
-            let w = &r
-                .warnings
-                .iter()
-                .find(|w| w.input == "contact")
-                .unwrap()
-                .message;
+            let w = contact_warning(&r);
             let named = format!(
-                "contact[0]: {} of {} (smallest p_n {pmin:.4e} Pa)",
-                r.n_tensile_gaps,
-                m.gap_geometry.len()
+                "contact[0]: {} of {n_gaps} (smallest p_n {pmin:.4e} Pa)",
+                r.n_tensile_gaps
             );
             assert!(w.contains(&named), "{w}");
             assert!(!w.contains("sliding = \"none\""), "{w}");
@@ -481,27 +483,13 @@ fn a_cea_about_tensile_gaps_warns() {
     // A pair that does not slide, its pad pulled off (pmax = −2: the brake load reversed, so
     // the gaps are tensile): its regularised friction is a damper of negative rate where
     // p_n < 0, which the warning says.
-    let scene = Scene::from_toml_str(
-        &format!("{}\n[cea]\n", tiny_tied_brake(0.01, -2.0)).replacen(
-            "[[contact]]\n",
-            "[[contact]]\nsliding = \"none\"\n",
-            1,
-        ),
-        d.clone(),
-        &[],
-    )
-    .unwrap();
-    let run = RunDir::create(&d.join("run-still")).unwrap();
-    let m = model::build(&scene, &run, &Progress::quiet()).unwrap();
-    let args = cea::CeaArgs::default();
-    let c = cea::compute(&scene, &m, &Progress::quiet(), &args).unwrap();
-    let r = cea::write(&c, &m, &run, &args, None, std::time::Instant::now()).unwrap();
-    let w = &r
-        .warnings
-        .iter()
-        .find(|w| w.input == "contact")
-        .unwrap()
-        .message;
+    let still = tiny_tied_brake(0.01, -2.0).replacen(
+        "[[contact]]\n",
+        "[[contact]]\nsliding = \"none\"\n",
+        1,
+    );
+    let (_, r) = run_cea(&still, "run-still");
+    let w = contact_warning(&r);
     assert!(
         r.n_tensile_gaps > 0 && w.contains("on contact[0] (sliding = \"none\")"),
         "{w}"

@@ -143,10 +143,28 @@ pub struct ReducedModel {
     pub warnings: Vec<crate::warning::Warning>,
 }
 
+/// The `[[contact]]` pair of each of `n_gaps` gaps from the gap count of each pair (the
+/// gaps of pair i follow those of pair i − 1); None when the counts do not add up to the gaps
+/// (a gap table read with other pairs).
+pub fn gap_pair_index(gap_pairs: &[usize], n_gaps: usize) -> Option<Vec<usize>> {
+    (gap_pairs.iter().sum::<usize>() == n_gaps).then(|| {
+        gap_pairs
+            .iter()
+            .enumerate()
+            .flat_map(|(p, &c)| std::iter::repeat_n(p, c))
+            .collect()
+    })
+}
+
 impl ReducedModel {
     /// Number of reduced DOFs.
     pub fn n(&self) -> usize {
         self.k.nrows()
+    }
+
+    /// The `[[contact]]` pair of each gap ([`gap_pair_index`] of `gap_pairs`).
+    pub fn gap_pair_index(&self) -> Option<Vec<usize>> {
+        gap_pair_index(&self.gap_pairs, self.gap_geometry.len())
     }
 
     /// Index of a grid DOF (comp 1..6) in the reduced vector.

@@ -275,8 +275,8 @@ pub fn contact_summary(
         n_tensile: 0,
         per_pair: Vec::new(),
     };
-    let by_pair = !gap_pairs.is_empty() && gap_pairs.iter().sum::<usize>() == gaps.len();
-    if by_pair {
+    let pair_of = crate::model::gap_pair_index(gap_pairs, gaps.len());
+    if pair_of.is_some() {
         s.per_pair = gap_pairs
             .iter()
             .map(|&n_gaps| PairContact {
@@ -288,8 +288,6 @@ pub fn contact_summary(
             })
             .collect();
     }
-    let mut pair = 0;
-    let mut end = gap_pairs.first().copied().unwrap_or(0);
     for g in 0..gaps.len() {
         let o = gaps
             .gap_output(g, &lin.v, &lin.lambda_dot)
@@ -304,12 +302,8 @@ pub fn contact_summary(
         if o.pressure < 0.0 {
             s.n_tensile += 1;
         }
-        if by_pair {
-            while g >= end {
-                pair += 1;
-                end += gap_pairs[pair];
-            }
-            let p = &mut s.per_pair[pair];
+        if let Some(pair_of) = &pair_of {
+            let p = &mut s.per_pair[pair_of[g]];
             p.min_pressure = p.min_pressure.min(o.pressure);
             p.max_pressure = p.max_pressure.max(o.pressure);
             p.normal_force -= lin.lambda_dot[g];

@@ -345,16 +345,9 @@ fn parts(
 /// The contact pair of each gap (one pair when the gap counts do not add up: a stored
 /// model's gap table).
 fn pair_index(model: &ReducedModel) -> Vec<usize> {
-    let ng = model.gap_geometry.len();
-    if model.gap_pairs.iter().sum::<usize>() != ng {
-        return vec![0; ng];
-    }
     model
-        .gap_pairs
-        .iter()
-        .enumerate()
-        .flat_map(|(p, &c)| std::iter::repeat_n(p, c))
-        .collect()
+        .gap_pair_index()
+        .unwrap_or_else(|| vec![0; model.gap_geometry.len()])
 }
 
 fn pair_labels(scene: &Scene, model: &ReducedModel) -> Vec<PairLabel> {
