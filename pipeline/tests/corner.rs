@@ -23,15 +23,12 @@
 //! f_piston = f_bore = 1 887.354948 N, the seal's axial force on the piston −0.0749 N; the
 //! balances 1.1e-13 (inboard) and 1.6e-13 (outboard).
 
-use squeal_fe::{pressure_load, DofMap};
-use squeal_pipeline::output::RunDir;
+mod common;
+
 use squeal_pipeline::problem::{system, tangents};
 use squeal_pipeline::progress::Progress;
-use squeal_pipeline::scene::Scene;
-use squeal_pipeline::stages::mesh;
-use squeal_pipeline::stages::model::{self, grids, ties};
+use squeal_pipeline::stages::model;
 use squeal_solver::bsql::SteadyOptions;
-use std::path::Path;
 
 #[test]
 #[ignore = "minutes of CPU (gmsh, six reductions, eight mortar ties): run with --release --ignored"]
@@ -40,51 +37,18 @@ fn whole_corner_carries_the_line_pressure_to_the_linings() {
         eprintln!("skipped: this test needs gmsh: {e}");
         return;
     }
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/corner/corner.toml");
-    let scene = Scene::load(&path, &[]).unwrap_or_else(|e| panic!("{e}"));
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("corner");
-    let _ = std::fs::remove_dir_all(&d);
-    let dir = RunDir::create(&d).unwrap();
-    let progress = Progress::quiet();
-    let meshes: Vec<_> = scene
-        .components
-        .iter()
-        .map(|c| mesh::mesh_component(&scene, c, &dir, &progress).unwrap().0)
-        .collect();
-
-    // Every slave node of every tie has its row (the meshes are independent).
-    let g = grids::merge(&scene, &meshes, scene.model.merge_tolerance);
-    let rows = ties::pair_ties(&scene, &meshes, &g).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(rows.len(), 8);
-    let index = |name: &str| {
-        scene
-            .components
-            .iter()
-            .position(|x| x.name == name)
-            .unwrap()
-    };
-    for (t, r) in scene.ties.iter().zip(&rows) {
-        let slaves = meshes[index(&t.a.component)].faces[&t.a.faces]
-            .nodes()
-            .len();
-        assert_eq!(r.rows.len(), slaves, "{} {}", t.a.component, t.a.faces);
-    }
+    let (scene, dir, meshes) = common::corner_meshes("corner", &[], 8);
+    let index = |name: &str| common::component_index(&scene, name);
 
     // p × the z resultant of the consistent load on each hydraulic face.
     let p = scene.loads.as_ref().unwrap().pmax;
-    let resultant = |c: usize, set: &str| -> f64 {
-        let m = &meshes[c];
-        let dofs = DofMap::new(m.nodes.len(), &[]).unwrap();
-        let f = pressure_load(m, set, p, &dofs).unwrap();
-        (0..m.nodes.len()).map(|n| f[3 * n + 2]).sum::<f64>().abs()
-    };
-    let f_piston = resultant(index("piston"), "back");
-    let f_bore = resultant(index("caliper"), "bore_bottom");
+    let f_piston = common::pressure_resultant_z(&meshes[index("piston")], "back", p);
+    let f_bore = common::pressure_resultant_z(&meshes[index("caliper")], "bore_bottom", p);
     let circle = p * std::f64::consts::PI * 0.024f64.powi(2);
     assert!((f_piston / circle - 1.0).abs() < 2e-2, "{f_piston}");
     assert!((f_bore / circle - 1.0).abs() < 2e-2, "{f_bore}");
 
-    let m = model::build(&scene, &dir, &progress).unwrap_or_else(|e| panic!("{e}"));
+    let m = model::build(&scene, &dir, &Progress::quiet()).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(m.gap_pairs.len(), 4);
     let problem = system::problem(&scene, &m).unwrap();
     let opts = SteadyOptions {

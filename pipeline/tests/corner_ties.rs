@@ -21,13 +21,10 @@
 //! 3 853.750828 N against p × faces 3 853.750828 N (piston 1 887.355 N, bore 1 966.396 N),
 //! relative error 2.5e-13.
 
-use squeal_fe::{pressure_load, DofMap};
-use squeal_pipeline::output::RunDir;
+mod common;
+
 use squeal_pipeline::progress::Progress;
-use squeal_pipeline::scene::Scene;
-use squeal_pipeline::stages::model::{self, grids, ties};
-use squeal_pipeline::stages::{cea, mesh};
-use std::path::Path;
+use squeal_pipeline::stages::{cea, model};
 
 /// The coarse meshes (mesh sizes in m, `.geo` parameters): a few hundred tet10 per body.
 const COARSE: [(usize, &str, f64); 10] = [
@@ -50,53 +47,18 @@ fn corner_of_many_tied_bodies_transmits_the_line_pressure_to_the_contact() {
         eprintln!("skipped: this test needs gmsh: {e}");
         return;
     }
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/corner-ties/corner.toml");
     let sets: Vec<String> = COARSE
         .iter()
         .map(|(c, k, v)| format!("components.{c}.geometry.set_numbers.{k}={v}"))
         .collect();
-    let scene = Scene::load(&path, &sets).unwrap_or_else(|e| panic!("{e}"));
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("corner-ties");
-    let _ = std::fs::remove_dir_all(&d);
-    let dir = RunDir::create(&d).unwrap();
-    let progress = Progress::quiet();
-    let meshes: Vec<_> = scene
-        .components
-        .iter()
-        .map(|c| mesh::mesh_component(&scene, c, &dir, &progress).unwrap().0)
-        .collect();
-
     // Every slave node of every tie has its row (none merged: the meshes are independent).
-    let g = grids::merge(&scene, &meshes, scene.model.merge_tolerance);
-    let rows = ties::pair_ties(&scene, &meshes, &g).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(rows.len(), 8);
-    for (t, r) in scene.ties.iter().zip(&rows) {
-        let ci = scene
-            .components
-            .iter()
-            .position(|x| x.name == t.a.component)
-            .unwrap();
-        let slaves = meshes[ci].faces[&t.a.faces].nodes().len();
-        eprintln!(
-            "tie {} {} on {} {}: {} slave nodes",
-            t.a.component,
-            t.a.faces,
-            t.b.component,
-            t.b.faces,
-            r.rows.len()
-        );
-        assert_eq!(r.rows.len(), slaves, "{} {}", t.a.component, t.a.faces);
-    }
+    let (scene, dir, meshes) = common::corner_meshes("corner-ties", &sets, 8);
+    let progress = Progress::quiet();
 
     // The reference: p × the z resultant of the consistent load on both hydraulic faces.
     let p = scene.loads.as_ref().unwrap().pmax;
-    let resultant = |c: usize, set: &str| -> f64 {
-        let m = &meshes[c];
-        let dofs = DofMap::new(m.nodes.len(), &[]).unwrap();
-        let f = pressure_load(m, set, p, &dofs).unwrap();
-        (0..m.nodes.len()).map(|n| f[3 * n + 2]).sum::<f64>().abs()
-    };
-    let (f_piston, f_bore) = (resultant(3, "back"), resultant(4, "bore_bottom"));
+    let f_piston = common::pressure_resultant_z(&meshes[3], "back", p);
+    let f_bore = common::pressure_resultant_z(&meshes[4], "bore_bottom", p);
     // Against the circles' areas (r = 24 and 24.5 mm): the tri6 faces' curved edges.
     let circle = |r: f64| p * std::f64::consts::PI * r * r;
     assert!((f_piston / circle(0.024) - 1.0).abs() < 1e-2, "{f_piston}");

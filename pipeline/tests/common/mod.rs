@@ -161,3 +161,68 @@ pub fn build_model(
     let m = squeal_pipeline::stages::model::build(&s, &run, &Progress::quiet()).unwrap();
     (s, m)
 }
+
+/// A corner example's meshes (`examples/<name>/corner.toml` with `sets`, every component
+/// meshed by gmsh into a fresh run folder), after checking that the scene has `n_ties` ties
+/// and that every slave node of each is tied (the meshes are independent, so none merges).
+/// Returns the scene, the run folder and the meshes.
+pub fn corner_meshes(
+    name: &str,
+    sets: &[String],
+    n_ties: usize,
+) -> (
+    squeal_pipeline::scene::Scene,
+    squeal_pipeline::output::RunDir,
+    Vec<squeal_meshes::Mesh>,
+) {
+    use squeal_pipeline::stages::mesh;
+    use squeal_pipeline::stages::model::{grids, ties};
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let path = root.join(format!("../examples/{name}/corner.toml"));
+    let scene = squeal_pipeline::scene::Scene::load(&path, sets).unwrap_or_else(|e| panic!("{e}"));
+    let d = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    let dir = squeal_pipeline::output::RunDir::create(&d).unwrap();
+    let progress = squeal_pipeline::progress::Progress::quiet();
+    let meshes: Vec<_> = scene
+        .components
+        .iter()
+        .map(|c| mesh::mesh_component(&scene, c, &dir, &progress).unwrap().0)
+        .collect();
+    let g = grids::merge(&scene, &meshes, scene.model.merge_tolerance);
+    let rows = ties::pair_ties(&scene, &meshes, &g).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(rows.len(), n_ties);
+    for (t, r) in scene.ties.iter().zip(&rows) {
+        let c = component_index(&scene, &t.a.component);
+        let slaves = meshes[c].faces[&t.a.faces].nodes().len();
+        eprintln!(
+            "tie {} {} on {} {}: {} slave nodes",
+            t.a.component,
+            t.a.faces,
+            t.b.component,
+            t.b.faces,
+            r.rows.len()
+        );
+        assert_eq!(r.rows.len(), slaves, "{} {}", t.a.component, t.a.faces);
+    }
+    (scene, dir, meshes)
+}
+
+/// The index of component `name` of `scene`.
+pub fn component_index(scene: &squeal_pipeline::scene::Scene, name: &str) -> usize {
+    scene
+        .components
+        .iter()
+        .position(|x| x.name == name)
+        .unwrap_or_else(|| panic!("no component {name}"))
+}
+
+/// |z resultant| of the consistent load of pressure `p` on the face set `set` of `mesh`.
+pub fn pressure_resultant_z(mesh: &squeal_meshes::Mesh, set: &str, p: f64) -> f64 {
+    let dofs = squeal_fe::DofMap::new(mesh.nodes.len(), &[]).unwrap();
+    let f = squeal_fe::pressure_load(mesh, set, p, &dofs).unwrap();
+    (0..mesh.nodes.len())
+        .map(|n| f[3 * n + 2])
+        .sum::<f64>()
+        .abs()
+}
