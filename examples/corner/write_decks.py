@@ -27,7 +27,6 @@ What the files hold (everything the gmsh route takes from the scene):
 Tet10 node orders: meshio returns VTK's (edges 01, 12, 20, 03, 13, 23), which is Abaqus's
 C3D10 order and, through meshio's permutation, Nastran's CTETRA.
 """
-import math
 import os
 import sys
 import tomllib
@@ -158,10 +157,11 @@ def write_bdf(comps, specs, path):
         for i, x in enumerate(c.points):
             bdf.add_grid(base + i + 1, [float(v) for v in x])
         e = base
+        materials = c.materials(spec)
         for b, (body, cells) in enumerate(c.bodies.items()):
             pid = 100 * (k + 1) + b + 1
             mid += 1
-            m = c.materials(spec)[body]
+            m = materials[body]
             ge = m.get("loss_factor", 0.0)
             ortho = orthotropic(m)
             if ortho is not None:
@@ -280,14 +280,13 @@ def write_scene(scene, path, geometry, face_name, header):
         c.pop("fixed", None)
         comps.append(c)
     s["components"] = comps
-    rename = lambda comp, faces: face_name(comp, faces)
-    s["ties"] = [{**t, "a": {**t["a"], "faces": rename(t["a"]["component"], t["a"]["faces"])},
-                  "b": {**t["b"], "faces": rename(t["b"]["component"], t["b"]["faces"])}}
+    s["ties"] = [{**t, "a": {**t["a"], "faces": face_name(t["a"]["component"], t["a"]["faces"])},
+                  "b": {**t["b"], "faces": face_name(t["b"]["component"], t["b"]["faces"])}}
                  for t in s.get("ties", [])]
-    s["contact"] = [{**p, "pad_faces": rename(p["pad"], p["pad_faces"]),
-                     "rotor_faces": rename(p["rotor"], p["rotor_faces"])} for p in s.get("contact", [])]
+    s["contact"] = [{**p, "pad_faces": face_name(p["pad"], p["pad_faces"]),
+                     "rotor_faces": face_name(p["rotor"], p["rotor_faces"])} for p in s.get("contact", [])]
     if "loads" in s:
-        s["loads"] = {**s["loads"], "pressure": [{**p, "faces": rename(p["component"], p["faces"])}
+        s["loads"] = {**s["loads"], "pressure": [{**p, "faces": face_name(p["component"], p["faces"])}
                                                  for p in s["loads"].get("pressure", [])]}
     out = [header]
     for k, v in s.items():
