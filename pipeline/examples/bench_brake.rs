@@ -16,7 +16,9 @@
 //! pairing → gaps; the scene's own contact boundary, e.g. with
 //! `--set components.0.interface.degree=6` for an interface-reduced rotor), then the CEA at
 //! the steady state (`stages::cea::compute`) and, with `--sweep N`, an N-point μ sweep
-//! (0.1…0.9) of the reduced model; each timed, with the peak memory after each.
+//! (0.1…0.9) of the reduced model in the same call, as `squeal cea SCENE --mu 0.1:0.9:N` runs
+//! them (`cea_s` is that call's time less the sweep's own `stats.time_s`); each timed, with
+//! the peak memory after each.
 //!
 //! The Craig–Bampton boundary is what a pad/rotor contact pairing makes it: every node of each
 //! pad's `friction` face (one gap each), and on the rotor either (`--rotor-boundary nearest`,
@@ -131,7 +133,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dir = RunDir::create(&work)?;
     let progress = Progress::quiet();
     if pipeline {
-        let out = run_pipeline(&scene, &dir, &progress, sweep, start, &out_path)?;
+        let out = run_pipeline(&scene, &dir, &progress, sweep, start)?;
         let mut out = out;
         out["scene"] = json!(scene_path
             .strip_prefix(&root)
@@ -295,7 +297,6 @@ fn run_pipeline(
     progress: &Progress,
     sweep: Option<usize>,
     start: Instant,
-    out_path: &Path,
 ) -> Result<serde_json::Value, Box<dyn std::error::Error>> {
     use squeal_pipeline::stages::cea::{self, CeaArgs};
     use squeal_pipeline::stages::model::build_from_mesh;
@@ -323,9 +324,17 @@ fn run_pipeline(
             })
         })
         .collect();
+    // The CEA and, with --sweep, the sweep in one call, as `squeal cea SCENE --mu A:B:N`
+    // runs them (one steady state, one CEA with its sensitivities, then the sweep).
     let t0 = Instant::now();
-    let c = cea::compute(scene, &model, progress, &CeaArgs::default())?;
-    let cea_s = t0.elapsed().as_secs_f64();
+    let args = CeaArgs {
+        mu: sweep.map(|n| (0.1, 0.9, n)),
+        ..Default::default()
+    };
+    let c = cea::compute(scene, &model, progress, &args)?;
+    let cea_and_sweep_s = t0.elapsed().as_secs_f64();
+    let sweep_s = c.sweep.as_ref().map(|r| r.stats.time_s);
+    let cea_s = cea_and_sweep_s - sweep_s.unwrap_or(0.0);
     let rss_cea = peak_rss_kib();
     let cpu_cea = process_cpu_s();
     let unstable: Vec<serde_json::Value> = c
@@ -364,8 +373,14 @@ fn run_pipeline(
         "contact_force_sum": c.lin.lambda_dot.iter().sum::<f64>(),
         "contact_force_norm": c.lin.lambda_dot.iter().map(|x| x * x).sum::<f64>().sqrt(),
         "contact_forces": c.lin.lambda_dot,
+        "sensitivity_s": c.out.sensitivity.as_ref().map(|s| json!({
+            "all": s.time_s, "triplets": s.time_triplets_s, "derivatives": s.time_derivatives_s,
+            "products": s.time_products_s, "factorisation": s.triplet_factorisation,
+            "n_roots": s.roots.len(), "n_parameters": s.parameters.len(),
+        })),
         "sweep": null,
-        "sweep_s": null,
+        "sweep_s": sweep_s,
+        "cea_and_sweep_s": cea_and_sweep_s,
         "mesh_to_cea_s": build_s + cea_s,
         "process_cpu_s_after_build": cpu_build,
         "process_cpu_s_after_cea": cpu_cea,
@@ -374,43 +389,29 @@ fn run_pipeline(
         "threads": rayon::current_num_threads(),
         "loadavg_at_end": load.trim(),
     });
-    // Written now and again after the sweep (a long sweep may be stopped).
-    std::fs::write(out_path, serde_json::to_string_pretty(&out)?)?;
-    drop(c);
-    if let Some(n) = sweep {
-        let t0 = Instant::now();
-        let args = CeaArgs {
-            mu: Some((0.1, 0.9, n)),
-            ..Default::default()
-        };
-        let s = cea::compute(scene, &model, progress, &args)?;
-        let dt = t0.elapsed().as_secs_f64();
-        eprintln!("CEA + {n}-point sweep: {dt:.1} s");
-        out["sweep_s"] = json!(dt);
-        if let Some(r) = &s.sweep {
-            // The in-band onsets with how each was found (exact crossing or not).
-            let band = r.band_hz.unwrap_or(f64::INFINITY);
-            let onsets: Vec<_> = r
-                .tracks
-                .iter()
-                .filter_map(|t| t.critical.as_ref())
-                .filter(|c| c.frequency_hz <= band)
-                .map(|c| {
-                    json!({
-                        "mu": c.mu, "mu_located": c.mu_located, "frequency_hz": c.frequency_hz,
-                        "exact_converged": c.exact.as_ref().map(|x| x.converged),
-                        "exact_max_real_part_error": c.exact.as_ref().map(|x| x.max_real_part_error),
-                    })
+    if let Some((n, r)) = sweep.zip(c.sweep.as_ref()) {
+        // The in-band onsets with how each was found (exact crossing or not).
+        let band = r.band_hz.unwrap_or(f64::INFINITY);
+        let onsets: Vec<_> = r
+            .tracks
+            .iter()
+            .filter_map(|t| t.critical.as_ref())
+            .filter(|c| c.frequency_hz <= band)
+            .map(|c| {
+                json!({
+                    "mu": c.mu, "mu_located": c.mu_located, "frequency_hz": c.frequency_hz,
+                    "exact_converged": c.exact.as_ref().map(|x| x.converged),
+                    "exact_max_real_part_error": c.exact.as_ref().map(|x| x.max_real_part_error),
                 })
-                .collect();
-            out["sweep"] = json!({
-                "n_points": n, "lowest_critical_mu": r.lowest_critical_mu,
-                "lowest_critical_mu_in_band": r.lowest_critical_mu_in_band,
-                "lowest_critical_mu_in_band_status": r.lowest_critical_mu_in_band_status,
-                "in_band_onsets": onsets,
-                "stats": r.stats, "wall_s_with_its_cea": dt,
-            });
-        }
+            })
+            .collect();
+        out["sweep"] = json!({
+            "n_points": n, "lowest_critical_mu": r.lowest_critical_mu,
+            "lowest_critical_mu_in_band": r.lowest_critical_mu_in_band,
+            "lowest_critical_mu_in_band_status": r.lowest_critical_mu_in_band_status,
+            "in_band_onsets": onsets,
+            "stats": r.stats,
+        });
         out["total_s"] = json!(start.elapsed().as_secs_f64());
         out["process_cpu_s_after_sweep"] = json!(process_cpu_s());
         out["peak_rss_kib"] = json!(peak_rss_kib());

@@ -733,6 +733,18 @@ fn check_full_frequencies_dense_lanczos_and_refined_agree() {
     assert_eq!(v.n_full_below, exact_below);
     assert_eq!(v.n_refined_below, exact_below);
     assert!(v.max_refined_residual < 1e-5, "{v:?}");
+    // The refined frequencies are within the accuracy the refinement stops at, and within
+    // half its last step's change (the error estimate it reports).
+    let worst = dense
+        .frequencies
+        .iter()
+        .zip(&refined.frequencies)
+        .skip(6)
+        .map(|(a, b)| (a.full_hz.unwrap() - b.full_hz.unwrap()).abs() / a.full_hz.unwrap())
+        .fold(0.0, f64::max);
+    assert!(worst <= v.frequency_tol, "{worst:e} vs {v:?}");
+    let change = v.frequency_change.expect("at least one step");
+    assert!(worst <= 0.5 * change + 1e-12, "{worst:e} vs {v:?}");
 }
 
 /// Pad reduced with `opts`, checked by the default large-model path (forced with a small

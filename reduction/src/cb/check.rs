@@ -74,6 +74,13 @@ impl Default for CheckOptions {
 }
 
 impl CheckOptions {
+    /// The relative accuracy of the refined full-component frequencies (`full_method =
+    /// refine`): 1e-3 of the frequency tolerance, so that no verdict turns on the refinement's
+    /// own error.
+    pub fn refine_frequency_tol(&self) -> Real {
+        1e-3 * self.max_error_pct / 100.0
+    }
+
     /// Checks every field.
     pub fn validate(&self) -> Result<(), ReductionError> {
         if let Some(f) = self.frequency_of_interest_hz {
@@ -320,7 +327,15 @@ pub fn check(
     let (full_hz, full_method, verification) = match full {
         Some((k, m)) if n > opts.dense_max && foi.is_finite() => match opts.full_method {
             FullMethod::Refine => {
-                let (hz, v) = verify(model, k, m, (&red_vals, red_vecs.as_ref()), foi, points)?;
+                let (hz, v) = verify(
+                    model,
+                    k,
+                    m,
+                    (&red_vals, red_vecs.as_ref()),
+                    foi,
+                    points,
+                    opts.refine_frequency_tol(),
+                )?;
                 (hz, "refine", Some(v))
             }
             FullMethod::Lanczos => (full_frequencies(k, m, foi, opts)?, "lanczos", None),
@@ -599,13 +614,15 @@ impl fmt::Display for CbCheck {
             writeln!(
                 f,
                 "  modes below {:.2} Hz: full {} (Sturm count), reduced {}, refined {} \
-                 (residual {:.1e}, {} solves)",
+                 (residual {:.1e}, {} solves, last step moved them {})",
                 v.shift_hz,
                 v.n_full_below,
                 v.n_reduced_below,
                 v.n_refined_below,
                 v.max_refined_residual,
-                v.n_solves
+                v.n_solves,
+                v.frequency_change
+                    .map_or("-".to_string(), |c| format!("{:.1e}", c))
             )?;
         }
         if self.passed {

@@ -56,8 +56,18 @@ pub struct Verification {
     /// Right-hand sides solved with the factor.
     pub n_solves: usize,
     /// Shift-invert steps (each one solve per refined mode, then Rayleigh–Ritz), until the
-    /// refined modes' residual reached 1e-6, at most 4.
+    /// refined modes' residual reached 1e-6, or, from the second step on, their frequencies
+    /// moved by less than `frequency_tol` in the last step; at most 4.
     pub steps: usize,
+    /// Largest relative change of a refined frequency below the shift in the last step: the
+    /// estimate of the refined frequencies' error (each step reduces the error of a mode
+    /// below the shift by |λ − σ|/|μ − σ| ≤ 1/3 for the components the reduction dropped,
+    /// so the error left after a step is at most half the change it made). None when no step
+    /// was taken.
+    pub frequency_change: Option<Real>,
+    /// The relative frequency accuracy the refinement stopped at (the check's frequency
+    /// tolerance × 1e-3: no verdict of the check can turn on a smaller error).
+    pub frequency_tol: Real,
     /// Largest relative residual ‖Kx − λMx‖ / max(‖Kx‖, σ‖Mx‖) of the refined modes below the
     /// shift: the refined values are the full model's to about this squared.
     pub max_refined_residual: Real,
@@ -80,6 +90,7 @@ pub(crate) fn verify(
     reduced: (&[Real], MatRef<'_, Real>),
     foi_hz: Real,
     points: Option<&[DofPoint]>,
+    frequency_tol: Real,
 ) -> Result<(Vec<Real>, Verification), ReductionError> {
     let two_pi = 2.0 * std::f64::consts::PI;
     let (red_vals, red_vecs) = reduced;
@@ -105,14 +116,30 @@ pub(crate) fn verify(
         .collect();
     let mut n_solves = 0;
     let mut steps = 0;
+    let mut frequency_change = None;
     let (refined_vals, max_res, n_refined_below) = if sel.is_empty() {
         (Vec::new(), 0.0, 0)
     } else {
         let y = Mat::<Real>::from_fn(red_vecs.nrows(), sel.len(), |r, c| red_vecs[(r, sel[c])]);
         let mut basis = Basis::new(k, m);
         basis.extend(model.expand(y.as_ref()));
+        let mut previous: Vec<Real> = Vec::new();
         loop {
             let (vals, x, kx, mx) = basis.ritz()?;
+            // The largest relative frequency change of the modes below σ in this step.
+            if steps > 0 {
+                let change = vals
+                    .iter()
+                    .zip(&previous)
+                    .filter(|(&l, _)| l < sigma)
+                    .map(|(&l, &l0)| {
+                        let (f, f0) = (l.max(0.0).sqrt(), l0.max(0.0).sqrt());
+                        (f - f0).abs() / f.max(Real::MIN_POSITIVE)
+                    })
+                    .fold(0.0, Real::max);
+                frequency_change = Some(change);
+            }
+            previous = vals.clone();
             let mut max_res: Real = 0.0;
             for (c, &l) in vals.iter().enumerate() {
                 if l >= sigma {
@@ -128,7 +155,8 @@ pub(crate) fn verify(
                 let res = r2.sqrt() / k2.sqrt().max(sigma * m2.sqrt()).max(Real::MIN_POSITIVE);
                 max_res = max_res.max(res);
             }
-            if max_res <= REFINED_RESIDUAL || steps == MAX_STEPS {
+            let settled = steps >= 2 && frequency_change.is_some_and(|c| c <= frequency_tol);
+            if max_res <= REFINED_RESIDUAL || settled || steps == MAX_STEPS {
                 let below = vals.iter().filter(|&&l| l < sigma).count();
                 break (vals, max_res, below);
             }
@@ -157,6 +185,8 @@ pub(crate) fn verify(
             n_refined: sel.len(),
             n_solves,
             steps,
+            frequency_change,
+            frequency_tol,
             max_refined_residual: max_res,
             max_pivot_ratio: factor.max_pivot_ratio,
             factor_nnz: factor.vals.len(),

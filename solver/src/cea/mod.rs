@@ -47,7 +47,7 @@ mod options;
 mod project;
 mod reduce;
 mod refine;
-mod shift_invert;
+pub(crate) mod shift_invert;
 mod sweep;
 mod track;
 

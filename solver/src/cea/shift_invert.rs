@@ -31,6 +31,10 @@ pub(crate) struct Elimination {
     p: Mat<f64>,
     /// `Rᵀ = A_s⁻ᵀ A_mᵀ` (ng × (n − ng)).
     rt: Mat<f64>,
+    /// LUs of `G_s` and `A_sᵀ`: the multipliers of a right eigenvector and the adjoint
+    /// multipliers of a left one ([`Elimination::multipliers`]).
+    gs_lu: PartialPivLu<f64>,
+    ast_lu: PartialPivLu<f64>,
 }
 
 impl Elimination {
@@ -50,25 +54,110 @@ impl Elimination {
         let m: Vec<usize> = (0..n).filter(|&i| !is_slave[i]).collect();
         let gs = Mat::<f64>::from_fn(ng, ng, |i, j| g[(i, s[j])]);
         let gm = Mat::<f64>::from_fn(ng, m.len(), |i, j| g[(i, m[j])]);
-        let lu = gs.partial_piv_lu();
-        if pivot_ratio(lu.U(), |x: &f64| x.abs()) < SLAVE_PIVOT_RATIO {
+        let gs_lu = gs.partial_piv_lu();
+        if pivot_ratio(gs_lu.U(), |x: &f64| x.abs()) < SLAVE_PIVOT_RATIO {
             return None;
         }
-        let p = lu.solve(&gm);
+        let p = gs_lu.solve(&gm);
         // A = Gᵀ − D: A_sᵀ (ng × ng) and A_mᵀ (ng × (n − ng)).
         let a =
             |row: usize, col: usize| g[(col, row)] - sys.d.as_ref().map_or(0.0, |d| d[(row, col)]);
         let ast = Mat::<f64>::from_fn(ng, ng, |i, j| a(s[j], i));
         let amt = Mat::<f64>::from_fn(ng, m.len(), |i, j| a(m[j], i));
-        let lu = ast.partial_piv_lu();
-        if pivot_ratio(lu.U(), |x: &f64| x.abs()) < SLAVE_PIVOT_RATIO {
+        let ast_lu = ast.partial_piv_lu();
+        if pivot_ratio(ast_lu.U(), |x: &f64| x.abs()) < SLAVE_PIVOT_RATIO {
             return None;
         }
-        let rt = lu.solve(&amt);
+        let rt = ast_lu.solve(&amt);
         if !(p.norm_max().is_finite() && rt.norm_max().is_finite()) {
             return None;
         }
-        Some(Elimination { s, m, p, rt })
+        Some(Elimination {
+            s,
+            m,
+            p,
+            rt,
+            gs_lu,
+            ast_lu,
+        })
+    }
+
+    /// Size of the reduced problem, n − ng.
+    pub(crate) fn reduced_size(&self) -> usize {
+        self.m.len()
+    }
+
+    /// `Zᵀ X T` of a real n × n matrix.
+    pub(crate) fn reduce_matrix(&self, x: &Mat<f64>) -> Mat<f64> {
+        self.reduce(x.nrows(), |i, j| x[(i, j)])
+    }
+
+    /// `T q` (length n): the displacements of reduced coordinates, `G T q = 0`.
+    pub(crate) fn expand_right(&self, q: &[Cplx]) -> Vec<Cplx> {
+        self.expand(q, &self.p)
+    }
+
+    /// `Z η` (length n): the left vectors' displacement part, `(Gᵀ − D)ᵀ Z η = 0`.
+    pub(crate) fn expand_left(&self, eta: &[Cplx]) -> Vec<Cplx> {
+        self.expand(eta, &self.rt)
+    }
+
+    /// `Zᵀ f` (length n − ng).
+    pub(crate) fn restrict_left(&self, f: &[Cplx]) -> Vec<Cplx> {
+        self.restrict(f, &self.rt)
+    }
+
+    /// `Tᵀ f` (length n − ng).
+    pub(crate) fn restrict_right(&self, f: &[Cplx]) -> Vec<Cplx> {
+        self.restrict(f, &self.p)
+    }
+
+    /// `[−B q; q]` in (slave; other) rows, B = P or Rᵀ.
+    fn expand(&self, q: &[Cplx], b: &Mat<f64>) -> Vec<Cplx> {
+        let n = self.s.len() + self.m.len();
+        let mut out = vec![Cplx::new(0.0, 0.0); n];
+        for (k, &d) in self.m.iter().enumerate() {
+            out[d] = q[k];
+        }
+        for (i, &d) in self.s.iter().enumerate() {
+            out[d] = -(0..self.m.len()).map(|k| b[(i, k)] * q[k]).sum::<Cplx>();
+        }
+        out
+    }
+
+    /// `f_m − Bᵀ f_s`, B = P or Rᵀ.
+    fn restrict(&self, f: &[Cplx], b: &Mat<f64>) -> Vec<Cplx> {
+        let mut out: Vec<Cplx> = self.m.iter().map(|&d| f[d]).collect();
+        for (i, &d) in self.s.iter().enumerate() {
+            let fs = f[d];
+            if fs == Cplx::new(0.0, 0.0) {
+                continue;
+            }
+            for (k, o) in out.iter_mut().enumerate() {
+                *o -= b[(i, k)] * fs;
+            }
+        }
+        out
+    }
+
+    /// The multipliers of the bordered system from its first block row at the slaves:
+    /// `ν = −A_s⁻¹ r_s` for a right vector (`r = X φ`, so that `X φ + A ν = 0` there), and
+    /// `χ = −G_s⁻ᵀ r_s` for a left one (`r = Xᴴ ψ`, so that `Xᴴ ψ + Gᵀ χ = 0` there).
+    pub(crate) fn multipliers(&self, r: &[Cplx], left: bool) -> Vec<Cplx> {
+        let ng = self.s.len();
+        // A_s = (A_sᵀ)ᵀ and G_sᵀ: transposed solves with the stored LUs.
+        let mut rhs = Mat::<f64>::from_fn(ng, 2, |i, j| {
+            let z = r[self.s[i]];
+            -if j == 0 { z.re } else { z.im }
+        });
+        if left {
+            self.gs_lu.solve_transpose_in_place(&mut rhs);
+        } else {
+            self.ast_lu.solve_transpose_in_place(&mut rhs);
+        }
+        (0..ng)
+            .map(|i| Cplx::new(rhs[(i, 0)], rhs[(i, 1)]))
+            .collect()
     }
 
     /// `Zᵀ X T` for the real matrix X given entry-wise by `x(i, j)`.

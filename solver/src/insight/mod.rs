@@ -18,4 +18,4 @@ mod triplet;
 
 pub use energy::{mode_energy, ComponentPart, EnergyParts, GapPart, ModeEnergy};
 pub use sensitivity::{eigenvalue_derivative, MatrixDerivative, Sensitivity};
-pub use triplet::{eigen_triplet, Triplet};
+pub use triplet::{eigen_triplet, Triplet, TripletSolver};

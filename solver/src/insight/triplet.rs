@@ -1,6 +1,7 @@
 //! Right and left eigenvectors of one root of the constrained quadratic problem.
 
 use crate::cea::operator::{check_inputs, damping};
+use crate::cea::shift_invert::Elimination;
 use crate::cea::{CeaError, CeaMatrices, Cplx};
 use faer::linalg::solvers::{PartialPivLu, Solve};
 use faer::{c64, Mat};
@@ -93,30 +94,287 @@ fn start(len: usize) -> Mat<c64> {
     })
 }
 
-/// Right and left eigenvectors of the root nearest `p0` by inverse iteration on `Q(σ)`,
-/// σ = `p0` (one complex LU of size n + ng, three solves each way), then p refined by the
-/// two-sided Rayleigh functional `p ← σ − yᴴQ(σ)x / yᴴQ'(σ)x`.
-///
-/// # Reference
-/// Inverse iteration for nonlinear eigenproblems and the two-sided Rayleigh functional:
-/// Schreiber (2008), *Nonlinear eigenvalue problems: Newton-type methods and nonlinear
-/// Rayleigh functionals*, ch. 4; Güttel & Tisseur (2017), *The nonlinear eigenvalue
-/// problem*, Acta Numerica 26, §4.2.
+/// Right and left eigenvectors of the root nearest `p0` ([`TripletSolver::triplet`]; for
+/// several roots of one system, make one [`TripletSolver`] and call it for each).
 ///
 /// # Errors
 /// Input shapes (as [`crate::cea::complex_eigen`]); a non-finite factor.
 pub fn eigen_triplet(sys: &CeaMatrices, p0: Cplx) -> Result<Triplet, CeaError> {
-    let (n, ng) = check_inputs(sys)?;
-    let c = damping(sys);
-    let c = c.as_ref();
-    // σ exactly at a computed root would make Q(σ) singular to round-off only in
-    // exceptional cases; nudge it by a relative 1e-10 so the LU is always usable, which
-    // the Newton step removes again.
-    let sigma = p0 + Cplx::new(0.0, 1e-10 * p0.norm().max(1.0));
-    let q = bordered(sys, c, sigma);
-    let lu: PartialPivLu<c64> = q.partial_piv_lu();
-    let u = lu.U();
-    for i in 0..n + ng {
+    TripletSolver::new(sys)?.triplet(p0)
+}
+
+/// Right and left eigenvectors of roots of one system. What does not depend on the root is
+/// made once: the damping `C = B − C_f` and, when the constraint has a well-conditioned slave
+/// block, its null-space elimination with the reduced `ZᵀMT`, `ZᵀCT`, `ZᵀKT`
+/// (`crate::cea::shift_invert::Elimination`: the complex LU per root is of size n − ng
+/// instead of n + ng, about 5× cheaper on the 2 043-DOF brake with 550 gaps).
+pub struct TripletSolver<'a> {
+    sys: &'a CeaMatrices,
+    c: Option<Mat<f64>>,
+    n: usize,
+    ng: usize,
+    reduced: Option<Reduced>,
+}
+
+/// The null-space form: `R(σ) = σ² M_r + σ C_r + K_r`, `X_r = Zᵀ X T`.
+struct Reduced {
+    elim: Elimination,
+    m: Mat<f64>,
+    c: Option<Mat<f64>>,
+    k: Mat<f64>,
+}
+
+impl<'a> TripletSolver<'a> {
+    /// Checks the inputs and makes the root-independent parts.
+    ///
+    /// # Errors
+    /// Input shapes (as [`crate::cea::complex_eigen`]).
+    pub fn new(sys: &'a CeaMatrices) -> Result<Self, CeaError> {
+        let (n, ng) = check_inputs(sys)?;
+        let c = damping(sys);
+        let reduced = Elimination::new(sys).map(|elim| Reduced {
+            m: elim.reduce_matrix(&sys.m),
+            c: c.as_ref().map(|c| elim.reduce_matrix(c)),
+            k: elim.reduce_matrix(&sys.k),
+            elim,
+        });
+        Ok(TripletSolver {
+            sys,
+            c,
+            n,
+            ng,
+            reduced,
+        })
+    }
+
+    /// The same without the null-space elimination: every root's LU is of the bordered
+    /// `Q(σ)` (the reference route the elimination is checked against).
+    ///
+    /// # Errors
+    /// Input shapes (as [`crate::cea::complex_eigen`]).
+    pub fn bordered(sys: &'a CeaMatrices) -> Result<Self, CeaError> {
+        let (n, ng) = check_inputs(sys)?;
+        Ok(TripletSolver {
+            sys,
+            c: damping(sys),
+            n,
+            ng,
+            reduced: None,
+        })
+    }
+
+    /// `"null_space"` (the complex LU of size n − ng) or `"bordered"` (size n + ng: no
+    /// constraint, or an ill-conditioned slave block).
+    pub fn factorisation(&self) -> &'static str {
+        if self.reduced.is_some() {
+            "null_space"
+        } else {
+            "bordered"
+        }
+    }
+
+    /// Right and left eigenvectors of the root nearest `p0` by inverse iteration on `Q(σ)`,
+    /// σ = `p0` (one complex LU, three solves each way), then p refined by the two-sided
+    /// Rayleigh functional `p ← σ − yᴴQ(σ)x / yᴴQ'(σ)x`.
+    ///
+    /// With the null-space elimination the iteration runs on `R(σ) = Zᵀ X(σ) T`,
+    /// `X = σ²M + σC + K`: `x = [T q; ν]`, `y = [Z η; χ]` with `R(σ)⁻¹ R'(σ)` and its adjoint,
+    /// and the multipliers follow from the first block row at the slave DOFs at the refined
+    /// p (`ν = −A_s⁻¹ (X φ)_s`, `χ = −G_s⁻ᵀ (Xᴴ ψ)_s`, `A = Gᵀ − D`). `G T = 0` and
+    /// `Zᵀ A = 0` make `yᴴ Q x = ηᴴ R q` and `yᴴ Q' x = ηᴴ R' q`, so the two routes compute the
+    /// same vectors and Rayleigh step.
+    ///
+    /// # Reference
+    /// Inverse iteration for nonlinear eigenproblems and the two-sided Rayleigh functional:
+    /// Schreiber (2008), *Nonlinear eigenvalue problems: Newton-type methods and nonlinear
+    /// Rayleigh functionals*, ch. 4; Güttel & Tisseur (2017), *The nonlinear eigenvalue
+    /// problem*, Acta Numerica 26, §4.2. Null-space method for saddle-point systems: Benzi,
+    /// Golub & Liesen (2005), *Numerical solution of saddle point problems*, Acta Numerica
+    /// 14, §6.
+    ///
+    /// # Errors
+    /// A singular or non-finite factor.
+    pub fn triplet(&self, p0: Cplx) -> Result<Triplet, CeaError> {
+        // σ exactly at a computed root would make Q(σ) singular to round-off only in
+        // exceptional cases; nudge it by a relative 1e-10 so the LU is always usable, which
+        // the Newton step removes again.
+        let sigma = p0 + Cplx::new(0.0, 1e-10 * p0.norm().max(1.0));
+        let (p, x, y) = match &self.reduced {
+            Some(r) => self.iterate_reduced(r, sigma)?,
+            None => self.iterate_bordered(sigma)?,
+        };
+        Ok(self.finish(p0, p, x, y))
+    }
+
+    /// Inverse iteration on the bordered `Q(σ)`: (p, x, y).
+    fn iterate_bordered(
+        &self,
+        sigma: Cplx,
+    ) -> Result<(Option<Cplx>, Mat<c64>, Mat<c64>), CeaError> {
+        let (sys, c, n, ng) = (self.sys, self.c.as_ref(), self.n, self.ng);
+        let q = bordered(sys, c, sigma);
+        let lu: PartialPivLu<c64> = q.partial_piv_lu();
+        check_pivots(lu.U(), sigma)?;
+        let mut x = start(n + ng);
+        let mut y = start(n + ng);
+        for _ in 0..3 {
+            let mut b = dq_dp(sys, c, sigma, &x);
+            if norm(&b) == 0.0 {
+                b = x.clone();
+            }
+            lu.solve_in_place(&mut b);
+            let s = norm(&b);
+            scale(&mut b, Cplx::new(1.0 / s, 0.0));
+            x = b;
+            // yᴴ Q'(σ) = (Q'(σ)ᴴ y)ᴴ; Q'(σ) has only the (2σM + C) block.
+            let mut a = adjoint_dq_dp(sys, c, sigma, &y);
+            if norm(&a) == 0.0 {
+                a = y.clone();
+            }
+            lu.solve_adjoint_in_place(&mut a);
+            let s = norm(&a);
+            scale(&mut a, Cplx::new(1.0 / s, 0.0));
+            y = a;
+        }
+        let num = dot_h(&y, &(&q * &x));
+        let den = dot_h(&y, &dq_dp(sys, c, sigma, &x));
+        let p = (den.norm() > 0.0).then(|| sigma - num / den);
+        Ok((p, x, y))
+    }
+
+    /// Inverse iteration on the null-space form `R(σ)`: (p, x, y) of the bordered problem.
+    fn iterate_reduced(
+        &self,
+        r: &Reduced,
+        sigma: Cplx,
+    ) -> Result<(Option<Cplx>, Mat<c64>, Mat<c64>), CeaError> {
+        let (sys, c, n, ng) = (self.sys, self.c.as_ref(), self.n, self.ng);
+        let nr = r.elim.reduced_size();
+        let s2 = sigma * sigma;
+        let rc = r.c.as_ref();
+        let rs = Mat::<c64>::from_fn(nr, nr, |i, j| {
+            s2 * r.m[(i, j)] + sigma * rc.map_or(0.0, |c| c[(i, j)]) + r.k[(i, j)]
+        });
+        let lu: PartialPivLu<c64> = rs.partial_piv_lu();
+        check_pivots(lu.U(), sigma)?;
+        // R'(σ) q = Zᵀ (2σM + C) T q and its adjoint Tᵀ (2σM + C)ᴴ Z η.
+        let dp_times =
+            |phi: &[Cplx]| -> Vec<Cplx> { apply(sys, c, 2.0 * sigma, Cplx::new(1.0, 0.0), phi) };
+        let dp_adjoint = |psi: &[Cplx]| -> Vec<Cplx> {
+            apply_transposed(sys, c, (2.0 * sigma).conj(), Cplx::new(1.0, 0.0), psi)
+        };
+        let mut q = column(&start(nr));
+        let mut eta = column(&start(nr));
+        for _ in 0..3 {
+            let mut b = r.elim.restrict_left(&dp_times(&r.elim.expand_right(&q)));
+            if vnorm(&b) == 0.0 {
+                b = q.clone();
+            }
+            q = solve_normalised(&lu, b, false);
+            let mut a = r
+                .elim
+                .restrict_right(&dp_adjoint(&r.elim.expand_left(&eta)));
+            if vnorm(&a) == 0.0 {
+                a = eta.clone();
+            }
+            eta = solve_normalised(&lu, a, true);
+        }
+        let phi = r.elim.expand_right(&q);
+        let psi = r.elim.expand_left(&eta);
+        // ψᴴ X(σ) φ = ηᴴ R(σ) q, ψᴴ (2σM + C) φ = ηᴴ R'(σ) q.
+        let num = vdot(&psi, &x_times(sys, c, sigma, &phi));
+        let den = vdot(&psi, &dp_times(&phi));
+        let p = (den.norm() > 0.0).then(|| sigma - num / den);
+        let at = p.unwrap_or(sigma);
+        // The multipliers at the refined root.
+        let xphi = x_times(sys, c, at, &phi);
+        let nu = r.elim.multipliers(&xphi, false);
+        let xpsi = x_adjoint_times(sys, c, at, &psi);
+        let chi = r.elim.multipliers(&xpsi, true);
+        let x = Mat::<c64>::from_fn(n + ng, 1, |i, _| if i < n { phi[i] } else { nu[i - n] });
+        let mut y = Mat::<c64>::from_fn(n + ng, 1, |i, _| if i < n { psi[i] } else { chi[i - n] });
+        let s = norm(&y);
+        scale(&mut y, Cplx::new(1.0 / s, 0.0));
+        Ok((p, x, y))
+    }
+
+    /// Normalises x (φ unit 2-norm, largest entry real positive) and measures both residuals
+    /// at p.
+    fn finish(&self, p0: Cplx, p: Option<Cplx>, mut x: Mat<c64>, y: Mat<c64>) -> Triplet {
+        let (sys, c, n, ng) = (self.sys, self.c.as_ref(), self.n, self.ng);
+        let p = p.unwrap_or(p0);
+        // Normalise φ to unit 2-norm with its largest entry real positive (the CEA's
+        // convention).
+        let phi_norm = (0..n).map(|i| x[(i, 0)].norm_sqr()).sum::<f64>().sqrt();
+        let imax = (0..n)
+            .max_by(|&a, &b| x[(a, 0)].norm_sqr().total_cmp(&x[(b, 0)].norm_sqr()))
+            .unwrap_or(0);
+        if phi_norm > 0.0 && n > 0 {
+            let ph = x[(imax, 0)].conj() / x[(imax, 0)].norm();
+            scale(&mut x, ph / phi_norm);
+        }
+        let (phi, nu) = (
+            column(&x.subrows(0, n).to_owned()),
+            column(&x.subrows(n, ng).to_owned()),
+        );
+        let (psi, chi) = (
+            column(&y.subrows(0, n).to_owned()),
+            column(&y.subrows(n, ng).to_owned()),
+        );
+        // ‖Q(p)‖_F² = ‖X(p)‖_F² + ‖Gᵀ − D‖_F² + ‖G‖_F².
+        let mut q2 = 0.0;
+        for j in 0..n {
+            for i in 0..n {
+                let v = p * p * sys.m[(i, j)] + p * c.map_or(0.0, |c| c[(i, j)]) + sys.k[(i, j)];
+                q2 += v.norm_sqr();
+            }
+        }
+        if let Some(g) = &sys.g {
+            for j in 0..n {
+                for i in 0..ng {
+                    let a = g[(i, j)] - sys.d.as_ref().map_or(0.0, |d| d[(j, i)]);
+                    q2 += a * a + g[(i, j)] * g[(i, j)];
+                }
+            }
+        }
+        let qnorm = q2.sqrt();
+        // Q(p) x = [X φ + A ν; G φ], Q(p)ᴴ y = [Xᴴ ψ + Gᵀ χ; Aᵀ ψ].
+        let mut rx = x_times(sys, c, p, &phi);
+        let mut ry = x_adjoint_times(sys, c, p, &psi);
+        let mut r2x = 0.0;
+        let mut r2y = 0.0;
+        if let Some(g) = &sys.g {
+            for k in 0..ng {
+                let (mut gphi, mut apsi) = (Cplx::new(0.0, 0.0), Cplx::new(0.0, 0.0));
+                for i in 0..n {
+                    let a = g[(k, i)] - sys.d.as_ref().map_or(0.0, |d| d[(i, k)]);
+                    rx[i] += a * nu[k];
+                    ry[i] += g[(k, i)] * chi[k];
+                    gphi += g[(k, i)] * phi[i];
+                    apsi += a * psi[i];
+                }
+                r2x += gphi.norm_sqr();
+                r2y += apsi.norm_sqr();
+            }
+        }
+        r2x += rx.iter().map(|z| z.norm_sqr()).sum::<f64>();
+        r2y += ry.iter().map(|z| z.norm_sqr()).sum::<f64>();
+        let residual = r2x.sqrt() / (qnorm * norm(&x));
+        let left_residual = r2y.sqrt() / (qnorm * norm(&y));
+        Triplet {
+            p,
+            phi,
+            nu,
+            psi,
+            chi,
+            residual,
+            left_residual,
+        }
+    }
+}
+
+fn check_pivots(u: faer::MatRef<'_, c64>, sigma: Cplx) -> Result<(), CeaError> {
+    for i in 0..u.nrows() {
         if !u[(i, i)].norm().is_finite() || u[(i, i)].norm() == 0.0 {
             return Err(CeaError::SingularShift {
                 re: sigma.re,
@@ -125,60 +383,102 @@ pub fn eigen_triplet(sys: &CeaMatrices, p0: Cplx) -> Result<Triplet, CeaError> {
             });
         }
     }
-    let mut x = start(n + ng);
-    let mut y = start(n + ng);
-    for _ in 0..3 {
-        let mut b = dq_dp(sys, c, sigma, &x);
-        if norm(&b) == 0.0 {
-            b = x.clone();
-        }
-        lu.solve_in_place(&mut b);
-        let s = norm(&b);
-        scale(&mut b, Cplx::new(1.0 / s, 0.0));
-        x = b;
-        // yᴴ Q'(σ) = (Q'(σ)ᴴ y)ᴴ; Q'(σ) has only the (2σM + C) block.
-        let mut a = adjoint_dq_dp(sys, c, sigma, &y);
-        if norm(&a) == 0.0 {
-            a = y.clone();
-        }
-        lu.solve_adjoint_in_place(&mut a);
-        let s = norm(&a);
-        scale(&mut a, Cplx::new(1.0 / s, 0.0));
-        y = a;
-    }
-    let num = dot_h(&y, &(&q * &x));
-    let den = dot_h(&y, &dq_dp(sys, c, sigma, &x));
-    let p = if den.norm() > 0.0 {
-        sigma - num / den
+    Ok(())
+}
+
+/// The first column of a one-column matrix as a vector.
+fn column(x: &Mat<c64>) -> Vec<Cplx> {
+    (0..x.nrows()).map(|i| x[(i, 0)]).collect()
+}
+
+fn vnorm(x: &[Cplx]) -> f64 {
+    x.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt()
+}
+
+fn vdot(y: &[Cplx], x: &[Cplx]) -> Cplx {
+    y.iter().zip(x).map(|(a, b)| a.conj() * b).sum()
+}
+
+/// `lu⁻¹ b` (or `lu⁻ᴴ b`), scaled to unit norm.
+fn solve_normalised(lu: &PartialPivLu<c64>, b: Vec<Cplx>, adjoint: bool) -> Vec<Cplx> {
+    let mut m = Mat::<c64>::from_fn(b.len(), 1, |i, _| b[i]);
+    if adjoint {
+        lu.solve_adjoint_in_place(&mut m);
     } else {
-        p0
-    };
-    // Normalise φ to unit 2-norm with its largest entry real positive (the CEA's convention).
-    let phi_norm = (0..n).map(|i| x[(i, 0)].norm_sqr()).sum::<f64>().sqrt();
-    let imax = (0..n)
-        .max_by(|&a, &b| x[(a, 0)].norm_sqr().total_cmp(&x[(b, 0)].norm_sqr()))
-        .unwrap_or(0);
-    if phi_norm > 0.0 && n > 0 {
-        let ph = x[(imax, 0)].conj() / x[(imax, 0)].norm();
-        scale(&mut x, ph / phi_norm);
+        lu.solve_in_place(&mut m);
     }
-    let qp = bordered(sys, c, p);
-    let qnorm = (0..n + ng)
-        .flat_map(|j| (0..n + ng).map(move |i| (i, j)))
-        .map(|(i, j)| qp[(i, j)].norm_sqr())
-        .sum::<f64>()
-        .sqrt();
-    let residual = norm(&(&qp * &x)) / (qnorm * norm(&x));
-    let left_residual = norm(&(qp.adjoint() * &y)) / (qnorm * norm(&y));
-    Ok(Triplet {
-        p,
-        phi: (0..n).map(|i| x[(i, 0)]).collect(),
-        nu: (n..n + ng).map(|i| x[(i, 0)]).collect(),
-        psi: (0..n).map(|i| y[(i, 0)]).collect(),
-        chi: (n..n + ng).map(|i| y[(i, 0)]).collect(),
-        residual,
-        left_residual,
-    })
+    let s = norm(&m);
+    (0..b.len()).map(|i| m[(i, 0)] / s).collect()
+}
+
+/// `(a M + b C) x` for a complex vector x (M, C real: their products with Re x and Im x).
+fn apply(sys: &CeaMatrices, c: Option<&Mat<f64>>, a: Cplx, b: Cplx, x: &[Cplx]) -> Vec<Cplx> {
+    let xr = Mat::<f64>::from_fn(x.len(), 2, |i, j| if j == 0 { x[i].re } else { x[i].im });
+    let mx = &sys.m * &xr;
+    let cx = c.map(|c| c * &xr);
+    (0..x.len())
+        .map(|i| {
+            let mut v = a * Cplx::new(mx[(i, 0)], mx[(i, 1)]);
+            if let Some(cx) = &cx {
+                v += b * Cplx::new(cx[(i, 0)], cx[(i, 1)]);
+            }
+            v
+        })
+        .collect()
+}
+
+/// `(a Mᵀ + b Cᵀ) x`.
+fn apply_transposed(
+    sys: &CeaMatrices,
+    c: Option<&Mat<f64>>,
+    a: Cplx,
+    b: Cplx,
+    x: &[Cplx],
+) -> Vec<Cplx> {
+    let xr = Mat::<f64>::from_fn(x.len(), 2, |i, j| if j == 0 { x[i].re } else { x[i].im });
+    let mx = sys.m.transpose() * &xr;
+    let cx = c.map(|c| c.transpose() * &xr);
+    (0..x.len())
+        .map(|i| {
+            let mut v = a * Cplx::new(mx[(i, 0)], mx[(i, 1)]);
+            if let Some(cx) = &cx {
+                v += b * Cplx::new(cx[(i, 0)], cx[(i, 1)]);
+            }
+            v
+        })
+        .collect()
+}
+
+/// `K x` (or `Kᵀ x`).
+fn kx_of(sys: &CeaMatrices, x: &[Cplx], transposed: bool) -> Vec<Cplx> {
+    let xr = Mat::<f64>::from_fn(x.len(), 2, |i, j| if j == 0 { x[i].re } else { x[i].im });
+    let kx = if transposed {
+        sys.k.transpose() * &xr
+    } else {
+        &sys.k * &xr
+    };
+    (0..x.len())
+        .map(|i| Cplx::new(kx[(i, 0)], kx[(i, 1)]))
+        .collect()
+}
+
+/// `X(p) x = (p²M + pC + K) x`.
+fn x_times(sys: &CeaMatrices, c: Option<&Mat<f64>>, p: Cplx, x: &[Cplx]) -> Vec<Cplx> {
+    let mut v = apply(sys, c, p * p, p, x);
+    v.iter_mut()
+        .zip(kx_of(sys, x, false))
+        .for_each(|(a, b)| *a += b);
+    v
+}
+
+/// `X(p)ᴴ x = (p̄²Mᵀ + p̄Cᵀ + Kᵀ) x`.
+fn x_adjoint_times(sys: &CeaMatrices, c: Option<&Mat<f64>>, p: Cplx, x: &[Cplx]) -> Vec<Cplx> {
+    let pc = p.conj();
+    let mut v = apply_transposed(sys, c, pc * pc, pc, x);
+    v.iter_mut()
+        .zip(kx_of(sys, x, true))
+        .for_each(|(a, b)| *a += b);
+    v
 }
 
 /// `Q'(σ)ᴴ y = [(2σM + C)ᴴ ψ; 0]`.

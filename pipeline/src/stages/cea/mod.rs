@@ -387,11 +387,15 @@ pub fn compute(
         };
         let s = sensitivity::sensitivities(&base, &sys, &kept, &unstable)?;
         step.done(format!(
-            "{} roots x {} parameters ({} steady states, {:.2} s)",
+            "{} roots x {} parameters ({} steady states, {:.2} s: eigenvectors {:.2} s, \
+             matrix derivatives {:.2} s, products {:.2} s)",
             s.roots.len(),
             s.parameters.len(),
             s.n_state_solves,
-            s.time_s
+            s.time_s,
+            s.time_triplets_s,
+            s.time_derivatives_s,
+            s.time_products_s
         ));
         Some(s)
     } else {
