@@ -37,6 +37,11 @@ pub struct BandReport {
     pub cutoff_factor: Real,
     /// `transient.band_tolerance`: the largest admissible error estimate.
     pub tolerance: Real,
+    /// The contact's velocity rows (relative tangential velocities and the rotor's normal
+    /// velocity at each gap) and the independent outputs the model reads them from (fewer
+    /// when the rows are dependent, as on an interface-reduced rotor).
+    pub velocity_rows: usize,
+    pub velocity_outputs: usize,
     /// Kept, removed (count, the largest removed unstable root), the error estimate.
     #[serde(flatten)]
     pub stats: squeal_solver::condense::BandStats,
@@ -52,7 +57,7 @@ impl BandReport {
         format!(
             "band-limited model: cut-off {:.1} Hz ({} x band {:.1} Hz); kept {} roots ({} states), \
              removed {} ({} unstable, largest {largest}); error estimate {:.2e} at {:.1} Hz \
-             (tolerance {:.0e})",
+             (tolerance {:.0e}); {} velocity rows read through {} outputs",
             s.cutoff_hz,
             self.cutoff_factor,
             s.band_hz,
@@ -62,7 +67,9 @@ impl BandReport {
             s.removed_unstable,
             s.error_estimate,
             s.error_at_hz,
-            self.tolerance
+            self.tolerance,
+            self.velocity_rows,
+            self.velocity_outputs
         )
     }
 }
@@ -78,6 +85,40 @@ pub struct Band {
     pub t_ref: Real,
     /// The largest sliding speed (the velocity scale of the harmonic balance).
     pub velocity_scale: Real,
+}
+
+/// Relative singular value below which a velocity row is a combination of the others.
+const ROW_RANK_TOL: Real = 1e-10;
+
+/// The velocity rows R (rows × contact DOFs) as the model reads them: R itself when its rows
+/// are independent (None), else an orthonormal basis Qᵀ of their span (rank × contact DOFs,
+/// from the SVD Rᵀ = U Σ Vᵀ, singular values above `ROW_RANK_TOL` × the largest) with the map
+/// R Q = V Σ (rows × rank) from its outputs back to the rows. Every row of R is in the span,
+/// so R v = (R Q)(Qᵀ v) exactly for every v.
+fn independent_rows(rows: Mat<Real>) -> Result<(Mat<Real>, Option<Mat<Real>>), PipelineError> {
+    let (nr, nc) = (rows.nrows(), rows.ncols());
+    if nr == 0 {
+        return Ok((rows, None));
+    }
+    let svd = rows
+        .transpose()
+        .thin_svd()
+        .map_err(|e| PipelineError::Scene {
+            field: "transient.band_limited".into(),
+            message: format!("the SVD of the {nr} x {nc} contact velocity rows failed: {e:?}"),
+        })?;
+    let s = svd.S().column_vector();
+    let smax = (0..s.nrows()).map(|i| s[i]).fold(0.0, Real::max);
+    let keep: Vec<usize> = (0..s.nrows())
+        .filter(|&i| s[i] > ROW_RANK_TOL * smax)
+        .collect();
+    if keep.len() == nr {
+        return Ok((rows, None));
+    }
+    let (u, v) = (svd.U(), svd.V());
+    let q_t = Mat::from_fn(keep.len(), nc, |r, a| u[(a, keep[r])]);
+    let to_rows = Mat::from_fn(nr, keep.len(), |r, c| v[(r, keep[c])] * s[keep[c]]);
+    Ok((q_t, Some(to_rows)))
 }
 
 /// Rows (ng × n) of the direction `dir(g)` of each gap's relative motion (rotor minus pad, or
@@ -241,6 +282,12 @@ pub fn build(
     }
     let n_rows = row_list.len();
     let rows = Mat::from_fn(n_rows, nc, |r, a| row_list[r][a]);
+    // The rows read the model's velocities through its reduced coordinates: on an
+    // interface-reduced rotor the rotor's normal velocity at every gap is a combination of the
+    // interface's few coordinates, so the rows are dependent. The model then reads an
+    // orthonormal basis of their span (`outputs`), from which every row is exact.
+    let (rows, to_rows) = independent_rows(rows)?;
+    let velocity_outputs = rows.nrows();
     let compliant: Vec<usize> = (0..ng).filter(|&k| compliance[k] > 0.0).collect();
     let inputs = Inputs {
         load: problem.load.p_brake.clone(),
@@ -262,6 +309,8 @@ pub fn build(
     let report = BandReport {
         cutoff_factor: spec.band_cutoff,
         tolerance: spec.band_tolerance,
+        velocity_rows: n_rows,
+        velocity_outputs,
         stats: bm.stats.clone(),
     };
     let open_force: Vec<Option<Real>> = (0..ng)
@@ -288,11 +337,15 @@ pub fn build(
     })?;
     let faces: Vec<usize> = face_of.iter().flatten().copied().collect();
     debug_assert!(faces.iter().all(|&r| r >= first_face));
-    let face = Mat::from_fn(
+    let face_rows = Mat::from_fn(
         faces.len(),
         n_rows,
         |g, r| if r == faces[g] { 1.0 } else { 0.0 },
     );
+    let face = match &to_rows {
+        Some(t) => &face_rows * t,
+        None => face_rows,
+    };
     let velocity_scale = gaps
         .gaps
         .iter()
