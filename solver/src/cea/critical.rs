@@ -111,6 +111,14 @@ pub(super) struct Follow {
     thr: f64,
 }
 
+/// A fully evaluated trial: the exact point, the projected one, the best-MAC exact shape, the
+/// refinement shifts and what the next trials need to follow the root.
+type ExactTrial = (Point, Point, Vec<Cplx>, usize, Option<Follow>);
+
+/// A trial whose root was followed: the point, its shape, the backward error, the
+/// iterations.
+type FollowedTrial = (Point, Vec<Cplx>, f64, usize);
+
 /// Largest relative frequency difference from the best-MAC mode of a coalescing partner in
 /// [`tracked`].
 const PARTNER_FREQUENCY_TOL: f64 = 0.1;
@@ -238,7 +246,7 @@ where
         mu: f64,
         reference: &[Cplx],
         band_hz: f64,
-    ) -> Result<(Point, Point, Vec<Cplx>, usize, Option<Follow>), CeaError> {
+    ) -> Result<ExactTrial, CeaError> {
         self.cea.check_interrupt("the exact critical-mu search")?;
         let sys = self.system(mu)?;
         let Some(basis) = self.basis.as_ref() else {
@@ -327,7 +335,7 @@ where
         &mut self,
         mu: f64,
         fw: &mut Follow,
-    ) -> Result<Option<(Point, Vec<Cplx>, f64, usize)>, CeaError> {
+    ) -> Result<Option<FollowedTrial>, CeaError> {
         self.cea.check_interrupt("the exact critical-mu search")?;
         let sys = self.system(mu)?;
         let same_g = match (&sys.g, self.basis.as_ref().and_then(|b| b.g_ref.as_ref())) {
