@@ -107,6 +107,10 @@ pub(super) struct Follow {
     kept: KeptFactor,
     /// The exact tracked root followed, with its shape.
     root: (Cplx, Vec<Cplx>),
+    /// The exact coalescing partner at the refined trial, if the tracked root had one: a
+    /// followed root that moved by a quarter of the distance to it or more is refused (it may
+    /// have converged to the partner, whose shape is close near a coalescence).
+    partner: Option<Cplx>,
     /// The instability threshold of the refined trial (unstable_tol × its spectral radius).
     thr: f64,
 }
@@ -308,6 +312,7 @@ where
             Some(kept) if exact_root(top) => Some(Follow {
                 kept,
                 root: (r.modes[top].eigenvalue, r.modes[top].shape.clone()),
+                partner: (best != top && exact_root(best)).then(|| r.modes[best].eigenvalue),
                 thr,
             }),
             _ => None,
@@ -327,8 +332,9 @@ where
 
     /// The exact tracked root at μ followed from the last refined trial ([`follow`]) by
     /// residual inverse iteration with that trial's LU. `None` (the caller then refines
-    /// afresh, with the system built here) when the iteration did not converge or the shape
-    /// moved (MAC with the last one below [`FOLLOW_MAC_MIN`]: another root was reached).
+    /// afresh, with the system built here) when the iteration did not converge, the shape
+    /// moved (MAC with the last one below [`FOLLOW_MAC_MIN`]: another root was reached) or
+    /// the root moved a quarter of the way to its coalescing partner or more.
     /// Returns the point, its shape (the next reference), the backward error and the
     /// iterations.
     fn follow_point(
@@ -346,8 +352,12 @@ where
         let x = if same_g {
             let c = damping(&sys);
             let (p0, u0) = &fw.root;
+            let near = |p: Cplx| {
+                fw.partner
+                    .is_none_or(|q| (p - p0).norm() < 0.25 * (q - p0).norm())
+            };
             follow(&fw.kept, &sys, c.as_ref(), *p0, u0, tol, FOLLOW_MAX_ITER)?
-                .filter(|x| super::mac(u0, &x.u) >= FOLLOW_MAC_MIN)
+                .filter(|x| super::mac(u0, &x.u) >= FOLLOW_MAC_MIN && near(x.p))
         } else {
             None
         };
