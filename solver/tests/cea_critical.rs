@@ -343,4 +343,24 @@ fn enriched_basis_keeps_the_projection_exact_across_the_sweep() {
     let x = cr.exact.as_ref().expect("refined exactly");
     assert!(x.converged);
     assert!((cr.mu - reference).abs() <= opts(true).exact_critical_tol);
+    // The trials after the first followed its exact roots with its LU (residual inverse
+    // iteration): one factorisation for the whole search, and the crossing above is the
+    // dense bisection's all the same.
+    eprintln!(
+        "enriched exact search: {} evaluations, {} followed ({} iterations, largest backward \
+         error {:?}), {} shifts",
+        x.n_solves, x.n_followed, x.n_follow_iterations, x.max_followed_residual, x.n_shifts
+    );
+    assert_eq!(x.n_followed, x.n_solves - 1);
+    assert_eq!(x.n_shifts, 1);
+    // The iteration stops at the refinement's tolerance (refine.tol = 1e-10; measured 2.9e-12).
+    assert!(x.max_followed_residual.unwrap() <= opts(true).cea.projection.refine.tol);
+    assert_eq!(
+        rich.stats.n_critical_exact_followed,
+        rich.tracks
+            .iter()
+            .filter_map(|t| t.critical.as_ref()?.exact.as_ref())
+            .map(|x| x.n_followed)
+            .sum::<usize>()
+    );
 }

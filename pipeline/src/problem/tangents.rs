@@ -185,14 +185,25 @@ pub fn cea_matrices(
     lin: &Linearisation,
     friction_damping: bool,
 ) -> Result<CeaMatrices, PipelineError> {
+    cea_matrices_of(problem, lin.d.clone(), lin.c_f.clone(), friction_damping)
+}
+
+/// [`cea_matrices`] taking the tangents `d` and `c_f` of the linearisation by value (a
+/// friction sweep builds them afresh at every μ: no copy of n × n and n × ng matrices).
+pub fn cea_matrices_of(
+    problem: &Problem,
+    d: Mat<Real>,
+    c_f: Mat<Real>,
+    friction_damping: bool,
+) -> Result<CeaMatrices, PipelineError> {
     let has_g = problem.g.nrows() > 0;
     let rigid = CeaMatrices {
         m: problem.m.clone(),
         k: problem.k.clone(),
         b: Some(problem.b.clone()),
         g: has_g.then(|| problem.g.clone()),
-        d: has_g.then(|| lin.d.clone()), // [Paper eq. (22)]
-        c_f: friction_damping.then(|| lin.c_f.clone()), // [Paper eq. (23)]
+        d: has_g.then_some(d),                // [Paper eq. (22)]
+        c_f: friction_damping.then_some(c_f), // [Paper eq. (23)]
     };
     if problem.compliance.is_empty() {
         return Ok(rigid);

@@ -72,7 +72,7 @@ pub struct CeaSweepSpec {
     /// root (shift-invert refinement of the tracked root; default: true).
     pub refine_critical: bool,
     /// With `refine_critical`: how many in-band onsets, lowest first, are moved to the exact
-    /// crossing (default: 4; the others keep the projected crossing).
+    /// crossing (default: 32; the others keep the projected crossing).
     pub max_exact_onsets: usize,
     /// With the projection method, enrich the basis with exact eigenvectors at the sweep's
     /// μ until its least stable in-band roots are within `enrich_tol` at a μ it was not

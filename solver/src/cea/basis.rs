@@ -33,6 +33,9 @@ pub struct ModalBasis {
     pub(crate) kpsi: Mat<f64>,
     pub(crate) b_ref: Option<Mat<f64>>,
     pub(crate) bpsi: Option<Mat<f64>>,
+    /// The μ-independent blocks of the Galerkin projection of a friction sweep
+    /// ([`super::project`]; `None` without constraints).
+    pub(crate) blocks: Option<Blocks>,
     /// Size of the reduced problem n − ng.
     pub(crate) n_reduced: usize,
     /// σ_min(G)/σ_max(G).
@@ -91,7 +94,9 @@ impl ModalBasis {
         debug_assert_eq!(psi.nrows(), n);
         let kpsi = &sys.k * &psi;
         let bpsi = sys.b.as_ref().map(|b| b * &psi);
+        let blocks = Blocks::new(&psi, y.as_ref(), gt.as_ref(), &kpsi, bpsi.as_ref());
         Ok(ModalBasis {
+            blocks,
             k_ref: sys.k.clone(),
             kpsi,
             b_ref: sys.b.clone(),
@@ -196,6 +201,13 @@ impl ModalBasis {
             self.bpsi = Some(ext(bp, b * &wn));
         }
         self.psi = ext(&self.psi, wn);
+        self.blocks = Blocks::new(
+            &self.psi,
+            self.y.as_ref(),
+            self.gt.as_ref(),
+            &self.kpsi,
+            self.bpsi.as_ref(),
+        );
         self.n_enriched += added;
         Ok(added)
     }
@@ -228,6 +240,48 @@ impl ModalBasis {
     /// Wall time of the basis computation, seconds.
     pub fn time_s(&self) -> f64 {
         self.time_s
+    }
+}
+
+/// The products of the Galerkin projection that do not change with the friction (K, B, M and
+/// G of the reference state), made once per basis: with `W = [Ψ, Y]` (n × (nb + ng)),
+/// `Y = M⁻¹Gᵀ`, the blocks `WᵀKΨ`, `WᵀBΨ` and `WᵀGᵀ` (see [`ModalBasis::solve`]).
+#[derive(Debug, Clone)]
+pub(crate) struct Blocks {
+    /// `W = [Ψ, Y]`.
+    pub(crate) w: Mat<f64>,
+    /// `WᵀKΨ` ((nb + ng) × nb).
+    pub(crate) wk: Mat<f64>,
+    /// `WᵀBΨ` ((nb + ng) × nb; `None` without B).
+    pub(crate) wb: Option<Mat<f64>>,
+    /// `WᵀGᵀ` ((nb + ng) × ng): `(GΨ)ᵀ` (zero to round-off) over `YᵀGᵀ = GM⁻¹Gᵀ`.
+    pub(crate) wg: Mat<f64>,
+}
+
+impl Blocks {
+    fn new(
+        psi: &Mat<f64>,
+        y: Option<&Mat<f64>>,
+        gt: Option<&Mat<f64>>,
+        kpsi: &Mat<f64>,
+        bpsi: Option<&Mat<f64>>,
+    ) -> Option<Self> {
+        let (y, gt) = (y?, gt?);
+        let (n, nb, ng) = (psi.nrows(), psi.ncols(), y.ncols());
+        let w = Mat::from_fn(n, nb + ng, |i, j| {
+            if j < nb {
+                psi[(i, j)]
+            } else {
+                y[(i, j - nb)]
+            }
+        });
+        let wt = w.transpose();
+        Some(Blocks {
+            wk: wt * kpsi,
+            wb: bpsi.map(|b| wt * b),
+            wg: wt * gt,
+            w,
+        })
     }
 }
 

@@ -3,7 +3,10 @@
 //! the exact root by a bracket search and regula falsi on the exact Re p, each value from a
 //! shift-invert refinement.
 
-use super::refine::refine_targets;
+use super::eigen::normalise_shape;
+use super::onset::follow;
+use super::operator::damping;
+use super::refine::{KeptFactor, RefineOptions, RefineRun};
 use super::sweep::Solver;
 use super::{CeaError, CeaMatrices, Cplx, Mode, SweepOptions};
 use serde::{Serialize, Serializer};
@@ -30,8 +33,18 @@ pub struct CriticalExact {
     pub eigenvalue: Cplx,
     /// Its frequency, Hz.
     pub frequency_hz: f64,
-    /// Exact evaluations (a build, a projected solve and a shift-invert refinement each).
+    /// Exact evaluations: a build and either a projected solve and a shift-invert
+    /// refinement, or (`n_followed` of them) the root followed from the last refined state.
     pub n_solves: usize,
+    /// Of those, evaluations that followed the exact root(s) from the previous trial by
+    /// residual inverse iteration with that trial's LU (no new factorisation, no projected
+    /// solve; [`super::onset`]).
+    pub n_followed: usize,
+    /// Residual inverse iterations over the followed evaluations (one solve with the kept
+    /// LU for three right-hand sides each).
+    pub n_follow_iterations: usize,
+    /// Largest backward error of a followed root (`None`: none followed).
+    pub max_followed_residual: Option<f64>,
     /// Refinement shifts (complex LUs of size n + ng) over those evaluations.
     pub n_shifts: usize,
     /// Largest |p_exact − p_projected| / |p_exact| of the tracked root over the evaluations.
@@ -77,6 +90,38 @@ impl Bracket {
         self.hi.mu - self.lo.mu
     }
 }
+
+/// First Krylov dimension of a critical-μ trial's refinement (at least two blocks).
+const CRITICAL_KRYLOV_DIM: usize = 8;
+
+/// Most residual inverse iterations when following an exact root to the next trial μ.
+const FOLLOW_MAX_ITER: usize = 30;
+
+/// Smallest MAC between a followed root's shape and its shape at the last trial (a few 1e-5
+/// apart in μ the shape barely moves; a lower MAC means another root was reached).
+const FOLLOW_MAC_MIN: f64 = 0.9;
+
+/// What the next trial of a critical-μ search needs to follow the exact roots of the last
+/// refined one ([`follow`]).
+pub(super) struct Follow {
+    kept: KeptFactor,
+    /// The exact tracked root followed, with its shape.
+    root: (Cplx, Vec<Cplx>),
+    /// The exact coalescing partner at the refined trial, if the tracked root had one: a
+    /// followed root that moved by a quarter of the distance to it or more is refused (it may
+    /// have converged to the partner, whose shape is close near a coalescence).
+    partner: Option<Cplx>,
+    /// The instability threshold of the refined trial (unstable_tol × its spectral radius).
+    thr: f64,
+}
+
+/// A fully evaluated trial: the exact point, the projected one, the best-MAC exact shape, the
+/// refinement shifts and what the next trials need to follow the root.
+type ExactTrial = (Point, Point, Vec<Cplx>, usize, Option<Follow>);
+
+/// A trial whose root was followed: the point, its shape, the backward error, the
+/// iterations.
+type FollowedTrial = (Point, Vec<Cplx>, f64, usize);
 
 /// Largest relative frequency difference from the best-MAC mode of a coalescing partner in
 /// [`tracked`].
@@ -198,13 +243,14 @@ where
     /// The exact tracked root at μ: the system built, projected on the basis, the tracked
     /// root (and the best-MAC mode, its coalescing partner near an onset) refined by
     /// shift-invert Arnoldi. Returns the exact point, the projected one, the best-MAC exact
-    /// shape and the shifts.
+    /// shape, the shifts and what the next trials need to follow those roots without a new
+    /// factorisation (`None` when the factorisation was not the reduced one).
     fn exact_point(
         &mut self,
         mu: f64,
         reference: &[Cplx],
         band_hz: f64,
-    ) -> Result<(Point, Point, Vec<Cplx>, usize), CeaError> {
+    ) -> Result<ExactTrial, CeaError> {
         self.cea.check_interrupt("the exact critical-mu search")?;
         let sys = self.system(mu)?;
         let Some(basis) = self.basis.as_ref() else {
@@ -231,19 +277,46 @@ where
         } else {
             vec![top, best]
         };
+        let split = self.slave_split(&sys);
+        // One or two targets next to the shift (the projected root, ~1e-5 off on an enriched
+        // basis): the first Krylov space need not be the default's; it grows by
+        // `krylov_step` while a target is not settled, as always.
         let ro = &self.cea.projection.refine;
+        let ro = RefineOptions {
+            krylov_dim: ro.krylov_dim.min(CRITICAL_KRYLOV_DIM.max(2 * ro.block)),
+            ..ro.clone()
+        };
         // The band only decides which exact roots found near the shift are added as missed.
-        let st = refine_targets(
-            &sys,
-            &mut r.modes,
-            targets,
+        let run = RefineRun {
             band_hz,
-            thr,
-            ro,
-            &self.cea.interrupt,
-        )?;
+            unstable_tol_abs: thr,
+            opts: &ro,
+            interrupt: &self.cea.interrupt,
+            split: split.as_ref(),
+            keep: true,
+        };
+        let (st, kept) = run.targets(&sys, &mut r.modes, targets)?;
         let (top, best) = tracked(&r.modes, reference).ok_or_else(none)?;
         let m = &r.modes[top];
+        // Follow the refined roots only (a root the refinement did not converge is not exact).
+        let exact_root = |i: usize| {
+            st.roots.iter().any(|x| {
+                x.exact.re == r.modes[i].eigenvalue.re
+                    && x.exact.im.abs() == r.modes[i].eigenvalue.im
+            })
+        };
+        // Only the tracked (more unstable) root is followed: the LU is shifted at it, and a
+        // coalescing partner (the stabilised member of the pair past the onset) would not
+        // converge with it.
+        let follow = match kept {
+            Some(kept) if exact_root(top) => Some(Follow {
+                kept,
+                root: (r.modes[top].eigenvalue, r.modes[top].shape.clone()),
+                partner: (best != top && exact_root(best)).then(|| r.modes[best].eigenvalue),
+                thr,
+            }),
+            _ => None,
+        };
         Ok((
             Point {
                 mu,
@@ -253,7 +326,63 @@ where
             projected,
             r.modes[best].shape.clone(),
             st.n_shifts,
+            follow,
         ))
+    }
+
+    /// The exact tracked root at μ followed from the last refined trial ([`follow`]) by
+    /// residual inverse iteration with that trial's LU. `None` (the caller then refines
+    /// afresh, with the system built here) when the iteration did not converge, the shape
+    /// moved (MAC with the last one below [`FOLLOW_MAC_MIN`]: another root was reached) or
+    /// the root moved a quarter of the way to its coalescing partner or more.
+    /// Returns the point, its shape (the next reference), the backward error and the
+    /// iterations.
+    fn follow_point(
+        &mut self,
+        mu: f64,
+        fw: &mut Follow,
+    ) -> Result<Option<FollowedTrial>, CeaError> {
+        self.cea.check_interrupt("the exact critical-mu search")?;
+        let sys = self.system(mu)?;
+        let same_g = match (&sys.g, self.basis.as_ref().and_then(|b| b.g_ref.as_ref())) {
+            (Some(a), Some(b)) => a == b,
+            _ => false,
+        };
+        let tol = self.cea.projection.refine.tol;
+        let x = if same_g {
+            let c = damping(&sys);
+            let (p0, u0) = &fw.root;
+            let near = |p: Cplx| {
+                fw.partner
+                    .is_none_or(|q| (p - p0).norm() < 0.25 * (q - p0).norm())
+            };
+            follow(&fw.kept, &sys, c.as_ref(), *p0, u0, tol, FOLLOW_MAX_ITER)?
+                .filter(|x| super::mac(u0, &x.u) >= FOLLOW_MAC_MIN && near(x.p))
+        } else {
+            None
+        };
+        let Some(x) = x else {
+            // Keep the system for the refinement that follows.
+            self.put_back(mu, sys);
+            return Ok(None);
+        };
+        let p = Cplx::new(x.p.re, x.p.im.abs());
+        let u = if x.p.im < 0.0 {
+            x.u.iter().map(|z| z.conj()).collect()
+        } else {
+            x.u
+        };
+        fw.root = (p, normalise_shape(u));
+        Ok(Some((
+            Point {
+                mu,
+                f: p.re - fw.thr,
+                p,
+            },
+            fw.root.1.clone(),
+            x.residual,
+            x.iterations,
+        )))
     }
 
     /// The crossing of the exact root near the projected one (`projected`, the final bracket
@@ -286,6 +415,9 @@ where
             eigenvalue: p_p,
             frequency_hz: p_p.im.abs() / (2.0 * std::f64::consts::PI),
             n_solves: 0,
+            n_followed: 0,
+            n_follow_iterations: 0,
+            max_followed_residual: None,
             n_shifts: 0,
             max_rel_root_error: 0.0,
             max_real_part_error: 0.0,
@@ -293,18 +425,32 @@ where
             time_s: 0.0,
         };
         let mut reference = reference;
-        let eval = |s: &mut Self, mu: f64, reference: &mut Vec<Cplx>, out: &mut CriticalExact| {
-            let (e, pr, shape, shifts) = s.exact_point(mu, reference, band_hz)?;
-            out.n_solves += 1;
-            out.n_shifts += shifts;
-            let err = (e.p - pr.p).norm();
-            out.max_rel_root_error = out
-                .max_rel_root_error
-                .max(err / e.p.norm().max(f64::MIN_POSITIVE));
-            out.max_real_part_error = out.max_real_part_error.max((e.p.re - pr.p.re).abs());
-            *reference = shape;
-            Ok::<Point, CeaError>(e)
-        };
+        let mut cont: Option<Follow> = None;
+        let mut eval =
+            |s: &mut Self, mu: f64, reference: &mut Vec<Cplx>, out: &mut CriticalExact| {
+                if let Some(fw) = cont.as_mut() {
+                    if let Some((e, shape, residual, its)) = s.follow_point(mu, fw)? {
+                        out.n_solves += 1;
+                        out.n_followed += 1;
+                        out.n_follow_iterations += its;
+                        out.max_followed_residual =
+                            Some(out.max_followed_residual.unwrap_or(0.0).max(residual));
+                        *reference = shape;
+                        return Ok::<Point, CeaError>(e);
+                    }
+                }
+                let (e, pr, shape, shifts, follow) = s.exact_point(mu, reference, band_hz)?;
+                cont = follow;
+                out.n_solves += 1;
+                out.n_shifts += shifts;
+                let err = (e.p - pr.p).norm();
+                out.max_rel_root_error = out
+                    .max_rel_root_error
+                    .max(err / e.p.norm().max(f64::MIN_POSITIVE));
+                out.max_real_part_error = out.max_real_part_error.max((e.p.re - pr.p.re).abs());
+                *reference = shape;
+                Ok::<Point, CeaError>(e)
+            };
         // Bracket the exact crossing.
         let mut a = eval(self, mu_p, &mut reference, &mut out)?;
         let dir = if a.f > 0.0 { -1.0 } else { 1.0 };

@@ -3,7 +3,7 @@
 //! sweep's μ where the projection is worst are added to the friction-free modes until the
 //! projection is within a tolerance at a μ it was not enriched at.
 
-use super::refine::refine_targets;
+use super::refine::RefineRun;
 use super::sweep::{refine_comparison, Solver};
 use super::{CeaError, CeaMatrices, Cplx, SweepOptions};
 use serde::Serialize;
@@ -91,15 +91,16 @@ where
         targets.sort_by(|&a, &b| r.modes[b].real_part.total_cmp(&r.modes[a].real_part));
         targets.truncate(opts.enrich_roots);
         let n_targets = targets.len();
-        let st = refine_targets(
-            &sys,
-            &mut r.modes,
-            targets,
+        let split = self.slave_split(&sys);
+        let run = RefineRun {
             band_hz,
-            thr,
-            &self.cea.projection.refine,
-            &self.cea.interrupt,
-        )?;
+            unstable_tol_abs: thr,
+            opts: &self.cea.projection.refine,
+            interrupt: &self.cea.interrupt,
+            split: split.as_ref(),
+            keep: false,
+        };
+        let st = run.targets(&sys, &mut r.modes, targets)?.0;
         let cmp = refine_comparison(&st);
         let (mut max_rel, max_re) = (cmp.max_rel_error, cmp.max_real_part_error);
         if st.n_missed > 0 || st.n_failed > 0 {

@@ -42,6 +42,7 @@ mod error;
 mod events;
 pub(crate) mod first_order;
 mod lanczos;
+mod onset;
 pub(crate) mod operator;
 mod options;
 mod project;

@@ -235,10 +235,12 @@ pub struct SweepOptions {
     /// Largest number of exact evaluations per critical μ with `refine_critical` (default: 12).
     pub max_exact_critical: usize,
     /// Largest number of onsets moved to the exact crossing with `refine_critical`, the
-    /// lowest in-band onsets first (default: 4). Each costs up to `max_exact_critical` exact
-    /// evaluations (a steady state and a complex LU of size n + ng each, seconds on a
-    /// brake-sized model); the onsets beyond it keep their projected crossing and are counted
-    /// in [`super::SweepStats::n_critical_exact_skipped`].
+    /// lowest in-band onsets first (default: 32, every in-band onset of the brakes here). Each
+    /// costs up to `max_exact_critical` exact evaluations: the first a steady state, a
+    /// projected solve and a complex LU (about 2 s on the cad brake's 2 043-DOF model), the
+    /// next ones usually the root followed with that LU (a steady state and a few LU solves);
+    /// the onsets beyond it keep their projected crossing and are counted in
+    /// [`super::SweepStats::n_critical_exact_skipped`].
     pub max_exact_onsets: usize,
     /// The exact crossing stops when its bracket is shorter than
     /// `exact_critical_tol`·max(1, |μ|) (default: 1e-5; each evaluation costs a complex LU of
@@ -294,7 +296,7 @@ impl Default for SweepOptions {
             max_bisection: 60,
             refine_critical: true,
             max_exact_critical: 12,
-            max_exact_onsets: 4,
+            max_exact_onsets: 32,
             exact_critical_tol: 1e-5,
             keep_shapes: false,
             exact_check: true,

@@ -87,6 +87,20 @@ impl ModalBasis {
             }
         }
         let same_m = first_difference(&sys.m, &self.m_ref).is_none();
+        let same_k = first_difference(&sys.k, &self.k_ref).is_none();
+        let same_b = match (&sys.b, &self.b_ref) {
+            (Some(b), Some(b0)) => first_difference(b, b0).is_none(),
+            (None, None) => true,
+            _ => false,
+        };
+        if let (true, true, true, Some(bl), Some(d)) =
+            (same_m, same_k, same_b, &self.blocks, &sys.d)
+        {
+            if ng > 0 {
+                let (k_p, c_p) = self.galerkin_blocks(bl, d, sys.c_f.as_ref())?;
+                return self.finish(n, ng, t0, k_p, c_p, None, opts);
+            }
+        }
         let m_p = (!same_m).then(|| psi.transpose() * (&sys.m * psi));
         let project = match (&sys.d, &self.gt) {
             (Some(D), Some(Gt)) if ng > 0 => {
@@ -106,13 +120,13 @@ impl ModalBasis {
             psi.transpose() * PXPsi
         };
         // K Ψ and B Ψ of the reference state are reused when K and B are the same.
-        let kpsi = if first_difference(&sys.k, &self.k_ref).is_none() {
+        let kpsi = if same_k {
             self.kpsi.clone()
         } else {
             &sys.k * psi
         };
         let bpsi = match (&sys.b, &self.b_ref, &self.bpsi) {
-            (Some(b), Some(b0), Some(bp)) if first_difference(b, b0).is_none() => Some(bp.clone()),
+            (Some(_), Some(_), Some(bp)) if same_b => Some(bp.clone()),
             (Some(b), _, _) => Some(b * psi),
             (None, _, _) => None,
         };
@@ -132,6 +146,23 @@ impl ModalBasis {
             k_p = sandwich(llt.L(), &k_p);
             c_p = c_p.map(|c| sandwich(llt.L(), &c));
         }
+        self.finish(n, ng, t0, k_p, c_p, llt.as_ref(), opts)
+    }
+
+    /// The projected roots of `η̈ + C_p η̇ + K_p η = 0` (after the Cholesky sandwich when M
+    /// changed: `llt`), their shapes `Ψ L⁻ᵀ w` and the statistics.
+    #[allow(clippy::too_many_arguments)]
+    fn finish(
+        &self,
+        n: usize,
+        ng: usize,
+        t0: Instant,
+        k_p: Mat<f64>,
+        c_p: Option<Mat<f64>>,
+        llt: Option<&faer::linalg::solvers::Llt<f64>>,
+        opts: &CeaOptions,
+    ) -> Result<CeaResult, CeaError> {
+        let psi = &self.psi;
         let mut stats = CeaStats {
             n,
             n_constraints: ng,
@@ -146,13 +177,60 @@ impl ModalBasis {
         let t1 = Instant::now();
         let fo = first_order_eigen(&k_p, c_p.as_ref(), opts.compute_shapes)?;
         let shapes = match fo.w {
-            Some(w) => recover_shapes(w, llt.as_ref().map(|l| l.L()), Some(psi)),
+            Some(w) => recover_shapes(w, llt.map(|l| l.L()), Some(psi)),
             None => vec![Vec::new(); fo.vals.len()],
         };
         let modes = make_modes(&fo.vals, shapes, fo.rho, opts);
         finish_stats(&mut stats, &modes, fo.rho);
         stats.time_eigen_s = t1.elapsed().as_secs_f64();
         Ok(CeaResult { modes, stats })
+    }
+
+    /// `K_p = ΨᵀPKΨ` and `C_p = ΨᵀPCΨ` from the μ-independent [`Blocks`] (K, B, M and G those
+    /// of the reference state): only the products with D and C_f are made.
+    ///
+    /// # Derivation
+    /// With `P = I − A S⁻¹Yᵀ`, `A = Gᵀ − D`, `S = YᵀA`,
+    /// ```text
+    /// ΨᵀPXΨ = ΨᵀXΨ − (ΨᵀA) S⁻¹ (YᵀXΨ),
+    /// ```
+    /// and with `W = [Ψ, Y]` the four blocks are the rows of `WᵀXΨ` and `WᵀA = WᵀGᵀ − WᵀD`
+    /// (its lower block is S). `WᵀKΨ`, `WᵀBΨ` and `WᵀGᵀ` are made once; per solve
+    /// `WᵀD` ((nb + ng) × n × ng), `C_fΨ` and `Wᵀ(C_fΨ)`, an LU of S (ng × ng) and two
+    /// small products, instead of `YᵀA`, `P KΨ`, `P CΨ` (each `Yᵀ X Ψ` and `A (S⁻¹ ·)` of size
+    /// n) and `Ψᵀ(P XΨ)` — the same matrices to round-off (`project::tests`).
+    #[allow(non_snake_case)]
+    fn galerkin_blocks(
+        &self,
+        bl: &super::basis::Blocks,
+        D: &Mat<f64>,
+        c_f: Option<&Mat<f64>>,
+    ) -> Result<(Mat<f64>, Option<Mat<f64>>), CeaError> {
+        let nb = self.psi.ncols();
+        let ng = D.ncols();
+        let wt = bl.w.transpose();
+        let wa = &bl.wg - wt * D;
+        let s = wa.subrows(nb, ng).to_owned();
+        let lu = s.partial_piv_lu();
+        let pr = super::operator::pivot_ratio(lu.U(), |x: &f64| x.abs());
+        if pr.is_nan() || pr <= 1e3 * f64::EPSILON {
+            return Err(CeaError::SingularContactOperator { ng, ratio: pr });
+        }
+        let psi_a = wa.subrows(0, nb);
+        let galerkin = |wx: Mat<f64>| -> Mat<f64> {
+            let mut low = wx.subrows(nb, ng).to_owned();
+            faer::linalg::solvers::Solve::solve_in_place(&lu, &mut low);
+            wx.subrows(0, nb) - psi_a * &low
+        };
+        let k_p = galerkin(bl.wk.clone());
+        let wcf = c_f.map(|c| wt * (c * &self.psi));
+        let wc = match (&bl.wb, wcf) {
+            (None, None) => None,
+            (Some(wb), None) => Some(wb.clone()),
+            (None, Some(w)) => Some(-w),
+            (Some(wb), Some(w)) => Some(wb - w),
+        };
+        Ok((k_p, wc.map(galerkin)))
     }
 
     /// The band whose roots the projection is meant to give: `projection.frequency_max_hz`,
@@ -193,5 +271,119 @@ impl ModalBasis {
             r.stats.refine = Some(st);
         }
         Ok(r)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cea::{Cplx, ProjectionOptions};
+
+    /// Uniform in [−1, 1) (xorshift64*).
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            let x = self.0.wrapping_mul(0x2545_f491_4f6c_dd1d);
+            (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+        }
+    }
+
+    /// 40 DOFs, 6 constraints, B, and the friction terms D = μ D1, C_f = μ C1 (K, M, B, G the
+    /// same at every μ, as in a friction sweep).
+    fn model(mu: f64) -> CeaMatrices {
+        let (n, ng) = (40, 6);
+        let mut rng = Rng(3);
+        let mut spd = |shift: f64| {
+            let a = Mat::from_fn(n, n, |_, _| rng.next());
+            let mut s = &a * a.transpose();
+            for i in 0..n {
+                s[(i, i)] += shift;
+            }
+            s
+        };
+        let m = spd(n as f64);
+        let mut k = spd(0.0);
+        for i in 0..n {
+            k[(i, i)] += n as f64 * (1.0 + 100.0 * (i as f64 / n as f64).powi(2));
+        }
+        let mut rng = Rng(17);
+        let g = Mat::from_fn(ng, n, |_, _| rng.next());
+        let d1 = Mat::from_fn(n, ng, |_, _| 0.3 * rng.next());
+        let c1 = Mat::from_fn(n, n, |_, _| 0.05 * rng.next());
+        let mut s = CeaMatrices::new(m.clone(), k.clone());
+        s.b = Some(&k * 1e-4 + &m * 1e-3);
+        s.g = Some(g);
+        s.d = Some(&d1 * mu);
+        s.c_f = Some(&c1 * mu);
+        s
+    }
+
+    /// Largest |p_a − p_b|/|p_b| over the roots of two solves, paired in order (both sorted
+    /// by frequency; the same matrices to round-off give the same order).
+    fn max_rel_diff(a: &CeaResult, b: &CeaResult) -> f64 {
+        assert_eq!(a.modes.len(), b.modes.len());
+        a.modes
+            .iter()
+            .zip(&b.modes)
+            .map(|(x, y)| (x.eigenvalue - y.eigenvalue).norm() / y.eigenvalue.norm())
+            .fold(0.0, f64::max)
+    }
+
+    /// The projection from the μ-independent blocks (`galerkin_blocks`) gives the roots of
+    /// the direct projection (`P K Ψ`, `P C Ψ` formed at each μ) to round-off, before and
+    /// after the basis is enriched; and the roots differ between the μ (the friction terms
+    /// enter).
+    #[test]
+    fn block_projection_equals_the_direct_projection() {
+        let opts = CeaOptions {
+            method: CeaMethod::Projection,
+            projection: ProjectionOptions {
+                n_basis: Some(14),
+                ..ProjectionOptions::default()
+            },
+            ..CeaOptions::default()
+        };
+        let mut basis = ModalBasis::new(&model(0.0), &opts).unwrap();
+        assert!(basis.blocks.is_some());
+        for round in 0..2 {
+            let mut direct = basis.clone();
+            direct.blocks = None;
+            let r0 = basis.solve(&model(0.2), &opts).unwrap();
+            for mu in [0.2, 0.7] {
+                let sys = model(mu);
+                let (a, b) = (
+                    basis.solve(&sys, &opts).unwrap(),
+                    direct.solve(&sys, &opts).unwrap(),
+                );
+                let d = max_rel_diff(&a, &b);
+                eprintln!(
+                    "round {round}, mu {mu}: nb {}, max rel diff {d:.1e}",
+                    basis.len()
+                );
+                assert!(d <= 1e-12, "mu {mu}: {d:e}");
+                // Shapes: the same vectors (unit norm, same phase convention).
+                for (x, y) in a.modes.iter().zip(&b.modes) {
+                    let e = x
+                        .shape
+                        .iter()
+                        .zip(&y.shape)
+                        .map(|(p, q)| (p - q).norm())
+                        .fold(0.0, f64::max);
+                    assert!(e <= 1e-9, "mu {mu}: shape {e:e}");
+                }
+                if mu != 0.2 {
+                    assert!(max_rel_diff(&a, &r0) > 1e-6);
+                }
+            }
+            // Enrich with two arbitrary vectors: the blocks are made again.
+            let mut rng = Rng(99 + round);
+            let v: Vec<Vec<Cplx>> = (0..2)
+                .map(|_| (0..40).map(|_| Cplx::new(rng.next(), rng.next())).collect())
+                .collect();
+            assert_eq!(basis.enrich(&v, 1e-6).unwrap(), 4);
+        }
     }
 }

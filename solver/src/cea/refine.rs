@@ -3,11 +3,12 @@
 
 use super::eigen::normalise_shape;
 use super::operator::{complex_at, complex_norm, damping, real_columns};
-use super::shift_invert::{Arnoldi, Elimination, Ritz, ShiftInvert};
+use super::shift_invert::{Arnoldi, Elimination, Ritz, ShiftInvert, SlaveSplit};
 use super::{CeaError, CeaMatrices, Cplx, Mode};
 use faer::linalg::solvers::SolveLstsq;
 use faer::Mat;
 use serde::{Deserialize, Serialize, Serializer};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// Options of the exact refinement of projected roots (see [`RefineStats`]).
@@ -356,15 +357,88 @@ pub(crate) fn refine_targets(
     opts: &RefineOptions,
     interrupt: &crate::Interrupt,
 ) -> Result<RefineStats, CeaError> {
+    let run = RefineRun {
+        band_hz,
+        unstable_tol_abs,
+        opts,
+        interrupt,
+        split: None,
+        keep: false,
+    };
+    Ok(run.targets(sys, modes, targets)?.0)
+}
+
+/// The first shift's factorisation of a refinement, kept ([`RefineRun::keep`]): the reduced
+/// LU of `Zᵀ X(σ) T` at the state it was made for, and its elimination.
+pub(crate) struct KeptFactor {
+    pub(crate) elim: Elimination,
+    pub(crate) lu: faer::linalg::solvers::PartialPivLu<faer::c64>,
+}
+
+/// A refinement's settings, with what a friction sweep shares between its refinements.
+pub(crate) struct RefineRun<'a> {
+    pub(crate) band_hz: f64,
+    pub(crate) unstable_tol_abs: f64,
+    pub(crate) opts: &'a RefineOptions,
+    pub(crate) interrupt: &'a crate::Interrupt,
+    /// The slaves of G, made once per sweep (G does not change with μ); `None`: made here.
+    pub(crate) split: Option<&'a Arc<SlaveSplit>>,
+    /// Return the first shift's reduced factorisation (a critical-μ search follows its root
+    /// to the next trial μ with it, [`super::onset`]).
+    pub(crate) keep: bool,
+}
+
+impl RefineRun<'_> {
+    /// [`refine_targets`] with these settings; with `keep`, also the first shift's factor
+    /// (when it is the reduced one).
+    pub(crate) fn targets(
+        &self,
+        sys: &CeaMatrices,
+        modes: &mut Vec<Mode>,
+        targets: Vec<usize>,
+    ) -> Result<(RefineStats, Option<KeptFactor>), CeaError> {
+        let (band_hz, unstable_tol_abs, opts, interrupt) = (
+            self.band_hz,
+            self.unstable_tol_abs,
+            self.opts,
+            self.interrupt,
+        );
+        refine_impl(
+            sys,
+            modes,
+            targets,
+            band_hz,
+            unstable_tol_abs,
+            opts,
+            interrupt,
+            self.split,
+            self.keep,
+        )
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn refine_impl(
+    sys: &CeaMatrices,
+    modes: &mut Vec<Mode>,
+    targets: Vec<usize>,
+    band_hz: f64,
+    unstable_tol_abs: f64,
+    opts: &RefineOptions,
+    interrupt: &crate::Interrupt,
+    split: Option<&Arc<SlaveSplit>>,
+    keep: bool,
+) -> Result<(RefineStats, Option<KeptFactor>), CeaError> {
     opts.validate()?;
     let t0 = Instant::now();
     let c = damping(sys);
     let res = Residual::new(sys, c.as_ref());
-    let elim = if opts.null_space {
-        Elimination::new(sys)
-    } else {
-        None
+    let elim = match (opts.null_space, split) {
+        (false, _) => None,
+        (true, Some(sp)) => Elimination::with_split(sys, sp.clone()),
+        (true, None) => Elimination::new(sys),
     };
+    let mut kept_lu = None;
     let mut st = RefineStats {
         band_hz,
         ..RefineStats::default()
@@ -497,6 +571,9 @@ pub(crate) fn refine_targets(
             st.n_failed += 1;
         }
         pending.retain(|&t| t != first && !done[t]);
+        if keep && shift == 0 {
+            kept_lu = op.into_reduced_lu();
+        }
     }
     st.n_failed += pending.len();
     st.n_refined = st.roots.len();
@@ -526,7 +603,11 @@ pub(crate) fn refine_targets(
             .then(x.real_part.total_cmp(&y.real_part))
     });
     st.time_s = t0.elapsed().as_secs_f64();
-    Ok(st)
+    let kept = match (kept_lu, elim) {
+        (Some(lu), Some(elim)) => Some(KeptFactor { elim, lu }),
+        _ => None,
+    };
+    Ok((st, kept))
 }
 
 /// Gives `md` the exact root p (Im p ≥ 0 kept) and, with shapes, the shape u.

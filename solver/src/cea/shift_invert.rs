@@ -25,25 +25,33 @@ const SLAVE_PIVOT_RATIO: f64 = 1e-8;
 /// 2 043-DOF model with 550 gaps, 1 493 unknowns instead of 2 593, a factor ~5× cheaper and
 /// a third of the memory read per solve.
 pub(crate) struct Elimination {
-    s: Vec<usize>,
-    m: Vec<usize>,
-    /// `P = G_s⁻¹ G_m` (ng × (n − ng)).
-    p: Mat<f64>,
+    split: std::sync::Arc<SlaveSplit>,
     /// `Rᵀ = A_s⁻ᵀ A_mᵀ` (ng × (n − ng)).
     rt: Mat<f64>,
-    /// LUs of `G_s` and `A_sᵀ`: the multipliers of a right eigenvector and the adjoint
-    /// multipliers of a left one ([`Elimination::multipliers`]).
-    gs_lu: PartialPivLu<f64>,
+    /// LU of `A_sᵀ`: the multipliers of a right eigenvector ([`Elimination::multipliers`]).
     ast_lu: PartialPivLu<f64>,
 }
 
-impl Elimination {
-    /// The slaves and the maps `P`, `R`; `None` when there is no constraint or a slave block
-    /// is ill conditioned (pivot ratio < 1e-8: then the bordered LU is used).
-    pub(crate) fn new(sys: &CeaMatrices) -> Option<Self> {
-        let g = sys.g.as_ref().filter(|g| g.nrows() > 0)?;
+/// The part of an [`Elimination`] that depends on G only (the slaves, the others and
+/// `P = G_s⁻¹ G_m`): the same for every μ of a friction sweep, where G does not change, so a
+/// sweep makes it once (a column-pivoted QR of G and an LU of G_s: 0.2–0.3 s on the cad
+/// brake's 550 × 2 043 G) and every refinement reuses it.
+pub(crate) struct SlaveSplit {
+    pub(crate) s: Vec<usize>,
+    pub(crate) m: Vec<usize>,
+    /// `P = G_s⁻¹ G_m` (ng × (n − ng)).
+    pub(crate) p: Mat<f64>,
+    /// LU of `G_s`: the adjoint multipliers of a left eigenvector
+    /// ([`Elimination::multipliers`]).
+    gs_lu: PartialPivLu<f64>,
+}
+
+impl SlaveSplit {
+    /// The slaves of G (the first ng pivot columns of a column-pivoted QR) and `P`; `None`
+    /// when there is no constraint or `G_s` is ill conditioned (pivot ratio < 1e-8).
+    pub(crate) fn new(g: &Mat<f64>) -> Option<Self> {
         let (ng, n) = (g.nrows(), g.ncols());
-        if ng >= n {
+        if ng == 0 || ng >= n {
             return None;
         }
         let qr = g.col_piv_qr();
@@ -59,6 +67,26 @@ impl Elimination {
             return None;
         }
         let p = gs_lu.solve(&gm);
+        p.norm_max()
+            .is_finite()
+            .then_some(SlaveSplit { s, m, p, gs_lu })
+    }
+}
+
+impl Elimination {
+    /// The slaves and the maps `P`, `R`; `None` when there is no constraint or a slave block
+    /// is ill conditioned (pivot ratio < 1e-8: then the bordered LU is used).
+    pub(crate) fn new(sys: &CeaMatrices) -> Option<Self> {
+        let g = sys.g.as_ref().filter(|g| g.nrows() > 0)?;
+        Self::with_split(sys, std::sync::Arc::new(SlaveSplit::new(g)?))
+    }
+
+    /// As [`Elimination::new`] with the slaves of G already chosen (`split` must be that of
+    /// `sys.g`).
+    pub(crate) fn with_split(sys: &CeaMatrices, split: std::sync::Arc<SlaveSplit>) -> Option<Self> {
+        let g = sys.g.as_ref().filter(|g| g.nrows() > 0)?;
+        let ng = g.nrows();
+        let (s, m) = (&split.s, &split.m);
         // A = Gᵀ − D: A_sᵀ (ng × ng) and A_mᵀ (ng × (n − ng)).
         let a =
             |row: usize, col: usize| g[(col, row)] - sys.d.as_ref().map_or(0.0, |d| d[(row, col)]);
@@ -69,22 +97,49 @@ impl Elimination {
             return None;
         }
         let rt = ast_lu.solve(&amt);
-        if !(p.norm_max().is_finite() && rt.norm_max().is_finite()) {
+        if !rt.norm_max().is_finite() {
             return None;
         }
-        Some(Elimination {
-            s,
-            m,
-            p,
-            rt,
-            gs_lu,
-            ast_lu,
-        })
+        Some(Elimination { split, rt, ast_lu })
+    }
+
+    /// The slaves of G (shared by every μ of a sweep).
+    pub(crate) fn split(&self) -> &std::sync::Arc<SlaveSplit> {
+        &self.split
+    }
+
+    /// `Zᵀ f = f_m − R f_s` for complex vectors f given as [`real_columns`] (n × 2k); the
+    /// result as `(n − ng) × k` complex.
+    pub(crate) fn left(&self, f: &Mat<f64>) -> Mat<c64> {
+        let (sl, ms) = (&self.split.s, &self.split.m);
+        let k = f.ncols() / 2;
+        let fm = Mat::<f64>::from_fn(ms.len(), 2 * k, |i, j| f[(ms[i], j)]);
+        let fs = Mat::<f64>::from_fn(sl.len(), 2 * k, |i, j| f[(sl[i], j)]);
+        let g = fm - self.rt.transpose() * fs;
+        Mat::<c64>::from_fn(ms.len(), k, |i, j| complex_at(&g, i, j))
+    }
+
+    /// `u = T q` (n × k complex) for q ((n − ng) × k complex).
+    pub(crate) fn right(&self, q: &Mat<c64>) -> Mat<c64> {
+        let (sl, ms) = (&self.split.s, &self.split.m);
+        let (k, n) = (q.ncols(), sl.len() + ms.len());
+        let qr = real_columns(ms.len(), k, |j, i| q[(i, j)]);
+        let ys = -(&self.split.p * &qr);
+        let mut u = Mat::<c64>::zeros(n, k);
+        for j in 0..k {
+            for (i, &d) in ms.iter().enumerate() {
+                u[(d, j)] = q[(i, j)];
+            }
+            for (i, &d) in sl.iter().enumerate() {
+                u[(d, j)] = complex_at(&ys, i, j);
+            }
+        }
+        u
     }
 
     /// Size of the reduced problem, n − ng.
     pub(crate) fn reduced_size(&self) -> usize {
-        self.m.len()
+        self.split.m.len()
     }
 
     /// `Zᵀ X T` of a real n × n matrix.
@@ -94,7 +149,7 @@ impl Elimination {
 
     /// `T q` (length n): the displacements of reduced coordinates, `G T q = 0`.
     pub(crate) fn expand_right(&self, q: &[Cplx]) -> Vec<Cplx> {
-        self.expand(q, &self.p)
+        self.expand(q, &self.split.p)
     }
 
     /// `Z η` (length n): the left vectors' displacement part, `(Gᵀ − D)ᵀ Z η = 0`.
@@ -109,26 +164,28 @@ impl Elimination {
 
     /// `Tᵀ f` (length n − ng).
     pub(crate) fn restrict_right(&self, f: &[Cplx]) -> Vec<Cplx> {
-        self.restrict(f, &self.p)
+        self.restrict(f, &self.split.p)
     }
 
     /// `[−B q; q]` in (slave; other) rows, B = P or Rᵀ.
     fn expand(&self, q: &[Cplx], b: &Mat<f64>) -> Vec<Cplx> {
-        let n = self.s.len() + self.m.len();
+        let n = self.split.s.len() + self.split.m.len();
         let mut out = vec![Cplx::new(0.0, 0.0); n];
-        for (k, &d) in self.m.iter().enumerate() {
+        for (k, &d) in self.split.m.iter().enumerate() {
             out[d] = q[k];
         }
-        for (i, &d) in self.s.iter().enumerate() {
-            out[d] = -(0..self.m.len()).map(|k| b[(i, k)] * q[k]).sum::<Cplx>();
+        for (i, &d) in self.split.s.iter().enumerate() {
+            out[d] = -(0..self.split.m.len())
+                .map(|k| b[(i, k)] * q[k])
+                .sum::<Cplx>();
         }
         out
     }
 
     /// `f_m − Bᵀ f_s`, B = P or Rᵀ.
     fn restrict(&self, f: &[Cplx], b: &Mat<f64>) -> Vec<Cplx> {
-        let mut out: Vec<Cplx> = self.m.iter().map(|&d| f[d]).collect();
-        for (i, &d) in self.s.iter().enumerate() {
+        let mut out: Vec<Cplx> = self.split.m.iter().map(|&d| f[d]).collect();
+        for (i, &d) in self.split.s.iter().enumerate() {
             let fs = f[d];
             if fs == Cplx::new(0.0, 0.0) {
                 continue;
@@ -144,14 +201,14 @@ impl Elimination {
     /// `ν = −A_s⁻¹ r_s` for a right vector (`r = X φ`, so that `X φ + A ν = 0` there), and
     /// `χ = −G_s⁻ᵀ r_s` for a left one (`r = Xᴴ ψ`, so that `Xᴴ ψ + Gᵀ χ = 0` there).
     pub(crate) fn multipliers(&self, r: &[Cplx], left: bool) -> Vec<Cplx> {
-        let ng = self.s.len();
+        let ng = self.split.s.len();
         // A_s = (A_sᵀ)ᵀ and G_sᵀ: transposed solves with the stored LUs.
         let mut rhs = Mat::<f64>::from_fn(ng, 2, |i, j| {
-            let z = r[self.s[i]];
+            let z = r[self.split.s[i]];
             -if j == 0 { z.re } else { z.im }
         });
         if left {
-            self.gs_lu.solve_transpose_in_place(&mut rhs);
+            self.split.gs_lu.solve_transpose_in_place(&mut rhs);
         } else {
             self.ast_lu.solve_transpose_in_place(&mut rhs);
         }
@@ -162,11 +219,11 @@ impl Elimination {
 
     /// `Zᵀ X T` for the real matrix X given entry-wise by `x(i, j)`.
     fn reduce(&self, n: usize, x: impl Fn(usize, usize) -> f64) -> Mat<f64> {
-        let (s, m) = (&self.s, &self.m);
+        let (s, m) = (&self.split.s, &self.split.m);
         // X T = X_{:,m} − X_{:,s} P, then Zᵀ (X T) = (X T)_m − R (X T)_s.
         let xm = Mat::<f64>::from_fn(n, m.len(), |i, j| x(i, m[j]));
         let xs = Mat::<f64>::from_fn(n, s.len(), |i, j| x(i, s[j]));
-        let xt = xm - xs * &self.p;
+        let xt = xm - xs * &self.split.p;
         let xtm = Mat::<f64>::from_fn(m.len(), m.len(), |i, j| xt[(m[i], j)]);
         let xts = Mat::<f64>::from_fn(s.len(), m.len(), |i, j| xt[(s[i], j)]);
         xtm - self.rt.transpose() * xts
@@ -274,6 +331,15 @@ impl<'a> ShiftInvert<'a> {
         })
     }
 
+    /// The LU of `Zᵀ X(σ) T` when the factorisation is the reduced one (kept by a friction
+    /// sweep's critical-μ search for the next trials, [`super::onset`]).
+    pub(crate) fn into_reduced_lu(self) -> Option<PartialPivLu<c64>> {
+        match self.factor {
+            Factor::Reduced(lu) => Some(lu),
+            Factor::Bordered(_) => None,
+        }
+    }
+
     /// The shift σ.
     pub(crate) fn sigma(&self) -> Cplx {
         self.sigma
@@ -309,24 +375,9 @@ impl<'a> ShiftInvert<'a> {
         }
         let yu: Mat<c64> = match (&self.factor, self.elim) {
             (Factor::Reduced(lu), Some(e)) => {
-                let (sl, ms) = (&e.s, &e.m);
-                let fm = Mat::<f64>::from_fn(ms.len(), 2 * nb, |i, j| f[(ms[i], j)]);
-                let fs = Mat::<f64>::from_fn(sl.len(), 2 * nb, |i, j| f[(sl[i], j)]);
-                let g = fm - e.rt.transpose() * fs;
-                let mut rhs = Mat::<c64>::from_fn(ms.len(), nb, |i, j| complex_at(&g, i, j));
+                let mut rhs = e.left(&f);
                 lu.solve_in_place(&mut rhs);
-                let q = real_columns(ms.len(), nb, |j, i| rhs[(i, j)]);
-                let ys = -(&e.p * &q);
-                let mut yu = Mat::<c64>::zeros(n, nb);
-                for j in 0..nb {
-                    for (i, &d) in ms.iter().enumerate() {
-                        yu[(d, j)] = rhs[(i, j)];
-                    }
-                    for (i, &d) in sl.iter().enumerate() {
-                        yu[(d, j)] = complex_at(&ys, i, j);
-                    }
-                }
-                yu
+                e.right(&rhs)
             }
             (Factor::Bordered(lu), _) | (Factor::Reduced(lu), None) => {
                 let mut rhs = Mat::<c64>::from_fn(n + self.ng, nb, |i, j| {
@@ -581,7 +632,7 @@ mod tests {
             }
         });
         let e = Elimination::new(&sys).expect("a regular slave block");
-        assert_eq!(e.s, vec![0]);
+        assert_eq!(e.split.s, vec![0]);
         let sigma = Cplx::new(0.2, 1.7);
         let red = ShiftInvert::new(&sys, Some(&c), sigma, Some(&e)).unwrap();
         let bor = ShiftInvert::new(&sys, Some(&c), sigma, None).unwrap();

@@ -4,7 +4,8 @@ use super::critical::{Bracket, CriticalExact, Point};
 use super::eigen::exact;
 use super::events::{coalescences, veering, EventTolerances, ModeEvent, PairStep};
 use super::operator::check_inputs;
-use super::refine::{refine, RefineStats};
+use super::refine::{RefineRun, RefineStats};
+use super::shift_invert::SlaveSplit;
 use super::track::{assign, mac_matrix};
 use super::{
     compare_eigenvalues, CeaError, CeaMatrices, CeaMethod, CeaOptions, CeaResult, CeaStats,
@@ -13,6 +14,7 @@ use super::{
 use serde::Serialize;
 use std::f64::consts::PI;
 use std::fmt::Display;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// The modes at one μ of the sweep.
@@ -143,6 +145,9 @@ pub struct SweepStats {
     /// Exact evaluations spent on the critical μ (each a shift-invert refinement of the
     /// tracked root: at least one complex LU of size n + ng).
     pub n_critical_exact_solves: usize,
+    /// Of those, evaluations that followed the exact root from the previous trial with its
+    /// LU (residual inverse iteration; no factorisation, no projected solve).
+    pub n_critical_exact_followed: usize,
     /// Largest |μ_exact − μ_projected| over the onsets refined exactly.
     pub max_critical_mu_change: Option<f64>,
     /// Largest |p_exact − p_projected| / |p_exact| of the tracked roots at those evaluations.
@@ -191,7 +196,10 @@ pub(super) struct Solver<'a, F> {
     pub(super) basis: Option<ModalBasis>,
     /// A system already built (to choose the method or the basis), used by the next solve.
     cached: Option<(f64, CeaMatrices)>,
-    stats: &'a mut SweepStats,
+    /// The slaves of G for the refinements' constraint elimination, made once (G is the
+    /// basis' at every μ of a projected sweep; `Some(None)`: none exists).
+    split: Option<Option<Arc<SlaveSplit>>>,
+    pub(super) stats: &'a mut SweepStats,
 }
 
 impl<F, E> Solver<'_, F>
@@ -211,6 +219,22 @@ where
             self.cached = Some((mu, sys));
         }
         Ok(&self.cached.as_ref().expect("just filled").1)
+    }
+
+    /// The slaves of G of a projected sweep (made at the first call; G is checked against the
+    /// basis' by every projected solve, and by [`Solver::same_g`]), `None` without a basis.
+    pub(super) fn slave_split(&mut self, sys: &CeaMatrices) -> Option<Arc<SlaveSplit>> {
+        self.basis.as_ref()?;
+        if self.split.is_none() {
+            let g = sys.g.as_ref().filter(|g| g.nrows() > 0);
+            self.split = Some(g.and_then(|g| SlaveSplit::new(g).map(Arc::new)));
+        }
+        self.split.clone().flatten()
+    }
+
+    /// Returns a system built at μ to the cache (the next [`Solver::system`] at μ takes it).
+    pub(super) fn put_back(&mut self, mu: f64, sys: CeaMatrices) {
+        self.cached = Some((mu, sys));
     }
 
     pub(super) fn system(&mut self, mu: f64) -> Result<CeaMatrices, CeaError> {
@@ -241,7 +265,20 @@ where
                 if pr.refine.enabled && self.stats.n_reduced > pr.auto_single_min_dofs {
                     let mut modes = r.modes.clone();
                     let tol = self.cea.unstable_tol * r.stats.spectral_radius;
-                    let st = refine(&sys, &mut modes, band, tol, &pr.refine, &self.cea.interrupt)?;
+                    let targets: Vec<usize> = (0..modes.len())
+                        .filter(|&i| modes[i].unstable && modes[i].frequency_hz <= band)
+                        .collect();
+                    let split = self.slave_split(&sys);
+                    let pr = &self.cea.projection;
+                    let run = RefineRun {
+                        band_hz: band,
+                        unstable_tol_abs: tol,
+                        opts: &pr.refine,
+                        interrupt: &self.cea.interrupt,
+                        split: split.as_ref(),
+                        keep: false,
+                    };
+                    let st = run.targets(&sys, &mut modes, targets)?.0;
                     (CheckKind::Refine, refine_comparison(&st))
                 } else {
                     let opts = CeaOptions {
@@ -329,6 +366,7 @@ where
         cea,
         basis: None,
         cached: None,
+        split: None,
         stats: &mut stats,
     };
     choose_method(&mut solver, mus, opts)?;
@@ -507,6 +545,7 @@ where
                 if let Some(x) = &exact {
                     let st = &mut *solver.stats;
                     st.n_critical_exact_solves += x.n_solves;
+                    st.n_critical_exact_followed += x.n_followed;
                     st.time_critical_exact_s += x.time_s;
                     if x.converged {
                         st.n_critical_exact += 1;

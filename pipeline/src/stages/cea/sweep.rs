@@ -3,7 +3,7 @@
 use super::steady::SweepSteady;
 use crate::error::PipelineError;
 use crate::problem::system::Problem;
-use crate::problem::tangents::{at_steady_state, cea_matrices, tangents, Linearisation};
+use crate::problem::tangents::{at_steady_state, cea_matrices_of, tangents, Linearisation};
 use crate::scene::{CeaSpec, CeaSweepSpec, SweepVary};
 use serde::{Deserialize, Serialize};
 use squeal_contact::FrictionLaw;
@@ -75,7 +75,7 @@ pub fn matrices_at(
             ..base.clone()
         }
     };
-    cea_matrices(problem, &lin, spec.friction_damping)
+    cea_matrices_of(problem, lin.d, lin.c_f, spec.friction_damping)
 }
 
 /// One point of a tracked mode.
