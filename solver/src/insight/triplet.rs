@@ -116,6 +116,10 @@ pub struct TripletSolver<'a> {
     reduced: Option<Reduced>,
 }
 
+/// An inverse iteration's result: the Rayleigh-refined root (None: a zero denominator), the
+/// right and the left eigenvector of the bordered problem.
+type Iterated = (Option<Cplx>, Mat<c64>, Mat<c64>);
+
 /// The null-space form: `R(σ) = σ² M_r + σ C_r + K_r`, `X_r = Zᵀ X T`.
 struct Reduced {
     elim: Elimination,
@@ -207,10 +211,7 @@ impl<'a> TripletSolver<'a> {
     }
 
     /// Inverse iteration on the bordered `Q(σ)`: (p, x, y).
-    fn iterate_bordered(
-        &self,
-        sigma: Cplx,
-    ) -> Result<(Option<Cplx>, Mat<c64>, Mat<c64>), CeaError> {
+    fn iterate_bordered(&self, sigma: Cplx) -> Result<Iterated, CeaError> {
         let (sys, c, n, ng) = (self.sys, self.c.as_ref(), self.n, self.ng);
         let q = bordered(sys, c, sigma);
         let lu: PartialPivLu<c64> = q.partial_piv_lu();
@@ -243,11 +244,7 @@ impl<'a> TripletSolver<'a> {
     }
 
     /// Inverse iteration on the null-space form `R(σ)`: (p, x, y) of the bordered problem.
-    fn iterate_reduced(
-        &self,
-        r: &Reduced,
-        sigma: Cplx,
-    ) -> Result<(Option<Cplx>, Mat<c64>, Mat<c64>), CeaError> {
+    fn iterate_reduced(&self, r: &Reduced, sigma: Cplx) -> Result<Iterated, CeaError> {
         let (sys, c, n, ng) = (self.sys, self.c.as_ref(), self.n, self.ng);
         let nr = r.elim.reduced_size();
         let s2 = sigma * sigma;
