@@ -255,10 +255,28 @@ impl<'a> TripletSolver<'a> {
         let lu: PartialPivLu<c64> = rs.partial_piv_lu();
         check_pivots(lu.U(), sigma)?;
         // R'(σ) q = Zᵀ (2σM + C) T q and its adjoint Tᵀ (2σM + C)ᴴ Z η.
-        let dp_times =
-            |phi: &[Cplx]| -> Vec<Cplx> { apply(sys, c, 2.0 * sigma, Cplx::new(1.0, 0.0), phi) };
+        let dp_times = |phi: &[Cplx]| -> Vec<Cplx> {
+            combination(
+                sys,
+                c,
+                2.0 * sigma,
+                Cplx::new(1.0, 0.0),
+                Cplx::new(0.0, 0.0),
+                phi,
+                false,
+            )
+        };
         let dp_adjoint = |psi: &[Cplx]| -> Vec<Cplx> {
-            apply_transposed(sys, c, (2.0 * sigma).conj(), Cplx::new(1.0, 0.0), psi)
+            let one = Cplx::new(1.0, 0.0);
+            combination(
+                sys,
+                c,
+                (2.0 * sigma).conj(),
+                one,
+                Cplx::new(0.0, 0.0),
+                psi,
+                true,
+            )
         };
         let mut q = column(&start(nr));
         let mut eta = column(&start(nr));
@@ -408,74 +426,47 @@ fn solve_normalised(lu: &PartialPivLu<c64>, b: Vec<Cplx>, adjoint: bool) -> Vec<
     (0..b.len()).map(|i| m[(i, 0)] / s).collect()
 }
 
-/// `(a M + b C) x` for a complex vector x (M, C real: their products with Re x and Im x).
-fn apply(sys: &CeaMatrices, c: Option<&Mat<f64>>, a: Cplx, b: Cplx, x: &[Cplx]) -> Vec<Cplx> {
-    let xr = Mat::<f64>::from_fn(x.len(), 2, |i, j| if j == 0 { x[i].re } else { x[i].im });
-    let mx = &sys.m * &xr;
-    let cx = c.map(|c| c * &xr);
-    (0..x.len())
-        .map(|i| {
-            let mut v = a * Cplx::new(mx[(i, 0)], mx[(i, 1)]);
-            if let Some(cx) = &cx {
-                v += b * Cplx::new(cx[(i, 0)], cx[(i, 1)]);
-            }
-            v
-        })
-        .collect()
-}
-
-/// `(a Mᵀ + b Cᵀ) x`.
-fn apply_transposed(
+/// `(a M + b C + k K) x` for a complex vector x, or with Mᵀ, Cᵀ, Kᵀ when `transposed` (M, C, K
+/// real: their products with Re x and Im x as two columns; a zero coefficient skips its
+/// product).
+#[allow(clippy::too_many_arguments)]
+fn combination(
     sys: &CeaMatrices,
     c: Option<&Mat<f64>>,
     a: Cplx,
     b: Cplx,
+    k: Cplx,
     x: &[Cplx],
+    transposed: bool,
 ) -> Vec<Cplx> {
     let xr = Mat::<f64>::from_fn(x.len(), 2, |i, j| if j == 0 { x[i].re } else { x[i].im });
-    let mx = sys.m.transpose() * &xr;
-    let cx = c.map(|c| c.transpose() * &xr);
-    (0..x.len())
-        .map(|i| {
-            let mut v = a * Cplx::new(mx[(i, 0)], mx[(i, 1)]);
-            if let Some(cx) = &cx {
-                v += b * Cplx::new(cx[(i, 0)], cx[(i, 1)]);
-            }
-            v
-        })
-        .collect()
-}
-
-/// `K x` (or `Kᵀ x`).
-fn kx_of(sys: &CeaMatrices, x: &[Cplx], transposed: bool) -> Vec<Cplx> {
-    let xr = Mat::<f64>::from_fn(x.len(), 2, |i, j| if j == 0 { x[i].re } else { x[i].im });
-    let kx = if transposed {
-        sys.k.transpose() * &xr
-    } else {
-        &sys.k * &xr
-    };
-    (0..x.len())
-        .map(|i| Cplx::new(kx[(i, 0)], kx[(i, 1)]))
-        .collect()
+    let zero = Cplx::new(0.0, 0.0);
+    let mut out = vec![zero; x.len()];
+    for (coef, mat) in [(a, Some(&sys.m)), (b, c), (k, Some(&sys.k))] {
+        let Some(mat) = mat.filter(|_| coef != zero) else {
+            continue;
+        };
+        let y = if transposed {
+            mat.transpose() * &xr
+        } else {
+            mat * &xr
+        };
+        for (i, o) in out.iter_mut().enumerate() {
+            *o += coef * Cplx::new(y[(i, 0)], y[(i, 1)]);
+        }
+    }
+    out
 }
 
 /// `X(p) x = (p²M + pC + K) x`.
 fn x_times(sys: &CeaMatrices, c: Option<&Mat<f64>>, p: Cplx, x: &[Cplx]) -> Vec<Cplx> {
-    let mut v = apply(sys, c, p * p, p, x);
-    v.iter_mut()
-        .zip(kx_of(sys, x, false))
-        .for_each(|(a, b)| *a += b);
-    v
+    combination(sys, c, p * p, p, Cplx::new(1.0, 0.0), x, false)
 }
 
 /// `X(p)ᴴ x = (p̄²Mᵀ + p̄Cᵀ + Kᵀ) x`.
 fn x_adjoint_times(sys: &CeaMatrices, c: Option<&Mat<f64>>, p: Cplx, x: &[Cplx]) -> Vec<Cplx> {
     let pc = p.conj();
-    let mut v = apply_transposed(sys, c, pc * pc, pc, x);
-    v.iter_mut()
-        .zip(kx_of(sys, x, true))
-        .for_each(|(a, b)| *a += b);
-    v
+    combination(sys, c, pc * pc, pc, Cplx::new(1.0, 0.0), x, true)
 }
 
 /// `Q'(σ)ᴴ y = [(2σM + C)ᴴ ψ; 0]`.
