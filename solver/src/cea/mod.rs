@@ -52,6 +52,34 @@ pub(crate) mod shift_invert;
 mod sweep;
 mod track;
 
+/// Random test models shared by the unit tests of the sweep's modules.
+#[cfg(test)]
+pub(crate) mod test_random {
+    use faer::Mat;
+
+    /// Uniform in [−1, 1) (xorshift64*).
+    pub(crate) struct Rng(pub(crate) u64);
+    impl Rng {
+        pub(crate) fn next(&mut self) -> f64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            let x = self.0.wrapping_mul(0x2545_f491_4f6c_dd1d);
+            (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+        }
+    }
+
+    /// A Aᵀ + shift I with A uniform in [−1, 1) (n × n), drawn from `rng`.
+    pub(crate) fn random_spd(n: usize, rng: &mut Rng, shift: f64) -> Mat<f64> {
+        let a = Mat::from_fn(n, n, |_, _| rng.next());
+        let mut s = &a * a.transpose();
+        for i in 0..n {
+            s[(i, i)] += shift;
+        }
+        s
+    }
+}
+
 pub use basis::ModalBasis;
 pub use check::{compare_eigenvalues, CheckKind, EigenvalueComparison, ExactCheck};
 pub use critical::CriticalExact;

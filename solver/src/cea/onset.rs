@@ -168,33 +168,15 @@ mod tests {
     use crate::cea::eigen::exact;
     use crate::cea::operator::damping;
     use crate::cea::refine::{RefineOptions, RefineRun};
+    use crate::cea::test_random::{random_spd, Rng};
     use crate::cea::{mac, CeaMethod, CeaOptions};
-
-    /// Uniform in [−1, 1) (xorshift64*).
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f64 {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            let x = self.0.wrapping_mul(0x2545_f491_4f6c_dd1d);
-            (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-        }
-    }
 
     /// 24 DOFs, 5 constraints; μ enters the stiffness (μ K1), the friction tangent (μ D1) and
     /// a friction damping C_f = μ C1, as a friction sweep's tangents do.
     fn model(mu: f64) -> CeaMatrices {
         let (n, ng) = (24, 5);
         let mut rng = Rng(11);
-        let mut spd = |shift: f64| {
-            let a = Mat::from_fn(n, n, |_, _| rng.next());
-            let mut s = &a * a.transpose();
-            for i in 0..n {
-                s[(i, i)] += shift;
-            }
-            s
-        };
+        let mut spd = |shift: f64| random_spd(n, &mut rng, shift);
         let m = spd(n as f64);
         let mut k0 = spd(0.0);
         for i in 0..n {

@@ -277,33 +277,15 @@ impl ModalBasis {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::cea::test_random::{random_spd, Rng};
     use crate::cea::{Cplx, ProjectionOptions};
-
-    /// Uniform in [−1, 1) (xorshift64*).
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f64 {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            let x = self.0.wrapping_mul(0x2545_f491_4f6c_dd1d);
-            (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-        }
-    }
 
     /// 40 DOFs, 6 constraints, B, and the friction terms D = μ D1, C_f = μ C1 (K, M, B, G the
     /// same at every μ, as in a friction sweep).
     fn model(mu: f64) -> CeaMatrices {
         let (n, ng) = (40, 6);
         let mut rng = Rng(3);
-        let mut spd = |shift: f64| {
-            let a = Mat::from_fn(n, n, |_, _| rng.next());
-            let mut s = &a * a.transpose();
-            for i in 0..n {
-                s[(i, i)] += shift;
-            }
-            s
-        };
+        let mut spd = |shift: f64| random_spd(n, &mut rng, shift);
         let m = spd(n as f64);
         let mut k = spd(0.0);
         for i in 0..n {
