@@ -4,6 +4,9 @@
 //!    (`stall_h`).
 //! 2. With separation, the limit cycle of the rotor face's normal velocity; when it was
 //!    reached, the roots are refitted on the growth before the response saturated.
+//!    When it grew while the load was applied and the contact's opening held it before the
+//!    ramp ended, the roots are fitted from the run's start to that opening
+//!    ([`RampSaturation`]).
 //! 3. With a tensile gap after the ramp (separation off), the growth is judged on the part
 //!    before it, and the roots, window and growth reported are that part's.
 //! 4. The guard ([`judge`]): a clear growth is `squeal`; a negative only when the run could
@@ -18,7 +21,7 @@ use super::fit::{fit, Series};
 use super::guard::{
     judge, Evidence, FrequencySource, LimitCycleEvidence, StepsByOrder, Unresolved, VerdictState,
 };
-use super::limit_cycle::{FaceSeries, LimitCycle};
+use super::limit_cycle::{FaceSeries, LimitCycle, RampSaturation};
 use super::outcome::{SquealEvidence, Verdict};
 use super::roots::{pair_with_cea, PencilOptions, RootPair};
 use super::validity::ContactValidity;
@@ -114,6 +117,16 @@ pub fn decide(r: &Record<'_>, s: &Settings, cea: Option<CeaRoots<'_>>) -> Decisi
         }
         verdict.saturation = Some(sat);
     }
+    // With separation the response may also have grown while the load was being applied and
+    // been held by the contact's opening before the ramp ended: after the ramp it oscillates
+    // at the separation amplitude, which no sum of roots explains. Its growth is then fitted
+    // from the run's start to that opening.
+    if saturation.is_none() && !verdict.is_squeal(s.growth_threshold_per_s, s.min_growth_factor) {
+        if let Some((rs, growth)) = face.and_then(|f| growth_during_ramp(r, f, s, &verdict)) {
+            verdict = growth;
+            verdict.ramp_saturation = Some(rs);
+        }
+    }
     // The growth and frequency are judged on the window up to the first tensile gap when
     // there is one: a clear growth counts as squeal only within the part where the contact
     // was valid.
@@ -184,10 +197,13 @@ pub fn decide(r: &Record<'_>, s: &Settings, cea: Option<CeaRoots<'_>>) -> Decisi
         }
         (state, _) => state,
     };
-    verdict.evidence = state.is_squeal().then_some(match clear_growth {
-        true => SquealEvidence::Growth,
-        false => SquealEvidence::LimitCycle,
-    });
+    verdict.evidence = state
+        .is_squeal()
+        .then_some(match (clear_growth, verdict.ramp_saturation) {
+            (true, None) => SquealEvidence::Growth,
+            (true, Some(_)) => SquealEvidence::GrowthDuringRamp,
+            (false, _) => SquealEvidence::LimitCycle,
+        });
     verdict.state = state;
     verdict.resolution = resolution;
     verdict.detectable_growth_per_s = detectable;
@@ -198,6 +214,48 @@ pub fn decide(r: &Record<'_>, s: &Settings, cea: Option<CeaRoots<'_>>) -> Decisi
         limit_cycle,
         transient_vs_cea,
     }
+}
+
+/// The growth of a response that the contact's opening held before the load ramp ended
+/// ([`RampSaturation`]): the first opening after a whole closed cycle (at the post-ramp fit's
+/// dominant frequency) is before the ramp's end; the oscillation after the ramp is sustained
+/// and held by open gaps ([`super::limit_cycle::CycleTrend::sustained_by_separation`]); and the roots fitted from
+/// the run's start to that opening explain the response and grow clearly. A forced response
+/// to the ramp does not grow exponentially at a fixed frequency, and a decaying one is not
+/// sustained: the three together are a self-excited oscillation. None otherwise.
+fn growth_during_ramp(
+    r: &Record<'_>,
+    face: &FaceSeries,
+    s: &Settings,
+    after: &Verdict,
+) -> Option<(RampSaturation, Verdict)> {
+    let f = after.dominant_frequency_hz?;
+    let first_opening = face
+        .first_opening_after_closure(f)
+        .filter(|&t| t < s.t_after)?;
+    let after_ramp = face
+        .after_ramp(s.t_after, f)
+        .filter(|c| c.sustained_by_separation(s.min_growth_rate_per_s))?;
+    let t0 = *r.response.t.first()?;
+    let (_, growth) = fit(
+        r.response,
+        t0,
+        s.stall_h,
+        Some(first_opening),
+        s.band_hz,
+        &s.pencil,
+    );
+    let explains = growth
+        .estimator
+        .as_ref()
+        .is_some_and(|e| e.relative_residual <= s.pencil.max_relative_residual);
+    (explains && growth.is_squeal(s.growth_threshold_per_s, s.min_growth_factor)).then_some((
+        RampSaturation {
+            first_opening,
+            after_ramp,
+        },
+        growth,
+    ))
 }
 
 fn poor_fit_reason(relative_residual: Real, p: &PencilOptions) -> Unresolved {

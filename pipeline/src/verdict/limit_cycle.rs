@@ -69,6 +69,48 @@ pub struct FaceSeries {
     pub peak: Vec<Real>,
     /// mean_g v_n,g² per step.
     pub mean_square: Vec<Real>,
+    /// Gaps open per step (p_n A within the round-off band of zero or below: the contact
+    /// carries no force there). Empty when the run did not count them.
+    pub open: Vec<u32>,
+}
+
+/// A response that grew while the load was still being applied, was held by the contact
+/// opening before the ramp ended, and stayed at that amplitude after it: the growth is fitted
+/// from the run's start to `first_opening`, the oscillation after the ramp is judged by its
+/// per-cycle peaks ([`FaceSeries::after_ramp`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct RampSaturation {
+    /// The first gap opening after one whole cycle with every gap closed (the growth's end).
+    pub first_opening: Real,
+    /// The per-cycle peaks after the ramp ([`CycleTrend`]).
+    #[serde(flatten)]
+    pub after_ramp: CycleTrend,
+}
+
+/// The per-cycle peaks of the face's normal velocity after the ramp, cut into windows of one
+/// period.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct CycleTrend {
+    /// Whole cycles after the ramp.
+    pub cycles: usize,
+    /// Least-squares slope of ln(peak) over the cycles' mid-times, 1/s (≥ 0: not decaying).
+    pub envelope_trend_per_s: Real,
+    /// Largest and last per-cycle peak, m/s.
+    pub max_peak: Real,
+    pub last_peak: Real,
+    /// Cycles in which some gap was open.
+    pub cycles_with_open_gaps: usize,
+}
+
+impl CycleTrend {
+    /// The oscillation is sustained and held by the contact: at least 2·[`CYCLES`] cycles,
+    /// no decay faster than `min_rate` (1/s, the smallest growth that matters: a decay at that
+    /// rate shows as −`min_rate`), and a gap open in at least half the cycles.
+    pub fn sustained_by_separation(&self, min_rate: Real) -> bool {
+        self.cycles >= 2 * CYCLES
+            && self.envelope_trend_per_s >= -min_rate
+            && 2 * self.cycles_with_open_gaps >= self.cycles
+    }
 }
 
 impl FaceSeries {
@@ -91,6 +133,80 @@ impl FaceSeries {
         first_opening: Option<Real>,
     ) -> Option<Saturation> {
         saturation(&self.t, &self.peak, t_from, lc, first_opening)
+    }
+
+    /// The first step with an open gap after one whole period 1/`frequency_hz` in which every
+    /// gap was closed (a loaded contact that then opens; the gaps that carry no load at the
+    /// very start of a ramp are not an opening). None without open counts or without such a
+    /// step.
+    pub fn first_opening_after_closure(&self, frequency_hz: Real) -> Option<Real> {
+        if self.open.len() != self.t.len() || !(frequency_hz > 0.0) {
+            return None;
+        }
+        let period = 1.0 / frequency_hz;
+        let mut closed_since: Option<Real> = None;
+        for (&t, &o) in self.t.iter().zip(&self.open) {
+            match (o, closed_since) {
+                (0, None) => closed_since = Some(t),
+                (0, Some(_)) => {}
+                (_, Some(t0)) if t - t0 >= period => return Some(t),
+                (_, _) => closed_since = None,
+            }
+        }
+        None
+    }
+
+    /// The per-cycle peaks after `t_from` in windows of 1/`frequency_hz` (None without open
+    /// counts, a positive frequency, or two whole cycles).
+    pub fn after_ramp(&self, t_from: Real, frequency_hz: Real) -> Option<CycleTrend> {
+        if self.open.len() != self.t.len() || !(frequency_hz > 0.0 && frequency_hz.is_finite()) {
+            return None;
+        }
+        let period = 1.0 / frequency_hz;
+        let t0 = t_from.max(*self.t.first()?);
+        let cycles = ((*self.t.last()? - t0) / period).floor() as usize;
+        if cycles < 2 {
+            return None;
+        }
+        let mut peaks = vec![0.0 as Real; cycles];
+        let mut open = vec![false; cycles];
+        for i in 0..self.t.len() {
+            let x = (self.t[i] - t0) / period;
+            if x < 0.0 || x >= cycles as Real {
+                continue;
+            }
+            let w = x as usize;
+            peaks[w] = peaks[w].max(self.peak[i]);
+            open[w] |= self.open[i] > 0;
+        }
+        // ln(peak) against the cycle's mid-time, least squares; a zero peak has no logarithm
+        // and makes the trend −∞ (a response that died out).
+        let mid = |k: usize| (k as Real + 0.5) * period;
+        let n = cycles as Real;
+        let (tm, lm) = peaks
+            .iter()
+            .enumerate()
+            .fold((0.0, 0.0), |(a, b), (k, &p)| {
+                (a + mid(k) / n, b + p.ln() / n)
+            });
+        let (mut sxy, mut sxx) = (0.0, 0.0);
+        for (k, &p) in peaks.iter().enumerate() {
+            let dx = mid(k) - tm;
+            sxy += dx * (p.ln() - lm);
+            sxx += dx * dx;
+        }
+        let trend = if peaks.iter().any(|&p| !(p > 0.0)) {
+            Real::NEG_INFINITY
+        } else {
+            sxy / sxx
+        };
+        Some(CycleTrend {
+            cycles,
+            envelope_trend_per_s: trend,
+            max_peak: peaks.iter().cloned().fold(0.0, Real::max),
+            last_peak: peaks[cycles - 1],
+            cycles_with_open_gaps: open.iter().filter(|&&o| o).count(),
+        })
     }
 }
 
@@ -240,6 +356,53 @@ mod tests {
         assert!(first > 0.2 && first < a * (1.0 / f) / tau, "{s:?}");
         assert!((s.amplitude_growth - lc.peak_normal_velocity / first).abs() < 1e-12);
         assert!(s.amplitude_growth > 5.0, "{s:?}");
+    }
+
+    /// e^{σt} sin(ωt) at 10 Hz from t = 0, with a gap open at the start (t < 0.05) and
+    /// wherever the peak is above 1.5: the first opening after a closed cycle is the first
+    /// crest above 1.5, and the per-cycle peaks after 1 s grow at σ.
+    #[test]
+    fn first_opening_after_closure_and_the_trend_of_the_cycle_peaks() {
+        let (sigma, f) = (0.3, 10.0);
+        let w = 2.0 * std::f64::consts::PI * f;
+        let mut s = FaceSeries::default();
+        for i in 0..=8000 {
+            let t = i as Real / 2000.0;
+            let v = (sigma * t).exp() * (w * t).sin();
+            s.t.push(t);
+            s.peak.push(v.abs());
+            s.mean_square.push(v * v);
+            s.open.push(u32::from(t < 0.05 || v.abs() > 1.5));
+        }
+        let t_open = s.first_opening_after_closure(f).unwrap();
+        let crest = (1.5f64).ln() / sigma;
+        assert!(
+            t_open >= crest && t_open < crest + 1.0 / f,
+            "{t_open} (crest {crest})"
+        );
+        let c = s.after_ramp(1.0, f).unwrap();
+        assert_eq!(c.cycles, 30);
+        // Per-cycle peaks e^{σ t_crest}: ln is linear in the cycle with slope σ (the crest's
+        // offset in the cycle is the same in each).
+        assert!((c.envelope_trend_per_s - sigma).abs() < 1e-3, "{c:?}");
+        assert!(c.sustained_by_separation(100.0), "{c:?}");
+        // No open counts: no answer.
+        let none = FaceSeries {
+            open: Vec::new(),
+            ..s.clone()
+        };
+        assert!(none.first_opening_after_closure(f).is_none());
+        assert!(none.after_ramp(1.0, f).is_none());
+        // Closed throughout after the start: no opening, and not held by separation.
+        let closed = FaceSeries {
+            open: s.t.iter().map(|&t| u32::from(t < 0.05)).collect(),
+            ..s
+        };
+        assert!(closed.first_opening_after_closure(f).is_none());
+        assert!(!closed
+            .after_ramp(1.0, f)
+            .unwrap()
+            .sustained_by_separation(100.0));
     }
 
     #[test]

@@ -3,7 +3,7 @@
 
 use super::envelope::Envelope;
 use super::guard::{Resolution, Unresolved, VerdictState};
-use super::limit_cycle::Saturation;
+use super::limit_cycle::{RampSaturation, Saturation};
 use super::roots::{PencilFit, Root};
 use serde::Serialize;
 use squeal_solver::Real;
@@ -45,6 +45,11 @@ pub struct Verdict {
     /// A reached limit cycle (separation on): where the response saturated; the roots and
     /// the window are then those of the growth before it (None: no limit cycle reached).
     pub saturation: Option<Saturation>,
+    /// The response grew during the load ramp and the contact's opening held it before the
+    /// ramp ended (separation on): the roots and the window are then those of the growth from
+    /// the run's start to the first opening (None: not this case).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ramp_saturation: Option<RampSaturation>,
     /// What a `squeal` rests on: a clear growth of the deciding root, or a reached limit
     /// cycle whose amplitude grew by the required factor (None: not squeal).
     pub evidence: Option<SquealEvidence>,
@@ -59,6 +64,10 @@ pub enum SquealEvidence {
     /// The run reached a limit cycle with an amplitude grown by the required factor (the
     /// fitted growth alone was not clear).
     LimitCycle,
+    /// The deciding root grew clearly while the load was applied, the contact's opening held
+    /// the amplitude before the ramp ended, and the oscillation was sustained after it
+    /// ([`RampSaturation`]).
+    GrowthDuringRamp,
 }
 
 impl Verdict {
@@ -91,6 +100,7 @@ impl Verdict {
             h_max_window: h_max,
             valid_until: None,
             saturation: None,
+            ramp_saturation: None,
             evidence: None,
         }
     }

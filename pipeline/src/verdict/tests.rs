@@ -38,6 +38,7 @@ fn face(s: &Series) -> FaceSeries {
         t: s.t.clone(),
         peak: s.v[0].iter().map(|v| v.abs()).collect(),
         mean_square: s.v[0].iter().map(|v| v * v).collect(),
+        open: Vec::new(),
     }
 }
 
@@ -250,4 +251,108 @@ fn a_saturating_growth_is_a_limit_cycle_with_the_growth_before_it() {
     assert!(v.growth_rate_per_s.unwrap() >= main.growth_rate_per_s);
     assert!(sat.t > T_RAMP);
     assert!(v.window[1] <= sat.growth_end + H);
+}
+
+/// A response that grows at σ from a0 while the load is applied, is held at `a_sat` by the
+/// contact's opening (a gap open wherever |v| > 0.8 a_sat) from t_s = ln(a_sat/a0)/σ, and
+/// after t_s follows `after(t − t_s)` × a_sat, at f; four gaps carry no load at the very start
+/// (t < 50 µs), as at the start of a ramp from zero. The load ramp ends at 15 ms, after t_s.
+fn held_in_ramp(sigma: Real, after: impl Fn(Real) -> Real) -> (Series, FaceSeries, Settings) {
+    let (a0, a_sat, f): (Real, Real, Real) = (1e-5, 1e-2, 5000.0);
+    let t_s = (a_sat / a0).ln() / sigma;
+    let amp = move |t: Real| match t < t_s {
+        true => a0 * (sigma * t).exp(),
+        false => a_sat * after(t - t_s),
+    };
+    let s = record(amp, move |t| 2.0 * PI * f * t);
+    let mut fs = face(&s);
+    fs.open =
+        s.t.iter()
+            .zip(&s.v[0])
+            .map(|(&t, &v)| match (t < 5e-5, v.abs() > 0.8 * a_sat) {
+                (true, _) => 4,
+                (false, true) => 3,
+                (false, false) => 0,
+            })
+            .collect();
+    let settings = Settings {
+        t_after: 0.015,
+        ..settings(true)
+    };
+    (s, fs, settings)
+}
+
+fn decide_held(s: &Series, fs: &FaceSeries, settings: &Settings) -> Decision {
+    let steps = orders();
+    let r = Record {
+        response: s,
+        face: Some(fs),
+        contact: &contact(None),
+        steps_by_order: Some(&steps),
+        status: &reached(),
+        h_end: Some(H),
+        first_opening: None,
+    };
+    decide(&r, settings, None)
+}
+
+#[test]
+fn a_growth_held_by_the_contact_opening_during_the_ramp_is_squeal_from_its_growth() {
+    // Grows at 1000 /s to 1e-2 m/s by 6.9 ms, then held there (a 30 % beat at 200 Hz, no
+    // decay) for the 25 ms after the ramp.
+    let sigma = 1000.0;
+    let (s, fs, st) = held_in_ramp(sigma, |t| 1.0 + 0.3 * (2.0 * PI * 200.0 * t).sin());
+    let d = decide_held(&s, &fs, &st);
+    let v = &d.verdict;
+    assert_eq!(v.state, VerdictState::Squeal, "{v:?}");
+    assert_eq!(v.evidence, Some(SquealEvidence::GrowthDuringRamp), "{v:?}");
+    let rs = v.ramp_saturation.expect("held during the ramp");
+    // The first opening: the first crest above 0.8 a_sat, within a period of
+    // t_s − ln(1/0.8)/σ = 6.685 ms; the opening at the start (no load yet) is not counted.
+    let t_s = (1e-2f64 / 1e-5).ln() / sigma;
+    let expect = t_s - (1.0f64 / 0.8).ln() / sigma;
+    assert!(
+        (rs.first_opening - expect).abs() <= 1.0 / 5000.0,
+        "{rs:?} (expected {expect})"
+    );
+    // Sustained: 25 ms / 0.2 ms = 125 cycles after the ramp (124 whole ones in the record),
+    // a beat without trend, a gap open in the cycles whose amplitude 1 + 0.3 sin is above
+    // 0.8: all but a fraction (π − 2 asin(2/3))/(2π) = 0.268 of the beat.
+    let c = rs.after_ramp;
+    assert!((124..=125).contains(&c.cycles), "{c:?}");
+    assert!(c.envelope_trend_per_s.abs() < 5.0, "{c:?}");
+    let open = c.cycles_with_open_gaps as Real / c.cycles as Real;
+    assert!((open - 0.732).abs() < 0.05, "{c:?}");
+    // The roots and the window are those of the growth (closed form σ, f).
+    let g = v.growth_rate_per_s.unwrap();
+    assert!(
+        (g - sigma).abs() < 0.02 * sigma,
+        "σ = {g} (closed form {sigma})"
+    );
+    let f = v.dominant_frequency_hz.unwrap();
+    assert!((f - 5000.0).abs() < 1e-3 * 5000.0, "f = {f}");
+    assert_eq!(v.window[0], 0.0);
+    assert!(v.window[1] <= rs.first_opening, "{:?}", v.window);
+}
+
+#[test]
+fn a_growth_during_the_ramp_that_decays_after_it_is_not_squeal() {
+    // The same growth, then a decay at 400 /s after t_s: the gaps stop opening after the
+    // ramp and the per-cycle peaks fall at 400 /s, faster than the 100 /s that matters.
+    let (s, fs, st) = held_in_ramp(1000.0, |t| (-400.0 * t).exp());
+    let d = decide_held(&s, &fs, &st);
+    let v = &d.verdict;
+    assert!(v.ramp_saturation.is_none(), "{v:?}");
+    assert!(!v.state.is_squeal(), "{v:?}");
+}
+
+#[test]
+fn a_sustained_oscillation_without_open_gaps_after_the_ramp_is_not_held_by_separation() {
+    // Grows during the ramp, then stays at 0.7 a_sat: no gap opens after the ramp (the
+    // amplitude is not the contact's), so the growth during the ramp does not decide.
+    let (s, fs, st) = held_in_ramp(1000.0, |t| if t < 1e-3 { 1.0 } else { 0.7 });
+    let d = decide_held(&s, &fs, &st);
+    let v = &d.verdict;
+    assert!(v.ramp_saturation.is_none(), "{v:?}");
+    assert_ne!(v.evidence, Some(SquealEvidence::GrowthDuringRamp));
 }

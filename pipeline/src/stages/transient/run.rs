@@ -246,7 +246,7 @@ impl Prepared<'_> {
             contact,
             origin,
             orders,
-            face: FaceMonitor::new(&self.problem.gaps),
+            face: FaceMonitor::new(&self.problem.gaps, model.n()),
             memory,
             separation: separation_mask(scene, model).iter().any(|&c| c),
             keep_history: opts.keep_history,

@@ -64,7 +64,7 @@ impl ContactMonitor {
 /// band of the solver's separation events (`squeal_solver::bsql::unilateral`). An open gap's
 /// row holds λ' = P0 A to round-off only (p_n ≈ −1e-20 with P0 = 0): it is not tensile, and a
 /// gap that does not cross this band is not an event either.
-fn tensile_band(lam: &[Real], area: &[Real], p0: &[Real]) -> Real {
+pub(super) fn tensile_band(lam: &[Real], area: &[Real], p0: &[Real]) -> Real {
     let scale = lam
         .iter()
         .zip(area.iter().zip(p0))
