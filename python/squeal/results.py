@@ -143,6 +143,10 @@ class Verdict(_VerdictBase, total=False):
     """The squeal verdict (``verdict::Verdict``)."""
 
     reasons: List[Unresolved]
+    ramp_saturation: Dict[str, Any]
+    """A growth held by the contact's opening before the load ramp ended (evidence
+    ``growth_during_ramp``): ``first_opening``, ``cycles``, ``envelope_trend_per_s``,
+    ``max_peak``, ``last_peak``, ``cycles_with_open_gaps``."""
 
 
 class GapEvent(TypedDict):
@@ -180,6 +184,7 @@ class BdfStats(TypedDict):
     setups_cj_ratio: int
     setups_forced: int
     setups_stale_retry: int
+    setups_branch: int
     convergence_failures_rate: int
     convergence_failures_max_iters: int
 

@@ -176,6 +176,10 @@ impl Bdf {
         };
         let mut old_norm = 0.0;
         let mut m = 0usize;
+        let mut scale = scale;
+        // Set-ups of this attempt for a branch change (`DaeSystem::matrix_stale`), bounded so
+        // that an iterate cycling between branches still fails.
+        let mut branch_setups = 0usize;
         loop {
             self.st.stats.newton_iterations += 1;
             if let Err(e) = sys.solve_jacobian(&mut self.w.delta) {
@@ -220,6 +224,25 @@ impl Bdf {
             if self.eval_residual(sys)? == Nls::Failed {
                 return Ok(Nls::Failed);
             }
+            if sys.matrix_stale() && branch_setups < MAX_BRANCH_SETUPS {
+                // Semi-smooth Newton: the matrix of the branch the iterate is on, formed
+                // there; the rate is measured afresh.
+                branch_setups += 1;
+                self.st.stats.jacobian_setups += 1;
+                self.st.stats.setups_branch += 1;
+                self.record_jacobian_point();
+                if let Err(e) = sys.setup_jacobian(self.st.t, &self.w.yy, &self.w.yp, cj) {
+                    self.st.jacobian_point = None;
+                    return recoverable(e);
+                }
+                self.st.cj_old = cj;
+                self.st.ss = 20.0;
+                scale = 1.0;
+                m = 0;
+            }
         }
     }
 }
+
+/// Largest number of set-ups for a branch change within one Newton attempt.
+const MAX_BRANCH_SETUPS: usize = 8;

@@ -42,6 +42,10 @@ pub struct BdfStats {
     /// Set-ups because Newton failed with an older matrix and is retried with a fresh one.
     #[serde(default)]
     pub setups_stale_retry: u64,
+    /// Set-ups within a Newton attempt because its iterate crossed to another branch of a
+    /// piecewise law (`DaeSystem::matrix_stale`).
+    #[serde(default)]
+    pub setups_branch: u64,
     /// Convergence failures (with a fresh matrix) whose estimated rate exceeded 0.9.
     #[serde(default)]
     pub convergence_failures_rate: u64,

@@ -124,6 +124,11 @@ pub struct BandSystem<F: FrictionForces> {
     lu: DenseLu,
     matrix: Matrix,
     full_always: bool,
+    /// The unilateral rows open (q > λ'_open) where the iteration matrix was formed, and at
+    /// the last residual's point: the matrix is stale when they differ
+    /// ([`DaeSystem::matrix_stale`]).
+    open_at_setup: Vec<bool>,
+    open_now: Vec<bool>,
     /// Scale s of the friction force, s F_f (default 1: the friction law as given); the
     /// continuation parameter of the limit cycles (μ → s μ for a law proportional to μ).
     scale: Real,
@@ -346,6 +351,8 @@ impl<F: FrictionForces> BandSystem<F> {
             lu: DenseLu::new(n_x + n_z),
             matrix: Matrix::None,
             full_always: false,
+            open_at_setup: vec![false; ng],
+            open_now: vec![false; ng],
             scale: 1.0,
             stats: BandSystemStats::default(),
         })
@@ -396,6 +403,25 @@ impl<F: FrictionForces> BandSystem<F> {
                 p(self.ng, rtol2, atol2),
             ],
         }
+    }
+
+    /// Which unilateral rows are open (q_k > λ'_open, χ_k = 0 in J_r) at the outputs z: into
+    /// `open_at_setup` when `setup`, else `open_now`; true when any is.
+    fn open_flags(&mut self, z: &[Real], setup: bool) -> bool {
+        let q = &z[self.n_v..];
+        let flags = if setup {
+            &mut self.open_at_setup
+        } else {
+            &mut self.open_now
+        };
+        for (k, f) in flags.iter_mut().enumerate() {
+            *f = self.contact.open_force[k].is_some_and(|open| q[k] > open);
+        }
+        let any = flags.iter().any(|&f| f);
+        if setup {
+            self.open_now.copy_from_slice(&self.open_at_setup);
+        }
+        any
     }
 
     /// The contact force λ'_true of every row from the linear normal forces q.
@@ -689,6 +715,7 @@ impl<F: FrictionForces> DaeSystem for BandSystem<F> {
         self.stats.residual_evals += 1;
         let (x, z) = y.split_at(self.n_x);
         self.inputs(t, z)?;
+        self.open_flags(z, false);
         let (rx, rz) = res.split_at_mut(self.n_x);
         self.state_rate(x, rx);
         for (r, p) in rx.iter_mut().zip(yp) {
@@ -708,8 +735,11 @@ impl<F: FrictionForces> DaeSystem for BandSystem<F> {
         let (x, z) = y.split_at(self.n_x);
         let _ = x;
         self.inputs(t, z)?;
+        let any_open = self.open_flags(z, true);
         let near = self.friction.near_stick(t, &self.v_full, &self.lam);
-        if !(self.full_always || near) {
+        // The linear matrix (J_r = 0) is the reference's, every row closed: an open row's
+        // ∂r/∂q (Gᵀ − D⁰) is not small, and a matrix without it can diverge.
+        if !(self.full_always || near || any_open) {
             self.matrix = Matrix::Linear(cj);
             self.stats.linear_setups += 1;
             return Ok(());
@@ -767,6 +797,11 @@ impl<F: FrictionForces> DaeSystem for BandSystem<F> {
 
     fn newton_failed_with_fresh_matrix(&mut self) {
         self.full_always = true;
+    }
+
+    /// A unilateral row opened or closed since the matrix was formed (χ_k of J_r changed).
+    fn matrix_stale(&self) -> bool {
+        self.open_now != self.open_at_setup
     }
 }
 
