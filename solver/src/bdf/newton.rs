@@ -208,6 +208,10 @@ impl Bdf {
             } else {
                 let rate = (del_norm / old_norm).powf(1.0 / m as Real);
                 if rate > RATE_MAX {
+                    if self.branch_setup(sys, &mut branch_setups)? {
+                        (scale, m) = (1.0, 0);
+                        continue;
+                    }
                     self.w.fail_cause = FailCause::Rate;
                     return Ok(Nls::Failed);
                 }
@@ -218,29 +222,49 @@ impl Bdf {
             }
             m += 1;
             if m >= self.opts.max_newton_iters {
+                if self.branch_setup(sys, &mut branch_setups)? {
+                    (scale, m) = (1.0, 0);
+                    continue;
+                }
                 self.w.fail_cause = FailCause::MaxIters;
                 return Ok(Nls::Failed);
             }
             if self.eval_residual(sys)? == Nls::Failed {
                 return Ok(Nls::Failed);
             }
-            if sys.matrix_stale() && branch_setups < MAX_BRANCH_SETUPS {
-                // Semi-smooth Newton: the matrix of the branch the iterate is on, formed
-                // there; the rate is measured afresh.
-                branch_setups += 1;
-                self.st.stats.jacobian_setups += 1;
-                self.st.stats.setups_branch += 1;
-                self.record_jacobian_point();
-                if let Err(e) = sys.setup_jacobian(self.st.t, &self.w.yy, &self.w.yp, cj) {
-                    self.st.jacobian_point = None;
-                    return recoverable(e);
-                }
-                self.st.cj_old = cj;
-                self.st.ss = 20.0;
-                scale = 1.0;
-                m = 0;
-            }
         }
+    }
+
+    /// Before a Newton failure (too slow a rate or the iteration limit) at the iterate in
+    /// `yy`: when the system says its matrix is of another branch than that iterate
+    /// (`DaeSystem::matrix_stale`), the matrix is formed there and the attempt goes on — a
+    /// semi-smooth Newton step, taken only when the matrix of the attempt's start does not
+    /// converge (a stale branch that still converges costs nothing). Returns true when it
+    /// did so (the residual at `yy` is then in `delta`).
+    fn branch_setup<S: DaeSystem + ?Sized>(
+        &mut self,
+        sys: &mut S,
+        count: &mut usize,
+    ) -> Result<bool, SolverError> {
+        if *count >= MAX_BRANCH_SETUPS || self.eval_residual(sys)? == Nls::Failed {
+            return Ok(false);
+        }
+        if !sys.matrix_stale() {
+            return Ok(false);
+        }
+        *count += 1;
+        let cj = self.st.cj;
+        self.st.stats.jacobian_setups += 1;
+        self.st.stats.setups_branch += 1;
+        self.record_jacobian_point();
+        if let Err(e) = sys.setup_jacobian(self.st.t, &self.w.yy, &self.w.yp, cj) {
+            self.st.jacobian_point = None;
+            recoverable(e)?;
+            return Ok(false);
+        }
+        self.st.cj_old = cj;
+        self.st.ss = 20.0;
+        Ok(true)
     }
 }
 
