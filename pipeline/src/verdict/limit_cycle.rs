@@ -140,7 +140,7 @@ impl FaceSeries {
     /// very start of a ramp are not an opening). None without open counts or without such a
     /// step.
     pub fn first_opening_after_closure(&self, frequency_hz: Real) -> Option<Real> {
-        if self.open.len() != self.t.len() || !(frequency_hz > 0.0) {
+        if self.open.len() != self.t.len() || frequency_hz.is_nan() || frequency_hz <= 0.0 {
             return None;
         }
         let period = 1.0 / frequency_hz;
@@ -195,7 +195,7 @@ impl FaceSeries {
             sxy += dx * (p.ln() - lm);
             sxx += dx * dx;
         }
-        let trend = if peaks.iter().any(|&p| !(p > 0.0)) {
+        let trend = if peaks.iter().any(|&p| p.is_nan() || p <= 0.0) {
             Real::NEG_INFINITY
         } else {
             sxy / sxx
