@@ -80,11 +80,12 @@ pub trait DaeSystem {
     /// step is then retried with a smaller one): a system whose matrix leaves terms out may
     /// put them in from now on (default: nothing).
     fn newton_failed_with_fresh_matrix(&mut self) {}
-    /// Asked after each residual evaluation inside a Newton attempt: true when that residual's
-    /// point lies on another branch of a piecewise law than the iteration matrix was formed on
-    /// (a unilateral contact that opened or closed). The matrix is then formed again at that
-    /// point within the same attempt, a semi-smooth Newton: a matrix of the wrong branch can
-    /// make the iteration diverge at every step size (default: never).
+    /// Asked when a Newton attempt is about to fail (too slow a rate or the iteration limit),
+    /// after a residual evaluation at its iterate: true when that point lies on another branch
+    /// of a piecewise law than the iteration matrix was formed on (a unilateral contact that
+    /// opened or closed). The matrix is then formed again there and the attempt goes on, a
+    /// semi-smooth Newton: a matrix of the wrong branch can make the iteration diverge at
+    /// every step size (default: never).
     fn matrix_stale(&self) -> bool {
         false
     }
