@@ -111,13 +111,9 @@ impl Bdf {
                     SetupReason::StaleRetry => self.st.stats.setups_stale_retry += 1,
                 }
                 self.st.force_setup = false;
-                self.record_jacobian_point();
-                if let Err(e) = sys.setup_jacobian(self.st.t, &self.w.yy, &self.w.yp, self.st.cj) {
-                    self.st.jacobian_point = None;
-                    return recoverable(e);
+                if self.form_matrix(sys)? == Nls::Failed {
+                    return Ok(Nls::Failed);
                 }
-                self.st.cj_old = self.st.cj;
-                self.st.ss = 20.0;
             }
             self.w.fail_cause = FailCause::Other;
             let out = self.newton_iterations(sys)?;
@@ -253,18 +249,22 @@ impl Bdf {
             return Ok(false);
         }
         *count += 1;
-        let cj = self.st.cj;
         self.st.stats.jacobian_setups += 1;
         self.st.stats.setups_branch += 1;
+        Ok(self.form_matrix(sys)? == Nls::Converged)
+    }
+
+    /// Forms and factorises the iteration matrix at (t, yy, yp) with the current cj and
+    /// remembers where; Failed on a recoverable set-up failure (no matrix then).
+    fn form_matrix<S: DaeSystem + ?Sized>(&mut self, sys: &mut S) -> Result<Nls, SolverError> {
         self.record_jacobian_point();
-        if let Err(e) = sys.setup_jacobian(self.st.t, &self.w.yy, &self.w.yp, cj) {
+        if let Err(e) = sys.setup_jacobian(self.st.t, &self.w.yy, &self.w.yp, self.st.cj) {
             self.st.jacobian_point = None;
-            recoverable(e)?;
-            return Ok(false);
+            return recoverable(e);
         }
-        self.st.cj_old = cj;
+        self.st.cj_old = self.st.cj;
         self.st.ss = 20.0;
-        Ok(true)
+        Ok(Nls::Converged)
     }
 }
 

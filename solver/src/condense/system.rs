@@ -405,25 +405,6 @@ impl<F: FrictionForces> BandSystem<F> {
         }
     }
 
-    /// Which unilateral rows are open (q_k > λ'_open, χ_k = 0 in J_r) at the outputs z: into
-    /// `open_at_setup` when `setup`, else `open_now`; true when any is.
-    fn open_flags(&mut self, z: &[Real], setup: bool) -> bool {
-        let q = &z[self.n_v..];
-        let flags = if setup {
-            &mut self.open_at_setup
-        } else {
-            &mut self.open_now
-        };
-        for (k, f) in flags.iter_mut().enumerate() {
-            *f = self.contact.open_force[k].is_some_and(|open| q[k] > open);
-        }
-        let any = flags.iter().any(|&f| f);
-        if setup {
-            self.open_now.copy_from_slice(&self.open_at_setup);
-        }
-        any
-    }
-
     /// The contact force λ'_true of every row from the linear normal forces q.
     fn true_forces(&mut self, q: &[Real]) {
         for k in 0..self.ng {
@@ -512,9 +493,10 @@ impl<F: FrictionForces> BandSystem<F> {
             self.scale * self.cf_full[(self.dofs[a], self.dofs[b])] - self.cf0[(a, b)]
         });
         let dq = Mat::from_fn(n_c, ng, |a, k| {
-            let chi = match self.contact.open_force[k] {
-                Some(open) if q[k] > open => 0.0,
-                _ => 1.0,
+            let chi = if is_open(&self.contact, q, k) {
+                0.0
+            } else {
+                1.0
             };
             chi * self.scale * self.d_full[(self.dofs[a], k)]
                 - self.d0[(a, k)]
@@ -715,7 +697,7 @@ impl<F: FrictionForces> DaeSystem for BandSystem<F> {
         self.stats.residual_evals += 1;
         let (x, z) = y.split_at(self.n_x);
         self.inputs(t, z)?;
-        self.open_flags(z, false);
+        open_rows(&self.contact, &z[self.n_v..], &mut self.open_now);
         let (rx, rz) = res.split_at_mut(self.n_x);
         self.state_rate(x, rx);
         for (r, p) in rx.iter_mut().zip(yp) {
@@ -735,7 +717,8 @@ impl<F: FrictionForces> DaeSystem for BandSystem<F> {
         let (x, z) = y.split_at(self.n_x);
         let _ = x;
         self.inputs(t, z)?;
-        let any_open = self.open_flags(z, true);
+        open_rows(&self.contact, &z[self.n_v..], &mut self.open_at_setup);
+        let any_open = self.open_at_setup.iter().any(|&o| o);
         let near = self.friction.near_stick(t, &self.v_full, &self.lam);
         // The linear matrix (J_r = 0) is the reference's, every row closed: an open row's
         // ∂r/∂q (Gᵀ − D⁰) is not small, and a matrix without it can diverge.
@@ -871,6 +854,18 @@ impl<F: FrictionForces> BandSystem<F> {
     /// The contact forces λ'_true of the outputs z (after [`BandSystem::evaluate`] at z).
     pub fn contact_forces(&self) -> &[Real] {
         &self.lam
+    }
+}
+
+/// Row k is unilateral and open: q_k > λ'_open (χ_k = 0 in J_r).
+fn is_open(contact: &BandContact, q: &[Real], k: usize) -> bool {
+    contact.open_force[k].is_some_and(|open| q[k] > open)
+}
+
+/// Which unilateral rows are open at the linear normal forces q, into `out`.
+fn open_rows(contact: &BandContact, q: &[Real], out: &mut [bool]) {
+    for (k, o) in out.iter_mut().enumerate() {
+        *o = is_open(contact, q, k);
     }
 }
 
